@@ -1,0 +1,45 @@
+# The two commands of this workspace:
+#   make demo   build everything, then run the main job
+#   make test   build everything, then run every package's tests (colcon test)
+# Both set themselves up from nothing: virtual environment with pinned wheels, CMake fix, colcon build.
+
+SHELL := /bin/bash
+.DEFAULT_GOAL := build
+
+VENV_STAMP  := .venv/.wurde-installed
+BUILD_STAMP := install/.wurde-built
+IN_ENV      := tools/in_env.sh
+# Everything colcon would build from; a change to any of these rebuilds, nothing else does.
+SOURCES     := $(shell find src -type f -not -path '*/__pycache__/*' -not -name '*.pyc' 2>/dev/null) colcon.meta
+COLCON_BUILD_ARGS ?= --event-handlers console_cohesion+ --cmake-args -DBUILD_TESTING=ON
+COLCON_TEST_ARGS  ?= --event-handlers console_cohesion+ --return-code-on-test-failure
+DEMO_DOMAIN_ID    ?= 57
+
+.PHONY: build test demo clean distclean
+
+build: $(BUILD_STAMP)
+
+$(VENV_STAMP): requirements.txt tools/setup_venv.sh tools/fix_ros_wheel_cmake.py
+	tools/setup_venv.sh
+
+# The stamp takes the time the build started, so a file edited during a build rebuilds next time.
+$(BUILD_STAMP): $(VENV_STAMP) $(SOURCES)
+	@mkdir -p install && touch install/.wurde-build-started
+	$(IN_ENV) colcon build $(COLCON_BUILD_ARGS)
+	@mv install/.wurde-build-started $@
+
+test: build
+	@rc=0; \
+	$(IN_ENV) colcon test $(COLCON_TEST_ARGS) || rc=$$?; \
+	$(IN_ENV) colcon test-result --verbose || rc=$$((rc ? rc : $$?)); \
+	$(IN_ENV) python tools/test_summary.py build || rc=$$((rc ? rc : $$?)); \
+	exit $$rc
+
+demo: build
+	ROS_DOMAIN_ID=$(DEMO_DOMAIN_ID) $(IN_ENV) python tools/demo.py
+
+clean:
+	rm -rf build install log
+
+distclean: clean
+	rm -rf .venv

@@ -1,0 +1,1 @@
+"""Pluto's movement chain: driveModule, avoidModule and motionModule with the Pluto document's command flags and status codes."""

@@ -1,0 +1,1 @@
+"""Pluto's localization: localModule with its five pose streams, poseModule, slamModule and the loc proxy."""

@@ -1,0 +1,12 @@
+"""wurde_drivers imports only what DESIGN.md's "Who may import whom" allows."""
+
+import pathlib
+
+from wurde_testing.imports import violations
+
+SOURCE = pathlib.Path(__file__).resolve().parents[1] / 'wurde_drivers'
+
+
+def test_imports_follow_the_package_rules() -> None:
+    assert SOURCE.is_dir()
+    assert violations('wurde_drivers', SOURCE) == []

@@ -1,0 +1,12 @@
+"""Test helpers shared by every package of the suite (installed by wurde_interfaces).
+
+- :func:`claim_domain_id`: a ``ROS_DOMAIN_ID`` no other test on this machine is using, so that
+  tests in parallel packages and parallel CI runs never see each other's DDS traffic.
+- :mod:`wurde_testing.fixtures`: pytest fixtures (load with ``pytest_plugins``) that keep DDS on
+  loopback, give each test its own domain, and run rclpy with a fresh context per test.
+"""
+
+from .domain import DomainClaim, claim_domain_id
+from .process import ChildProcess
+
+__all__ = ['ChildProcess', 'DomainClaim', 'claim_domain_id']

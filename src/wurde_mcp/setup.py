@@ -1,0 +1,22 @@
+from setuptools import find_packages, setup
+
+PACKAGE = 'wurde_mcp'
+
+setup(
+    name=PACKAGE,
+    version='0.1.0',
+    packages=find_packages(exclude=['test']),
+    data_files=[
+        ('share/ament_index/resource_index/packages', [f'resource/{PACKAGE}']),
+        (f'share/{PACKAGE}', ['package.xml']),
+    ],
+    package_data={PACKAGE: ['py.typed']},
+    install_requires=['setuptools'],
+    zip_safe=True,
+    maintainer='WURDE-on-ROS 2 team',
+    maintainer_email='wurde@example.org',
+    description="The Master Control Program: a lifecycle supervisor node that starts modules from mcp-config and mcp-mappings, watches heartbeats, restarts and assigns streams (issue: wurde_mcp).",
+    license='BSD-3-Clause',
+    tests_require=['pytest'],
+    entry_points={'console_scripts': []},
+)
