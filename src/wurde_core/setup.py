@@ -18,5 +18,8 @@ setup(
     description="The WURDE programming model on rclpy: CommsManager, RobotObjects with data / info / request channels, Writable locks, triggers, RoleConfiguration and Logger (issue: wurde_core).",
     license='BSD-3-Clause',
     tests_require=['pytest'],
-    entry_points={'console_scripts': []},
+    entry_points={'console_scripts': [
+        'foo_server = wurde_core.foo_server:main',
+        'foo_client = wurde_core.foo_client:main',
+    ]},
 )

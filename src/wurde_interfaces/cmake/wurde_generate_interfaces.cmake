@@ -25,7 +25,10 @@ macro(wurde_generate_interfaces target)
     get_filename_component(_wurde_abs "${_wurde_xml}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
     list(APPEND _wurde_xml_files "${_wurde_abs}")
   endforeach()
-  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${_wurde_xml_files})
+  # Re-run the generator when an interface file or the generator itself changes.
+  file(GLOB _wurde_generator_sources "${WURDE_IDL_PYTHONPATH}/wurde_idl/*.py")
+  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS
+    ${_wurde_xml_files} ${_wurde_generator_sources})
 
   set(_wurde_out "${CMAKE_CURRENT_BINARY_DIR}/wurde_generated")
   set(_wurde_extra "")

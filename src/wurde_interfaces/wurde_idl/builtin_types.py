@@ -31,6 +31,9 @@ _SUPPORT = {
         'string source\n'
         '# timestamp (auto-timestamp, guide 3.2.2); nanosecond resolution, so microseconds are exact.\n'
         'builtin_interfaces/Time stamp\n'
+        '# sequence: counts the events one publisher sent on this channel, from 1; a receiver sees\n'
+        '# lost events as gaps (queue mode counts them).  0 when the sender does not count.\n'
+        'uint64 sequence\n'
     ),
     'Lock': (
         '# A lock on a Writable info member (guide 3.2.4): who may change it.\n'

@@ -37,9 +37,11 @@ def _parser() -> etree.XMLParser:
     )
 
 
-def parse_bytes(data: bytes, path: str | os.PathLike[str], *, root_tag: str,
+def parse_bytes(data: bytes, path: str | os.PathLike[str], *, root_tag: str | tuple[str, ...],
                 error: type[ConfigError] = ConfigError) -> etree._Element:
-    """Parse ``data`` (read from ``path``) and return its root element, which must be ``root_tag``.
+    """Parse ``data`` (read from ``path``) and return its root element.
+
+    The root's local name (namespace ignored) must be ``root_tag`` or one of them.
 
     :raises ConfigError: (or ``error``) naming ``path``, the line and the reason when the document
         is too large, not well formed, declares an internal DTD subset or entities, or has another
@@ -61,14 +63,17 @@ def parse_bytes(data: bytes, path: str | os.PathLike[str], *, root_tag: str,
     root = tree.getroot()
     for node in root.iter(etree.Entity):
         raise error(path, node.sourceline, f'entity reference {node.text} is refused')
-    if docinfo.root_name and docinfo.doctype and docinfo.root_name != root_tag:
-        raise error(path, 1, f'DOCTYPE names <{docinfo.root_name}>, expected <{root_tag}>')
-    if root.tag != root_tag:
-        raise error(path, root.sourceline, f'root element is <{root.tag}>, expected <{root_tag}>')
+    allowed = (root_tag,) if isinstance(root_tag, str) else tuple(root_tag)
+    expected = ' or '.join(f'<{tag}>' for tag in allowed)
+    if docinfo.root_name and docinfo.doctype and docinfo.root_name not in allowed:
+        raise error(path, 1, f'DOCTYPE names <{docinfo.root_name}>, expected {expected}')
+    local = etree.QName(root).localname
+    if local not in allowed:
+        raise error(path, root.sourceline, f'root element is <{local}>, expected {expected}')
     return root
 
 
-def parse_file(path: str | os.PathLike[str], *, root_tag: str,
+def parse_file(path: str | os.PathLike[str], *, root_tag: str | tuple[str, ...],
                error: type[ConfigError] = ConfigError) -> etree._Element:
     """Read ``path`` and parse it with :func:`parse_bytes`.
 

@@ -1,0 +1,117 @@
+"""The two ends of a channel: :class:`Outbox` publishes, :class:`Inbox` takes in.
+
+An inbox drains its subscription with ``take_message`` (no executor, no callbacks: WURDE's polling
+loop takes what arrived).  In latest mode it keeps the newest event; in queue mode it keeps up to
+:data:`~wurde_core.qos.QUEUE_CAPACITY` events, drops the oldest beyond that and counts every loss,
+including events DDS itself dropped (seen as gaps in the senders' sequence numbers).
+"""
+
+from __future__ import annotations
+
+import collections
+from collections.abc import Callable
+from typing import Any
+
+from .qos import QUEUE_CAPACITY
+
+
+class Outbox:
+    """A publisher that numbers what it sends (``header.sequence``)."""
+
+    __slots__ = ('publisher', '_handle', 'sequence')
+
+    def __init__(self, publisher: Any) -> None:
+        self.publisher = publisher
+        self._handle = publisher.handle
+        self.sequence = 0
+
+    def send(self, message: Any) -> None:
+        """Publish ``message`` with the next sequence number."""
+        self.sequence += 1
+        message.header.sequence = self.sequence
+        with self._handle:
+            self._handle.publish(message)
+
+    def subscribers(self) -> int:
+        """Matched subscriptions right now."""
+        return self.publisher.get_subscription_count()
+
+
+class Inbox:
+    """A subscription drained by polling, in latest or queue mode."""
+
+    __slots__ = ('subscription', '_handle', '_type', 'queue', 'latest', 'fresh', 'drops',
+                 'received', '_last_seq', 'accept')
+
+    def __init__(self, subscription: Any, queue_mode: bool,
+                 accept: Callable[[Any], bool] | None = None) -> None:
+        self.subscription = subscription
+        self._handle = subscription.handle
+        self._type = subscription.msg_type
+        self.queue: collections.deque[Any] | None = \
+            collections.deque(maxlen=QUEUE_CAPACITY) if queue_mode else None
+        self.latest: Any = None
+        self.fresh = False
+        self.drops = 0
+        self.received = 0
+        self._last_seq: dict[str, int] = {}
+        self.accept = accept
+
+    def set_queue_mode(self, queue_mode: bool) -> None:
+        """Switch modes; events already queued stay available in queue mode."""
+        if queue_mode and self.queue is None:
+            self.queue = collections.deque(maxlen=QUEUE_CAPACITY)
+            if self.fresh and self.latest is not None:
+                self.queue.append(self.latest)
+        elif not queue_mode and self.queue is not None:
+            if self.queue:
+                self.latest, self.fresh = self.queue[-1], True
+            self.queue = None
+
+    def drain(self) -> int:
+        """Take every event DDS holds for this subscription; return how many."""
+        taken = 0
+        take = self._handle.take_message
+        msg_type = self._type
+        queue = self.queue
+        with self._handle:
+            while True:
+                result = take(msg_type, False)
+                if result is None:
+                    break
+                message = result[0]
+                self._count_gap(message.header)
+                if self.accept is not None and not self.accept(message):
+                    continue
+                taken += 1
+                if queue is not None:
+                    if len(queue) == QUEUE_CAPACITY:
+                        self.drops += 1
+                    queue.append(message)
+                else:
+                    self.latest = message
+                    self.fresh = True
+        self.received += taken
+        return taken
+
+    def _count_gap(self, header: Any) -> None:
+        sequence = header.sequence
+        if not sequence:
+            return
+        last = self._last_seq.get(header.source, 0)
+        if sequence > last + 1 and last:
+            self.drops += sequence - last - 1
+        self._last_seq[header.source] = sequence
+
+    def pending(self) -> bool:
+        """Whether an event is waiting for ``get_next_*``."""
+        return bool(self.queue) if self.queue is not None else self.fresh
+
+    def pop(self) -> Any:
+        """The next event (queue mode: the oldest; latest mode: the newest), or ``None``."""
+        if self.queue is not None:
+            return self.queue.popleft() if self.queue else None
+        if not self.fresh:
+            return None
+        self.fresh = False
+        return self.latest

@@ -1,0 +1,415 @@
+"""CommsManager: one per process; owns the ROS node and runs WURDE's loop (guide chapters 1, 5).
+
+``run_update()`` publishes what is pending, takes in what arrived (draining subscriptions with
+``take``, no executor), applies MCP and state commands, sends the heartbeat, waits for triggers
+and sleeps per the rate settings, then returns the run state::
+
+    while manager.run_update() == RunState.RUN:
+        ...
+    manager.clean_up()
+
+Nothing blocks longer than asked: waits are sliced so that signals and state commands are seen
+within :data:`WAIT_SLICE_S`.  ``step()`` is the deterministic single step for tests.
+"""
+
+from __future__ import annotations
+
+import atexit
+import os
+import signal
+import sys
+import time
+from collections.abc import Sequence
+from typing import Any
+
+import rclpy
+from rclpy.context import Context
+from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
+from rclpy.signals import SignalHandlerOptions
+
+from . import options as _options
+from .enums import ConnectionStrategy, RunState
+from .errors import ConfigError, OptionError, RegistrationError
+from .naming import stream_segment_path
+from .robot_object import CONSUMER, SUPPLIER, RobotObject
+from .role_config import DEFAULT_ROLE_CONFIG, RoleConfiguration, set_global_configuration
+from .trigger import Trigger
+
+#: Longest single wait inside run_update, so that signals and commands are seen promptly.
+WAIT_SLICE_S = 0.05
+#: How long registration mode (-r) waits for an MCP to listen.
+REGISTRATION_WAIT_S = 3.0
+
+
+class CommsManager:
+    """The communication manager of one module (process)."""
+
+    def __init__(self, name: str) -> None:
+        if not name:
+            raise ValueError('a CommsManager needs the module name')
+        self.name = name
+        self.state = RunState.RUN
+        self.options = _options.Options()
+        self.config = RoleConfiguration(name)
+        self.node: Any = None
+        self._context: Context | None = None
+        self._help = ''
+        self._user_spec: str | None = None
+        self._sleep_s = 0.1
+        self._ttl_s = 0.2
+        self._sleep_enabled = True
+        self._pre_sleep = False
+        self._heartbeat_enabled = True
+        self._objects: list[RobotObject] = []
+        self._system_objects: list[RobotObject] = []
+        self._triggers: list[Trigger] = []
+        self._heartbeat: Any = None
+        self._mcp: Any = None
+        self._closed = False
+        self._started = False
+        self._wait_set: Any = None
+        self._wait_subs: list[Any] = []
+        self._previous_handlers: dict[int, Any] = {}
+        self._signals = 0
+
+    # -- options (guide 5.1.1) -----------------------------------------------------------------
+    def set_help_string(self, text: str) -> None:
+        """Extra text for ``-h``."""
+        self._help = text
+
+    def parse_options(self, argv: Sequence[str], user_spec: str | None = None) -> _options.Options:
+        """Parse the standard options and ``user_spec`` (getopt form, e.g. ``"c:ab"``).
+
+        ``-h`` prints help and exits 0; a wrong option or an unreadable role-config prints the
+        reason and usage on stderr and exits with status 2.
+        """
+        argv = list(argv)
+        program = os.path.basename(argv[0]) if argv else self.name
+        try:
+            opts = _options.parse(argv[1:], user_spec)
+        except OptionError as exc:
+            print(f'{program}: {exc}\n{_options.usage(program, self.name, user_spec, self._help)}',
+                  file=sys.stderr)
+            sys.exit(2)
+        if opts.help:
+            print(_options.usage(program, self.name, user_spec, self._help))
+            sys.exit(0)
+        if opts.name:
+            self.name = opts.name
+        config = RoleConfiguration(self.name)
+        path = opts.config_file or (DEFAULT_ROLE_CONFIG if os.path.exists(DEFAULT_ROLE_CONFIG)
+                                    else None)
+        if path:
+            try:
+                config.load(path)
+            except ConfigError as exc:
+                print(f'{program}: {exc}', file=sys.stderr)
+                sys.exit(2)
+        for letter, value in opts.user.items():
+            config.set_option(letter, value)
+        self.config = config
+        set_global_configuration(config)
+        self.options = opts
+        self._user_spec = user_spec
+        return opts
+
+    # -- rate and heartbeat (guide 5.2) --------------------------------------------------------
+    def set_sleep(self, seconds: float) -> None:
+        """Sleep ``seconds`` per loop; the heartbeat TTL becomes twice that."""
+        self._sleep_s = float(seconds)
+        self._ttl_s = 2 * float(seconds)
+        self._sleep_enabled = True
+
+    def set_sleep_only(self, seconds: float) -> None:
+        """Sleep ``seconds`` per loop without changing the heartbeat TTL."""
+        self._sleep_s = float(seconds)
+        self._sleep_enabled = True
+
+    def set_no_sleep(self) -> None:
+        """No rate control: run_update returns as soon as it has done its work."""
+        self._sleep_enabled = False
+
+    def set_pre_sleep(self) -> None:
+        """Sleep before exchanging data."""
+        self._pre_sleep = True
+
+    def set_post_sleep(self) -> None:
+        """Sleep after exchanging data (the default)."""
+        self._pre_sleep = False
+
+    def set_heartbeat_only(self, ttl: float) -> None:
+        """Set the heartbeat TTL to ``ttl`` seconds (the guide's setHeartbeatOnly)."""
+        self._ttl_s = float(ttl)
+        self._heartbeat_enabled = True
+
+    def set_no_heartbeat(self) -> None:
+        """Send no heartbeat (the MCP will not watch this module)."""
+        self._heartbeat_enabled = False
+
+    def heartbeat_enabled(self) -> bool:
+        return self._heartbeat_enabled
+
+    def ttl(self) -> float:
+        """Current heartbeat TTL in seconds."""
+        return self._ttl_s
+
+    def sleep_time(self) -> float:
+        return self._sleep_s if self._sleep_enabled else 0.0
+
+    # -- registration --------------------------------------------------------------------------
+    def register_supplier(self, obj: RobotObject) -> None:
+        """Make ``obj`` a supplier: it sends data and info, receives requests."""
+        self._register(obj, SUPPLIER)
+
+    def register_consumer(self, obj: RobotObject) -> None:
+        """Make ``obj`` a consumer: it receives data and info, sends requests."""
+        self._register(obj, CONSUMER)
+
+    def register_trigger(self, trigger: Trigger) -> None:
+        """``run_update`` will return only when this (or another registered) trigger fires."""
+        if trigger not in self._triggers:
+            self._triggers.append(trigger)
+
+    def objects(self, user_only: bool = False) -> list[RobotObject]:
+        """Registered objects (the program's; plus the manager's own unless ``user_only``)."""
+        return list(self._objects) if user_only else list(self._objects + self._system_objects)
+
+    def _register(self, obj: RobotObject, role: str) -> None:
+        if not isinstance(obj, RobotObject):
+            raise TypeError(f'{obj!r} is not a RobotObject')
+        if obj.role is not None:
+            where = 'this' if obj._manager is self else 'another'
+            raise RegistrationError(f'{obj._label()} is already registered as a {obj.role} with '
+                                    f'{where} CommsManager; register each object once')
+        self._open()
+        obj._register(self, role)
+        self._objects.append(obj)
+        if role == CONSUMER and obj.strategy in (ConnectionStrategy.ASSIGNED,
+                                                 ConnectionStrategy.AUTO):
+            self._mcp_client().request_stream(obj)
+        else:
+            obj._connect(obj.stream or obj.object_name)
+            if obj.strategy == ConnectionStrategy.NORMAL and role == CONSUMER:
+                self._mcp_client().request_start(obj)
+        self._wait_set = None
+        if self._heartbeat is not None and self._started:
+            self._heartbeat.describe()
+
+    def _connect_assigned(self, obj: RobotObject, stream: str) -> None:
+        """The MCP assigned ``stream`` to a waiting object."""
+        if obj.is_connected():
+            obj._disconnect()
+        obj._connect(stream)
+        self._wait_set = None
+        if self._heartbeat is not None:
+            self._heartbeat.describe()
+
+    def _register_system(self, obj: RobotObject, role: str) -> None:
+        obj._register(self, role)
+        obj._connect(obj.stream or obj.object_name)
+        self._system_objects.append(obj)
+        self._wait_set = None
+
+    def _mcp_client(self) -> Any:
+        if self._mcp is None:
+            from .mcp_client import McpClient
+            self._mcp = McpClient(self)
+            self._register_system(self._mcp.obj, CONSUMER)
+        return self._mcp
+
+    # -- life cycle ----------------------------------------------------------------------------
+    def _open(self) -> None:
+        """Create the ROS node (once); called by the first registration or update."""
+        if self.node is not None:
+            return
+        if self._closed:
+            raise RegistrationError(f'CommsManager "{self.name}" was cleaned up')
+        stream_segment_path(self.name)  # refuses names that can not be a stream segment
+        context = Context()
+        rclpy.init(args=['wurde', *self.options.ros_arguments], context=context,
+                   signal_handler_options=SignalHandlerOptions.NO)
+        node_name = stream_segment_path(self.name).replace('/', '_')
+        self.node = rclpy.create_node(node_name, context=context,
+                                      start_parameter_services=False)
+        self._context = context
+        self._install_signal_handlers()
+        atexit.register(self.clean_up)
+        if self._heartbeat_enabled:
+            from .heartbeat import ModuleHeartbeat
+            self._heartbeat = ModuleHeartbeat(self)
+            self._register_system(self._heartbeat.obj, SUPPLIER)
+
+    def _install_signal_handlers(self) -> None:
+        import threading
+        if threading.current_thread() is not threading.main_thread():
+            return
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            self._previous_handlers[signum] = signal.signal(signum, self._on_signal)
+
+    def _on_signal(self, signum: int, _frame: Any) -> None:
+        self._signals += 1
+        if self._signals > 1 and signum == signal.SIGINT:
+            raise KeyboardInterrupt
+        self.state = RunState.QUIT
+
+    def _start(self) -> None:
+        """First update: registration and capability listing (-r, -l), process description."""
+        self._started = True
+        if self.options.registration or self.options.list_capabilities:
+            reached = self._mcp_client().report_capabilities(REGISTRATION_WAIT_S)
+            caps = self._mcp.capabilities()
+            for interface, stream in caps['supplies']:
+                print(f'supplies {interface} {stream}')
+            for interface, alias in caps['consumes']:
+                print(f'consumes {interface} {alias}')
+            print(f'capabilities of {self.name} {"sent to" if reached else "not received by"} '
+                  'the MCP', flush=True)
+            if self.options.registration:
+                self.state = RunState.QUIT
+        if self._heartbeat is not None:
+            self._heartbeat.describe()
+
+    def set_run(self) -> None:
+        """Return to Run after handling Idle, Reset or Restart."""
+        self._change_state(RunState.RUN)
+
+    def set_state(self, state: RunState) -> None:
+        """Change this module's own run state (as a command from the MCP would)."""
+        self._change_state(RunState(state))
+
+    def _change_state(self, state: RunState) -> None:
+        if state == self.state:
+            return
+        self.state = state
+        if self._heartbeat is not None and self.node is not None:
+            self._heartbeat.describe()
+            self._heartbeat.beat(force=True)
+
+    def run_update(self, timeout: float | None = None) -> RunState:
+        """One turn of the module's loop; returns the run state.
+
+        With triggers registered, returns only when one fires, the state changes, or ``timeout``
+        seconds have passed (``None``: no limit).  Sleeps per the rate settings.
+        """
+        self._open()
+        if not self._started:
+            self._start()
+        if self.state == RunState.QUIT:
+            return self.state
+        if self._sleep_enabled and self._pre_sleep:
+            self._nap(self._sleep_s)
+        self._exchange()
+        if self._triggers and self.state == RunState.RUN:
+            self._wait_for_trigger(timeout)
+        self._beat()
+        if self._sleep_enabled and not self._pre_sleep:
+            self._nap(self._sleep_s)
+        return self.state
+
+    def step(self) -> RunState:
+        """Deterministic single step: exchange and heartbeat, no sleeping and no waiting."""
+        self._open()
+        if not self._started:
+            self._start()
+        self._exchange()
+        self._beat()
+        return self.state
+
+    def wait(self, timeout: float) -> bool:
+        """Block until something arrives on any stream of this module or ``timeout`` passes.
+
+        Returns whether something arrived.  For programs that wait between steps without
+        triggers; ``run_update`` uses it internally.
+        """
+        self._open()
+        deadline = time.monotonic() + timeout
+        while True:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0 or self.state == RunState.QUIT:
+                return False
+            if self._wait_once(min(remaining, WAIT_SLICE_S)):
+                return True
+
+    def _wait_for_trigger(self, timeout: float | None) -> None:
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while self.state == RunState.RUN:
+            if any(trigger.fire() for trigger in self._triggers):
+                return
+            slice_s = WAIT_SLICE_S
+            if self._heartbeat is not None and self._heartbeat_enabled:
+                slice_s = min(slice_s, max(self._heartbeat.next_beat_in(), 0.001))
+            if deadline is not None:
+                remaining = deadline - time.monotonic()
+                if remaining <= 0:
+                    return
+                slice_s = min(slice_s, remaining)
+            self._wait_once(slice_s)
+            self._exchange()
+            self._beat()
+
+    def _wait_once(self, seconds: float) -> bool:
+        subs = [s for o in self._objects + self._system_objects for s in o._subscriptions()]
+        if not subs:
+            time.sleep(seconds)
+            return False
+        if self._wait_set is None or self._wait_subs != subs:
+            self._wait_set = _rclpy.WaitSet(len(subs), 0, 0, 0, 0, 0, self._context.handle)
+            self._wait_subs = subs
+        wait_set = self._wait_set
+        wait_set.clear_entities()
+        for sub in subs:
+            wait_set.add_subscription(sub.handle)
+        wait_set.wait(int(seconds * 1e9))
+        return bool(wait_set.get_ready_entities('subscription'))
+
+    def _exchange(self) -> None:
+        """Take in what arrived: the manager's own channels always, the program's only in Run."""
+        for obj in self._system_objects:
+            obj._drain()
+        if self._heartbeat is not None:
+            for state in self._heartbeat.commands():
+                self._change_state(state)
+        if self._mcp is not None:
+            self._mcp.poll()
+        if self.state == RunState.RUN:
+            for obj in self._objects:
+                obj._drain()
+
+    def _beat(self) -> None:
+        if self._heartbeat is not None:
+            self._heartbeat.beat()
+
+    def _nap(self, seconds: float) -> None:
+        deadline = time.monotonic() + seconds
+        while self.state != RunState.QUIT:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                return
+            time.sleep(min(remaining, WAIT_SLICE_S))
+
+    def clean_up(self) -> None:
+        """Say goodbye to the MCP and release everything; idempotent, also run at exit."""
+        if self._closed:
+            return
+        self._closed = True
+        if self.node is not None:
+            try:
+                if self._heartbeat is not None:
+                    self.state = RunState.QUIT
+                    self._heartbeat.describe()
+                for obj in self._objects + self._system_objects:
+                    obj._disconnect()
+                self.node.destroy_node()
+            finally:
+                if self._context is not None:
+                    self._context.try_shutdown()
+        for signum, handler in self._previous_handlers.items():
+            signal.signal(signum, handler)
+        self._previous_handlers.clear()
+        atexit.unregister(self.clean_up)
+
+    # -- logging helpers -----------------------------------------------------------------------
+    def log_warning(self, text: str) -> None:
+        """Warn through the global logger (stderr when there is none)."""
+        from .logger import g_warn
+        g_warn(f'{self.name}: {text}')

@@ -1,0 +1,184 @@
+"""Point, Point3D, Pose and Pose3D with the guide's constructors and accessors (guide 3.2.4).
+
+Each is a view over a ``wurde_interfaces`` message: built alone it owns a fresh message; taken from
+a data or info member it wraps that member, so ``obj.data.location.x(1.0)`` writes into the event.
+Accessors follow the C++ overloads: ``p.x()`` reads, ``p.x(2.0)`` writes; ``value()`` is the weight.
+"""
+
+from __future__ import annotations
+
+from typing import Any, ClassVar
+
+from wurde_interfaces import msg as _msg
+
+_UNSET = object()
+
+
+class _View:
+    _msg_type: ClassVar[type]
+    _fields: ClassVar[tuple[str, ...]]
+    __slots__ = ('_m',)
+
+    def __init__(self, *values: float) -> None:
+        names = self._positional(len(values))
+        self._m = self._msg_type()
+        for name, value in zip(names, values):
+            setattr(self._m, name, float(value))
+
+    @classmethod
+    def _positional(cls, count: int) -> tuple[str, ...]:
+        if count > len(cls._fields):
+            raise TypeError(f'{cls.__name__} takes at most {len(cls._fields)} values, got {count}')
+        return cls._fields[:count]
+
+    @classmethod
+    def wrap(cls, message: Any) -> Any:
+        """A view writing through to ``message``."""
+        view = cls.__new__(cls)
+        view._m = message
+        return view
+
+    def to_msg(self) -> Any:
+        """The underlying message (shared, not copied)."""
+        return self._m
+
+    def _access(self, name: str, value: Any) -> Any:
+        if value is _UNSET:
+            return getattr(self._m, name)
+        setattr(self._m, name, float(value))
+        return None
+
+    def __eq__(self, other: object) -> bool:
+        if type(other) is not type(self):
+            return NotImplemented
+        return self._m == other._m  # type: ignore[attr-defined]
+
+    def __repr__(self) -> str:
+        values = ', '.join(f'{name}={getattr(self._m, name):g}' for name in self._msg_type.get_fields_and_field_types())
+        return f'{type(self).__name__}({values})'
+
+
+class _XY(_View):
+    __slots__ = ()
+
+    def x(self, value: Any = _UNSET) -> Any:
+        """Read the x coordinate (m), or set it when given a value."""
+        return self._access('x', value)
+
+    def y(self, value: Any = _UNSET) -> Any:
+        """Read the y coordinate (m), or set it when given a value."""
+        return self._access('y', value)
+
+    def value(self, value: Any = _UNSET) -> Any:
+        """Read the weight, or set it when given a value."""
+        return self._access('weight', value)
+
+
+class _Z:
+    __slots__ = ()
+
+    def z(self, value: Any = _UNSET) -> Any:
+        """Read the z coordinate (m), or set it when given a value."""
+        return self._access('z', value)  # type: ignore[attr-defined]
+
+
+class _Theta:
+    __slots__ = ()
+
+    def theta(self, value: Any = _UNSET) -> Any:
+        """Read theta (rad, about z), or set it when given a value."""
+        return self._access('theta', value)  # type: ignore[attr-defined]
+
+
+class Point(_XY):
+    """``Point()``, ``Point(x, y)``, ``Point(x, y, w)``."""
+
+    __slots__ = ()
+    _msg_type = _msg.Point
+    _fields = ('x', 'y', 'weight')
+
+
+class Point3D(_Z, _XY):
+    """``Point3D()``, ``Point3D(x, y, z)``, ``Point3D(x, y, z, w)``."""
+
+    __slots__ = ()
+    _msg_type = _msg.Point3D
+    _fields = ('x', 'y', 'z', 'weight')
+
+    @classmethod
+    def _positional(cls, count: int) -> tuple[str, ...]:
+        if count not in (0, 3, 4):
+            raise TypeError('Point3D takes (), (x, y, z) or (x, y, z, w)')
+        return cls._fields[:count]
+
+
+class Pose(_Theta, _XY):
+    """``Pose()``, ``Pose(x, y)``, ``Pose(x, y, t)``, ``Pose(x, y, t, w)``."""
+
+    __slots__ = ()
+    _msg_type = _msg.Pose
+    _fields = ('x', 'y', 'theta', 'weight')
+
+
+class Pose3D(_Theta, _Z, _XY):
+    """``Pose3D()``, ``Pose3D(x, y, z)``, ``Pose3D(x, y, z, t, p, s)``, ``Pose3D(x, y, z, t, p, s, w)``.
+
+    Orientation: theta about z, then phi about y, then psi about x.
+    """
+
+    __slots__ = ()
+    _msg_type = _msg.Pose3D
+    _fields = ('x', 'y', 'z', 'theta', 'phi', 'psi', 'weight')
+
+    @classmethod
+    def _positional(cls, count: int) -> tuple[str, ...]:
+        if count not in (0, 3, 6, 7):
+            raise TypeError('Pose3D takes (), (x, y, z), (x, y, z, t, p, s) or (x, y, z, t, p, s, w)')
+        return cls._fields[:count]
+
+    def phi(self, value: Any = _UNSET) -> Any:
+        """Read phi (rad, about y), or set it when given a value."""
+        return self._access('phi', value)
+
+    def psi(self, value: Any = _UNSET) -> Any:
+        """Read psi (rad, about x), or set it when given a value."""
+        return self._access('psi', value)
+
+
+class CVector(_View):
+    """A Cartesian 2-D vector: ``CVector(x, y)``."""
+
+    __slots__ = ()
+    _msg_type = _msg.CVector
+    _fields = ('x', 'y')
+
+    def x(self, value: Any = _UNSET) -> Any:
+        """Read x, or set it when given a value."""
+        return self._access('x', value)
+
+    def y(self, value: Any = _UNSET) -> Any:
+        """Read y, or set it when given a value."""
+        return self._access('y', value)
+
+
+class PVector(_View):
+    """A polar 2-D vector: ``PVector(magnitude, angle)``."""
+
+    __slots__ = ()
+    _msg_type = _msg.PVector
+    _fields = ('magnitude', 'angle')
+
+    def magnitude(self, value: Any = _UNSET) -> Any:
+        """Read the magnitude, or set it when given a value."""
+        return self._access('magnitude', value)
+
+    def angle(self, value: Any = _UNSET) -> Any:
+        """Read the angle (rad), or set it when given a value."""
+        return self._access('angle', value)
+
+
+#: View classes by WURDE type name.
+GEOMETRY: dict[str, type[_View]] = {
+    'Point': Point, 'Point3D': Point3D, 'Pose': Pose, 'Pose3D': Pose3D,
+    'CVector': CVector, 'PVector': PVector,
+}

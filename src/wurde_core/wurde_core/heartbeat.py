@@ -1,0 +1,86 @@
+"""The module's heartbeat: keep-alive to the MCP and the channel it commands states through.
+
+Seed: WURDE Programming Guide 3.4.7 and 5.2.1.  Each module supplies a ``Heartbeat`` object on
+stream ``heartbeat/<module name>``: data carries the TTL (how long to wait for the next beat),
+info describes the process (run state, pid, host, managed state, locale, what it supplies and
+consumes), and requests that set ``state`` change the module's run state — from the MCP or any
+controller (``Heartbeat("heartbeat/FooServer")`` as a consumer, ``requests.state.set_value``).
+"""
+
+from __future__ import annotations
+
+import os
+import socket
+import time
+from typing import TYPE_CHECKING
+
+from .enums import ProcessLocale, ProcessType, RunState
+from .interfaces import robot_object_class
+
+if TYPE_CHECKING:
+    from .comms_manager import CommsManager
+    from .robot_object import RobotObject
+
+STREAM_PREFIX = 'heartbeat/'
+
+
+def heartbeat_stream(module: str) -> str:
+    """The stream a module's heartbeat lives on."""
+    return STREAM_PREFIX + module
+
+
+class ModuleHeartbeat:
+    """Sends the beats and the process description, takes in state commands."""
+
+    def __init__(self, manager: 'CommsManager') -> None:
+        self.manager = manager
+        self.obj: RobotObject = robot_object_class('Heartbeat')(heartbeat_stream(manager.name))
+        self.obj._system = True
+        self.obj.set_queue_mode(True)  # never lose a state command
+        self._last_beat = 0.0
+        self.beats = 0
+
+    def describe(self) -> None:
+        """Publish the process description (info); called at start and on every change."""
+        info = self.obj.info
+        info.managed.set_value(ProcessType.MANAGED)
+        info.locale.set_value(ProcessLocale.INTERNAL)
+        info.state.set_value(self.manager.state)
+        info.pid.set_value(os.getpid())
+        info.host.set_value(socket.gethostname())
+        supplied = [o for o in self.manager.objects() if o.role == 'supplier']
+        consumed = [o for o in self.manager.objects() if o.role == 'consumer']
+        info.interfaces.set_value([o.interface_name for o in supplied])
+        info.streams.set_value([o.stream or '' for o in supplied])
+        info.consumed_interfaces.set_value([o.interface_name for o in consumed])
+        info.consumed_streams.set_value([o.stream or '' for o in consumed])
+        info.consumed_objects.set_value([o.object_name for o in consumed])
+        self.obj.publish_info()
+
+    def beat(self, *, force: bool = False) -> bool:
+        """Send a beat if half the TTL has passed since the last one (or ``force``)."""
+        manager = self.manager
+        if not manager.heartbeat_enabled():
+            return False
+        now = time.monotonic()
+        ttl = manager.ttl()
+        if not force and now - self._last_beat < ttl / 2:
+            return False
+        self.obj.data.ttl = ttl
+        self.obj.publish_data()
+        self._last_beat = now
+        self.beats += 1
+        return True
+
+    def next_beat_in(self) -> float:
+        """Seconds until the next beat is due."""
+        return max(0.0, self._last_beat + self.manager.ttl() / 2 - time.monotonic())
+
+    def commands(self) -> list[RunState]:
+        """State commands that arrived (requests setting ``state``), oldest first."""
+        states = []
+        while self.obj.get_next_request():
+            request = self.obj.requests
+            if 'state' in request.message().set_fields:
+                states.append(RunState(request.state.get_value()))
+        return states

@@ -1,0 +1,168 @@
+"""The logging system (guide chapter 4): stderr, syslog local0, ROS /rosout, and the network.
+
+``Logger("FooServer")`` is a supplier of the LoggerTransport interface (stream ``log/FooServer``):
+register it with ``manager.register_supplier(logger)`` and every message also goes out over the
+network, where any consumer of that stream reads it.  Messages below the configured level
+(role-config ``<log level>``, ``WURDE_LOG_LEVEL``; default debug) are dropped.  When the
+configuration names a log directory, messages are also appended to ``<directory>/<name>.log``.
+The first Logger becomes the global one used by :func:`g_debug` ... :func:`g_fatal`; without one,
+those write to stderr.
+"""
+
+from __future__ import annotations
+
+import socket
+import sys
+import syslog
+import time
+from typing import Any, TextIO
+
+from .interfaces import robot_object_class
+from .role_config import LOG_LEVELS, global_configuration
+
+DEBUG, INFO, NOTICE, WARN, ERROR, FATAL = range(6)
+_SYSLOG_PRIORITY = (syslog.LOG_DEBUG, syslog.LOG_INFO, syslog.LOG_NOTICE, syslog.LOG_WARNING,
+                    syslog.LOG_ERR, syslog.LOG_CRIT)
+STREAM_PREFIX = 'log/'
+
+_global: 'Logger | None' = None
+
+
+def _level_number(level: int | str) -> int:
+    if isinstance(level, str):
+        return LOG_LEVELS.index(level)
+    if not 0 <= level < len(LOG_LEVELS):
+        raise ValueError(f'log level {level} is not 0..{len(LOG_LEVELS) - 1}')
+    return int(level)
+
+
+class Logger(robot_object_class('LoggerTransport')):  # type: ignore[misc]
+    """A named logger; also a LoggerTransport supplier once registered."""
+
+    def __init__(self, name: str, *, stderr: bool = True, use_syslog: bool = True) -> None:
+        super().__init__(STREAM_PREFIX + name)
+        self.name = name
+        self._stderr: TextIO | None = sys.stderr if stderr else None
+        self._syslog = use_syslog
+        self._file: TextIO | None = None
+        self._file_dir: str | None = None
+        self._host = socket.gethostname()
+        self.set_queue_mode(True)
+        if use_syslog:
+            syslog.openlog(name, syslog.LOG_PID, syslog.LOG_LOCAL0)
+        global _global
+        if _global is None:
+            _global = self
+
+    def level(self) -> int:
+        """Lowest level logged, from the global configuration."""
+        return LOG_LEVELS.index(global_configuration().get_log_level())
+
+    def log(self, level: int | str, message: str) -> bool:
+        """Log ``message`` at ``level``; returns whether it passed the level filter."""
+        number = _level_number(level)
+        if number < self.level():
+            return False
+        text = str(message).rstrip('\n')
+        label = LOG_LEVELS[number].upper()
+        if self._stderr is not None:
+            print(f'[{label}] {self.name}: {text}', file=self._stderr, flush=True)
+        if self._syslog:
+            syslog.syslog(_SYSLOG_PRIORITY[number], text)
+        self._to_file(label, text)
+        self._to_ros(number, text)
+        self._to_network(number, text)
+        return True
+
+    def _to_file(self, label: str, text: str) -> None:
+        config = global_configuration()
+        directory = config.get_log_directory() if config.explicit_log_directory() else None
+        if directory != self._file_dir:
+            if self._file is not None:
+                self._file.close()
+            self._file = open(f'{directory}/{self.name}.log', 'a') if directory else None  # noqa: SIM115
+            self._file_dir = directory
+        if self._file is not None:
+            stamp = time.strftime('%Y-%m-%d %H:%M:%S')
+            self._file.write(f'{stamp} [{label}] {text}\n')
+            self._file.flush()
+
+    def _to_ros(self, number: int, text: str) -> None:
+        manager = self._manager
+        if manager is None or manager.node is None:
+            return
+        ros_logger = manager.node.get_logger()
+        (ros_logger.debug, ros_logger.info, ros_logger.info, ros_logger.warning,
+         ros_logger.error, ros_logger.fatal)[number](text)
+
+    def _to_network(self, number: int, text: str) -> None:
+        if self.role != 'supplier' or not self.is_connected():
+            return
+        self.data.level = number
+        self.data.message = text
+        self.data.host = self._host
+        self.publish_data()
+
+    def debug(self, message: str) -> bool:
+        return self.log(DEBUG, message)
+
+    def info_msg(self, message: str) -> bool:
+        """Log at info level (``info`` is the interface's info channel)."""
+        return self.log(INFO, message)
+
+    def notice(self, message: str) -> bool:
+        return self.log(NOTICE, message)
+
+    def warn(self, message: str) -> bool:
+        return self.log(WARN, message)
+
+    warning = warn
+
+    def error(self, message: str) -> bool:
+        return self.log(ERROR, message)
+
+    def fatal(self, message: str) -> bool:
+        return self.log(FATAL, message)
+
+    def close(self) -> None:
+        """Close the log file, if any; idempotent."""
+        if self._file is not None:
+            self._file.close()
+            self._file = None
+            self._file_dir = None
+
+
+def global_logger() -> Logger | None:
+    """The first Logger created in this process, if any."""
+    return _global
+
+
+def _global_log(level: int, message: Any) -> None:
+    if _global is not None:
+        _global.log(level, str(message))
+    else:
+        print(f'[{LOG_LEVELS[level].upper()}] {message}', file=sys.stderr, flush=True)
+
+
+def g_debug(message: Any) -> None:
+    _global_log(DEBUG, message)
+
+
+def g_info(message: Any) -> None:
+    _global_log(INFO, message)
+
+
+def g_notice(message: Any) -> None:
+    _global_log(NOTICE, message)
+
+
+def g_warn(message: Any) -> None:
+    _global_log(WARN, message)
+
+
+def g_error(message: Any) -> None:
+    _global_log(ERROR, message)
+
+
+def g_fatal(message: Any) -> None:
+    _global_log(FATAL, message)

@@ -1,0 +1,119 @@
+"""The module side of the MCP protocol, over the McpRequest interface on stream ``mcp``.
+
+Seed: WURDE Programming Guide 6.3 and 7 (``-r``, ``-l``).  The MCP supplies ``McpRequest("mcp")``;
+each module is a consumer that sends requests and reads the answers from the MCP's info:
+
+- kind 2, report capabilities: ``provided_interfaces``/``provided_streams`` and
+  ``consumed_interfaces``/``consumed_objects`` of the module (``-r`` and ``-l``);
+- kind 0, assign a stream: ``strategy`` ASSIGNED or AUTO, ``interface``, ``object`` (the alias);
+  the MCP answers with the same ``module`` and ``request_id``, ``success`` and ``stream``;
+  the request is repeated every :data:`RETRY_S` until answered;
+- kind 1, start a module: ``strategy`` NORMAL, ``object`` the stream name wanted.
+"""
+
+from __future__ import annotations
+
+import itertools
+import time
+from typing import TYPE_CHECKING, Any
+
+from .enums import ConnectionStrategy
+from .interfaces import robot_object_class
+
+if TYPE_CHECKING:
+    from .comms_manager import CommsManager
+    from .robot_object import RobotObject
+
+STREAM = 'mcp'
+KIND_ASSIGN, KIND_START, KIND_CAPABILITIES = 0, 1, 2
+RETRY_S = 1.0
+
+
+class McpClient:
+    """Sends requests to the MCP and applies its answers."""
+
+    def __init__(self, manager: 'CommsManager') -> None:
+        self.manager = manager
+        self.obj: RobotObject = robot_object_class('McpRequest')(STREAM)
+        self.obj._system = True
+        self.obj.set_queue_mode(True)
+        self._ids = itertools.count(1)
+        self._pending: dict[int, tuple[RobotObject, float]] = {}
+
+    def _request(self, kind: int, **values: Any) -> int:
+        request_id = next(self._ids)
+        requests = self.obj.requests
+        requests.request_id.set_value(request_id)
+        requests.kind.set_value(kind)
+        requests.module.set_value(self.manager.name)
+        for name, value in values.items():
+            getattr(requests, name).set_value(value)
+        self.obj.publish_request()
+        return request_id
+
+    def capabilities(self) -> dict[str, list[tuple[str, str]]]:
+        """``{'supplies': [(interface, stream)], 'consumes': [(interface, object)]}``."""
+        objects = self.manager.objects(user_only=True)
+        return {
+            'supplies': [(o.interface_name, o.stream or '') for o in objects if o.role == 'supplier'],
+            'consumes': [(o.interface_name, o.object_name) for o in objects if o.role == 'consumer'],
+        }
+
+    def report_capabilities(self, wait_s: float) -> bool:
+        """Send the capability report; wait up to ``wait_s`` for an MCP to be listening.
+
+        Returns whether an MCP received it (its subscription acknowledged the report).
+        """
+        outbox = self.obj._outboxes['request']
+        deadline = time.monotonic() + wait_s
+        while outbox.subscribers() == 0 and time.monotonic() < deadline:
+            time.sleep(0.02)
+        caps = self.capabilities()
+        self._request(KIND_CAPABILITIES,
+                      provided_interfaces=[i for i, _ in caps['supplies']],
+                      provided_streams=[s for _, s in caps['supplies']],
+                      consumed_interfaces=[i for i, _ in caps['consumes']],
+                      consumed_objects=[o for _, o in caps['consumes']])
+        if outbox.subscribers() == 0:
+            return False
+        from rclpy.duration import Duration
+        return bool(outbox.publisher.wait_for_all_acked(
+            Duration(seconds=max(0.0, deadline - time.monotonic()) + 0.5)))
+
+    def request_stream(self, obj: 'RobotObject') -> None:
+        """Ask for the stream of an ASSIGNED or AUTO object; the answer connects it."""
+        request_id = self._request(KIND_ASSIGN, strategy=obj.strategy,
+                                   interface=obj.interface_name, object=obj.object_name)
+        self._pending[request_id] = (obj, time.monotonic())
+
+    def request_start(self, obj: 'RobotObject') -> None:
+        """Ask the MCP to start the module that provides a NORMAL object's stream."""
+        self._request(KIND_START, strategy=ConnectionStrategy.NORMAL,
+                      interface=obj.interface_name, object=obj.object_name)
+
+    def poll(self) -> None:
+        """Apply answers; repeat unanswered assignment requests."""
+        while self.obj.get_next_info():
+            info = self.obj.info
+            if info.module.get_value() != self.manager.name:
+                continue
+            entry = self._pending.pop(info.request_id.get_value(), None)
+            if entry is None:
+                continue
+            obj = entry[0]
+            if info.success.get_value() and info.stream.get_value():
+                self.manager._connect_assigned(obj, info.stream.get_value())
+            else:
+                self.manager.log_warning(
+                    f'MCP could not assign a stream to {obj._label()}: '
+                    f'{info.detail.get_value() or "no reason given"}; asking again')
+                self._pending[info.request_id.get_value()] = (obj, time.monotonic())
+        now = time.monotonic()
+        for request_id, (obj, sent) in list(self._pending.items()):
+            if now - sent >= RETRY_S:
+                del self._pending[request_id]
+                self.request_stream(obj)
+
+    def waiting(self) -> list['RobotObject']:
+        """Objects still waiting for their stream."""
+        return [obj for obj, _ in self._pending.values()]

@@ -1,0 +1,82 @@
+"""Stream names to ROS topic names, by one documented and reversible rule.
+
+A stream ``S`` lives at ``/wurde/S/data``, ``/wurde/S/info`` and ``/wurde/S/request``.  ``S`` is
+split at ``/`` (Pluto's ``Localization/Dead-Reckoning`` becomes two levels).  A segment that is
+already a plain ROS name token — a letter, then letters and digits, single underscores between
+them — is kept as it is.  Any other segment is written ``w__`` followed by the segment with every
+character other than a letter or digit replaced by ``_`` and its UTF-8 bytes in two upper-case hex
+digits each (``Dead-Reckoning`` -> ``w__Dead_2DReckoning``, ``Laser_Dead-Reckoning`` ->
+``w__Laser_5FDead_2DReckoning``).  Kept segments never contain ``__``, encoded ones always start
+with ``w__``, so :func:`stream_name` undoes :func:`stream_segment_path` exactly.
+"""
+
+from __future__ import annotations
+
+import re
+
+from .errors import WurdeError
+
+PREFIX = '/wurde'
+CHANNELS = ('data', 'info', 'request')
+_PLAIN = re.compile(r'^[A-Za-z][A-Za-z0-9]*(_[A-Za-z0-9]+)*$')
+_MARK = 'w__'
+_ESCAPE = re.compile(r'_([0-9A-F]{2})')
+
+
+def _encode(segment: str) -> str:
+    if _PLAIN.match(segment):
+        return segment
+    out = [_MARK]
+    for char in segment:
+        if char.isascii() and char.isalnum():
+            out.append(char)
+        else:
+            out.extend(f'_{byte:02X}' for byte in char.encode())
+    return ''.join(out)
+
+
+def _decode(segment: str) -> str:
+    if not segment.startswith(_MARK):
+        return segment
+    raw = bytearray()
+    body = segment[len(_MARK):]
+    pos = 0
+    while pos < len(body):
+        if body[pos] == '_':
+            raw.append(int(body[pos + 1:pos + 3], 16))
+            pos += 3
+        else:
+            raw.extend(body[pos].encode())
+            pos += 1
+    return raw.decode()
+
+
+def stream_segment_path(stream: str) -> str:
+    """The topic path of ``stream`` below :data:`PREFIX` (``Localization/w__Dead_2DReckoning``).
+
+    :raises WurdeError: for an empty stream name or an empty segment (``a//b``, ``/a``).
+    """
+    segments = stream.split('/')
+    if not stream or any(not s for s in segments):
+        raise WurdeError(f'stream name {stream!r} is empty or has an empty segment')
+    return '/'.join(_encode(s) for s in segments)
+
+
+def topic(stream: str, channel: str) -> str:
+    """The ROS topic of one channel (``data``, ``info`` or ``request``) of ``stream``."""
+    if channel not in CHANNELS:
+        raise ValueError(f'unknown channel {channel!r}')
+    return f'{PREFIX}/{stream_segment_path(stream)}/{channel}'
+
+
+def stream_name(topic_name: str) -> tuple[str, str]:
+    """Undo :func:`topic`: ``/wurde/<path>/<channel>`` -> ``(stream, channel)``.
+
+    :raises WurdeError: when ``topic_name`` is not a WURDE stream topic.
+    """
+    if not topic_name.startswith(PREFIX + '/'):
+        raise WurdeError(f'{topic_name!r} is not below {PREFIX}/')
+    path, _, channel = topic_name[len(PREFIX) + 1:].rpartition('/')
+    if channel not in CHANNELS or not path:
+        raise WurdeError(f'{topic_name!r} is not a WURDE stream topic')
+    return '/'.join(_decode(s) for s in path.split('/')), channel

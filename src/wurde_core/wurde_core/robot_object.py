@@ -1,0 +1,347 @@
+"""RobotObject: one object per device or capability, of one interface's type (guide ch. 1, 3.2).
+
+A program declares ``Foo("Bar")`` and registers it with its CommsManager as a supplier or a
+consumer; where the stream lives and how its bytes move is the manager's business.  A supplier
+sends ``data`` and ``info`` and receives ``requests``; a consumer receives ``data`` and ``info`` and
+sends ``requests``.  Classes for each interface are made by :mod:`wurde_core.interfaces`.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, ClassVar
+
+from .channel import Inbox, Outbox
+from .enums import ConnectionStrategy, LockMode, RunState
+from .errors import DirectionError, LockedError, NotRegisteredError
+from .naming import topic
+from .qos import info_qos, stream_qos
+from .structs import DataStruct, InfoStruct
+from .timestamp import Time
+from .writable import DEVICE, describe_lock, lock_refusal
+
+if TYPE_CHECKING:
+    from .comms_manager import CommsManager
+
+SUPPLIER, CONSUMER = 'supplier', 'consumer'
+
+
+class RobotObject:
+    """Base of every interface class; use the classes in :mod:`wurde_core.interfaces`.
+
+    ``Foo("Bar")`` names the stream directly; ``Foo(ConnectionStrategy.ASSIGNED, "EgoClient")``
+    gives an alias whose stream the MCP assigns (guide 6.3).
+    """
+
+    interface_name: ClassVar[str] = ''
+    description: ClassVar[dict[str, Any]] = {}
+    data_type: ClassVar[type]
+    info_type: ClassVar[type]
+    _data_struct: ClassVar[type[DataStruct]]
+    _info_struct: ClassVar[type[InfoStruct]]
+    #: Objects the manager itself uses (heartbeat, MCP requests) keep flowing in Idle.
+    _system: bool = False
+
+    def __init__(self, stream: str | ConnectionStrategy, name: str | None = None) -> None:
+        if isinstance(stream, ConnectionStrategy):
+            if not name:
+                raise TypeError(f'{type(self).__name__}({stream.name}, name): a name is needed')
+            self.strategy: ConnectionStrategy | None = stream
+            self.object_name = name
+            self.stream: str | None = name if stream == ConnectionStrategy.NORMAL else None
+        else:
+            if not isinstance(stream, str) or not stream:
+                raise TypeError(f'{type(self).__name__} needs a stream name or a ConnectionStrategy')
+            self.strategy = None
+            self.object_name = stream
+            self.stream = stream
+        self.data = self._data_struct()
+        self.info = self._info_struct(owner=self, channel='info')
+        self.requests = self._info_struct(owner=self, channel='requests')
+        self._queue_mode = False
+        self._auto_tag = True
+        self._auto_timestamp = True
+        self._role: str | None = None
+        self._manager: CommsManager | None = None
+        self._inboxes: dict[str, Inbox] = {}
+        self._outboxes: dict[str, Outbox] = {}
+        self._locks: dict[str, tuple[LockMode, str]] = {}
+        self._arrivals = 0
+        self.refused_requests = 0
+        self.suppressed = 0
+
+    # -- configuration (guide 3.2) -------------------------------------------------------------
+    def set_queue_mode(self, value: bool) -> None:
+        """Queue every event (True) or keep only the newest (False, the default).
+
+        Set it before registering: the DDS history depth is chosen when the stream connects.
+        """
+        self._queue_mode = bool(value)
+        for inbox in self._inboxes.values():
+            inbox.set_queue_mode(self._queue_mode)
+
+    def get_queue_mode(self) -> bool:
+        return self._queue_mode
+
+    def set_auto_tag(self, value: bool) -> None:
+        """Set ``source`` of published events to the module's name (default on)."""
+        self._auto_tag = bool(value)
+
+    def get_auto_tag(self) -> bool:
+        return self._auto_tag
+
+    def set_auto_timestamp(self, value: bool) -> None:
+        """Set ``timestamp`` of published events to the current time (default on)."""
+        self._auto_timestamp = bool(value)
+
+    def get_auto_timestamp(self) -> bool:
+        return self._auto_timestamp
+
+    # -- state ---------------------------------------------------------------------------------
+    @property
+    def role(self) -> str | None:
+        """``'supplier'``, ``'consumer'`` or ``None`` before registration."""
+        return self._role
+
+    def is_connected(self) -> bool:
+        """Whether the object has its stream (an ASSIGNED or AUTO one waits for the MCP)."""
+        return bool(self._inboxes or self._outboxes)
+
+    @property
+    def data_drops(self) -> int:
+        """Data events lost (queue overflow past the cap, or dropped on the way)."""
+        return self._drops('data')
+
+    @property
+    def info_drops(self) -> int:
+        """Info events lost."""
+        return self._drops('info')
+
+    @property
+    def request_drops(self) -> int:
+        """Request events lost."""
+        return self._drops('request')
+
+    def _drops(self, channel: str) -> int:
+        inbox = self._inboxes.get(channel)
+        return inbox.drops if inbox else 0
+
+    # -- receiving -----------------------------------------------------------------------------
+    def new_data(self) -> bool:
+        """Whether a data event waits for :meth:`get_next_data`."""
+        inbox = self._inboxes.get('data')
+        return inbox.pending() if inbox else False
+
+    def new_info(self) -> bool:
+        """Whether an info event waits for :meth:`get_next_info`."""
+        inbox = self._inboxes.get('info')
+        return inbox.pending() if inbox else False
+
+    def new_request(self) -> bool:
+        """Whether a request waits for :meth:`get_next_request` (suppliers)."""
+        inbox = self._inboxes.get('request')
+        return inbox.pending() if inbox else False
+
+    def get_next_data(self) -> bool:
+        """Load the next data event into ``data``; False when there was none."""
+        return self._load('data', self.data)
+
+    def get_next_info(self) -> bool:
+        """Load the next info event into ``info``; False when there was none."""
+        loaded = self._load('info', self.info)
+        if loaded:
+            self._locks = {lock.field: (LockMode(lock.mode), lock.owner)
+                           for lock in self.info.message().locks}
+        return loaded
+
+    def get_next_request(self) -> bool:
+        """Load the next request into ``requests``; False when there was none."""
+        return self._load('request', self.requests)
+
+    def _load(self, channel: str, struct: Any) -> bool:
+        inbox = self._inboxes.get(channel)
+        message = inbox.pop() if inbox else None
+        if message is None:
+            return False
+        struct.adopt(message)
+        return True
+
+    # -- sending -------------------------------------------------------------------------------
+    def publish_data(self) -> bool:
+        """Send ``data`` (suppliers).  False when the run state lets no data flow.
+
+        :raises DirectionError: on a consumer.  :raises NotRegisteredError: before registration.
+        """
+        self._need(SUPPLIER, 'publish data')
+        return self._send('data', self.data.message())
+
+    def publish_info(self) -> bool:
+        """Send ``info`` with the supplier's locks (suppliers); late consumers get it too."""
+        self._need(SUPPLIER, 'publish info')
+        message = self.info.message()
+        message.set_fields = []
+        message.locks = [self._lock_msg(field, mode, owner)
+                         for field, (mode, owner) in sorted(self._locks.items())]
+        sent = self._send('info', message)
+        self.info.written().clear()
+        return sent
+
+    def publish_request(self) -> bool:
+        """Send the members of ``requests`` set since the last request (consumers)."""
+        self._need(CONSUMER, 'publish requests')
+        message = self.requests.message()
+        message.set_fields = sorted(self.requests.written())
+        sent = self._send('request', message)
+        if sent:
+            self.requests.written().clear()
+        return sent
+
+    def _need(self, role: str, what: str) -> None:
+        if self._role is None:
+            raise NotRegisteredError(f'{self._label()}: register it with a CommsManager before '
+                                     f'you {what}')
+        if self._role != role:
+            raise DirectionError(f'{self._label()} is a {self._role}; only a {role} may {what}')
+
+    def _send(self, channel: str, message: Any) -> bool:
+        outbox = self._outboxes.get(channel)
+        manager = self._manager
+        if outbox is None or manager is None:
+            self.suppressed += 1
+            return False
+        if not self._system and manager.state != RunState.RUN:
+            self.suppressed += 1
+            return False
+        if self._auto_tag:
+            message.header.source = manager.name
+        if self._auto_timestamp:
+            Time.now().to_msg(message.header.stamp)
+        outbox.send(message)
+        return True
+
+    # -- locks (suppliers hold them, guide 3.2.4) ----------------------------------------------
+    def lock(self, mode: LockMode, owner: str = '') -> None:
+        """Lock the whole device: who may change any info member."""
+        self.set_lock(DEVICE, mode, owner)
+
+    def unlock(self) -> None:
+        """Remove the device-wide lock."""
+        self.set_lock(DEVICE, LockMode.NONE, '')
+
+    def set_lock(self, field: str, mode: LockMode, owner: str = '') -> None:
+        """Set a member's lock (``field`` empty: the whole device) and tell the consumers."""
+        if self._role == CONSUMER:
+            raise DirectionError(f'{self._label()}: only the supplier holds locks')
+        mode = LockMode(mode)
+        if mode == LockMode.PROCESS and not owner:
+            raise ValueError('a PROCESS lock needs the owning process name')
+        if mode == LockMode.NONE:
+            self._locks.pop(field, None)
+        else:
+            self._locks[field] = (mode, owner)
+        if self._role == SUPPLIER and self.is_connected():
+            self.publish_info()
+
+    def locks(self) -> dict[str, tuple[LockMode, str]]:
+        """Locks in force: held (supplier) or last announced by the supplier (consumer)."""
+        return dict(self._locks)
+
+    @staticmethod
+    def _lock_msg(field: str, mode: LockMode, owner: str) -> Any:
+        from wurde_interfaces.msg import Lock
+        return Lock(field=field, mode=int(mode), owner=owner)
+
+    def _process_name(self) -> str:
+        return self._manager.name if self._manager is not None else ''
+
+    def _check_write(self, channel: str, field: str) -> None:
+        """Called by Writable.set_value: enforce direction and locks for this process."""
+        if self._role is None:
+            return
+        if channel == 'info' and self._role == CONSUMER:
+            raise DirectionError(f'{self._label()}: a consumer\'s info is read-only; set '
+                                 f'requests.{field} and publish_request() instead')
+        if channel == 'requests' and self._role == SUPPLIER:
+            raise DirectionError(f'{self._label()}: a supplier\'s requests are what consumers '
+                                 f'sent; change info.{field} instead')
+        refusal = lock_refusal(self._locks, field, self._role, self._process_name())
+        if refusal is not None:
+            raise LockedError(f'{self._label()}: {field} is {describe_lock(*refusal)}; '
+                              f'{self._process_name() or "this process"} ({self._role}) may not '
+                              'change it')
+
+    def _accept_request(self, message: Any) -> bool:
+        """Supplier side: drop a request that writes a locked member (counted and logged)."""
+        if not self._locks:
+            return True
+        fields = list(message.set_fields) or list(self.requests.field_names())
+        for field in fields:
+            refusal = lock_refusal(self._locks, field, CONSUMER, message.header.source)
+            if refusal is not None:
+                self.refused_requests += 1
+                if self._manager is not None:
+                    self._manager.log_warning(
+                        f'{self._label()}: refused request from "{message.header.source}": '
+                        f'{field} is {describe_lock(*refusal)}')
+                return False
+        return True
+
+    # -- connection (called by the CommsManager) -----------------------------------------------
+    def _register(self, manager: 'CommsManager', role: str) -> None:
+        self._manager = manager
+        self._role = role
+
+    def _connect(self, stream: str) -> None:
+        """Create this object's publishers and subscriptions on ``stream``."""
+        manager = self._manager
+        assert manager is not None and self._role is not None
+        node = manager.node
+        self.stream = stream
+        queue_qos = stream_qos(self._queue_mode)
+        if self._role == SUPPLIER:
+            self._outboxes['data'] = Outbox(node.create_publisher(
+                self.data_type, topic(stream, 'data'), queue_qos))
+            self._outboxes['info'] = Outbox(node.create_publisher(
+                self.info_type, topic(stream, 'info'), info_qos()))
+            self._inboxes['request'] = Inbox(node.create_subscription(
+                self.info_type, topic(stream, 'request'), _ignore, queue_qos),
+                self._queue_mode, accept=self._accept_request)
+        else:
+            self._inboxes['data'] = Inbox(node.create_subscription(
+                self.data_type, topic(stream, 'data'), _ignore, queue_qos), self._queue_mode)
+            self._inboxes['info'] = Inbox(node.create_subscription(
+                self.info_type, topic(stream, 'info'), _ignore, info_qos()), self._queue_mode)
+            self._outboxes['request'] = Outbox(node.create_publisher(
+                self.info_type, topic(stream, 'request'), queue_qos))
+
+    def _disconnect(self) -> None:
+        manager = self._manager
+        if manager is not None and manager.node is not None:
+            for inbox in self._inboxes.values():
+                manager.node.destroy_subscription(inbox.subscription)
+            for outbox in self._outboxes.values():
+                manager.node.destroy_publisher(outbox.publisher)
+        self._inboxes.clear()
+        self._outboxes.clear()
+
+    def _drain(self) -> int:
+        """Take in everything that arrived; return how many events."""
+        taken = 0
+        for inbox in self._inboxes.values():
+            taken += inbox.drain()
+        if taken:
+            self._arrivals += taken
+        return taken
+
+    def _subscriptions(self) -> list[Any]:
+        return [inbox.subscription for inbox in self._inboxes.values()]
+
+    def _label(self) -> str:
+        return f'{self.interface_name}("{self.object_name}")'
+
+    def __repr__(self) -> str:
+        return (f'<{self._label()} {self._role or "unregistered"}'
+                f'{" on " + self.stream if self.stream else ""}>')
+
+
+def _ignore(_message: Any) -> None:
+    """Subscriptions are drained by polling; this callback is never called."""

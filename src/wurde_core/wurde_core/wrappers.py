@@ -1,0 +1,63 @@
+"""The guide's special wrappers: verbs over a transport interface (guide 1.1.5, 7.3, 7.7).
+
+``ObstacleAvoider`` wraps ObstacleAvoiderTransport and ``VectorMover`` wraps VectorMoverTransport:
+a consumer calls a verb, which sets the request members and sends the request.  ``info.brake``
+tells whether the supplier holds the robot; ``requests.brake.set_value(False)`` releases it, as in
+the guide's BlindTeleop example.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .geometry import Point, PVector
+from .interfaces import robot_object_class
+
+#: ObstacleAvoiderTransport ``mode`` values (see its interface description).
+MODE_STOP, MODE_POINT, MODE_ANGLE = 0, 1, 2
+
+
+class ObstacleAvoider(robot_object_class('ObstacleAvoiderTransport')):  # type: ignore[misc]
+    """Move around obstacles: ``stop()``, ``move_to_relative_point(p)``, ``rotate_to_relative_angle(a)``."""
+
+    def stop(self) -> bool:
+        """Stop the robot (and keep it stopped)."""
+        self.requests.mode.set_value(MODE_STOP)
+        return self.publish_request()
+
+    def move_to_relative_point(self, goal: Point) -> bool:
+        """Drive to ``goal`` (m, robot frame: x forward, y left), avoiding obstacles."""
+        self.requests.mode.set_value(MODE_POINT)
+        self.requests.goal.set_value(goal)
+        return self.publish_request()
+
+    def rotate_to_relative_angle(self, angle: float) -> bool:
+        """Turn in place by ``angle`` (rad, counter-clockwise positive)."""
+        self.requests.mode.set_value(MODE_ANGLE)
+        self.requests.angle.set_value(float(angle))
+        return self.publish_request()
+
+    def set_brake(self, on: bool) -> bool:
+        """Set or release the brake."""
+        self.requests.brake.set_value(bool(on))
+        return self.publish_request()
+
+
+class VectorMover(robot_object_class('VectorMoverTransport')):  # type: ignore[misc]
+    """Drive along a vector relative to the robot: ``move(vector)``, ``stop()``."""
+
+    def move(self, vector: PVector) -> bool:
+        """Drive ``vector.magnitude()`` metres in direction ``vector.angle()`` (rad)."""
+        self.requests.vector.set_value(vector)
+        self.requests.brake.set_value(False)
+        return self.publish_request()
+
+    def move_to(self, x: float, y: float) -> bool:
+        """Drive to the point (x, y) relative to the robot."""
+        return self.move(PVector(math.hypot(x, y), math.atan2(y, x)))
+
+    def stop(self) -> bool:
+        """Stop: a zero vector with the brake on."""
+        self.requests.vector.set_value(PVector(0.0, 0.0))
+        self.requests.brake.set_value(True)
+        return self.publish_request()
