@@ -1,9 +1,13 @@
 """The two ends of a channel: :class:`Outbox` publishes, :class:`Inbox` takes in.
 
 An inbox drains its subscription with ``take_message`` (no executor, no callbacks: WURDE's polling
-loop takes what arrived).  In latest mode it keeps the newest event; in queue mode it keeps up to
+loop takes what arrived).  In latest mode it keeps the newest event (older ones are meant to be
+overwritten, so nothing is counted).  In queue mode it keeps up to
 :data:`~wurde_core.qos.QUEUE_CAPACITY` events, drops the oldest beyond that and counts every loss,
-including events DDS itself dropped (seen as gaps in the senders' sequence numbers).
+including events DDS itself dropped because the consumer fell more than the history depth behind:
+those show as gaps in a sender's ``header.sequence``.  At first contact with a sender, a gap counts
+only if that drain found the history full (it overflowed); otherwise the consumer simply joined a
+running stream late and what was sent before it existed is not a loss.
 """
 
 from __future__ import annotations
@@ -74,13 +78,15 @@ class Inbox:
         take = self._handle.take_message
         msg_type = self._type
         queue = self.queue
+        first_gaps = 0
         with self._handle:
             while True:
                 result = take(msg_type, False)
                 if result is None:
                     break
                 message = result[0]
-                self._count_gap(message.header)
+                if queue is not None:
+                    first_gaps += self._count_gap(message.header)
                 if self.accept is not None and not self.accept(message):
                     continue
                 taken += 1
@@ -91,17 +97,23 @@ class Inbox:
                 else:
                     self.latest = message
                     self.fresh = True
+        if first_gaps and taken >= QUEUE_CAPACITY:
+            self.drops += first_gaps
         self.received += taken
         return taken
 
-    def _count_gap(self, header: Any) -> None:
+    def _count_gap(self, header: Any) -> int:
+        """Count a gap after the sender's last event; return a first-contact gap (see above)."""
         sequence = header.sequence
         if not sequence:
-            return
-        last = self._last_seq.get(header.source, 0)
-        if sequence > last + 1 and last:
-            self.drops += sequence - last - 1
+            return 0
+        last = self._last_seq.get(header.source)
         self._last_seq[header.source] = sequence
+        if last is None:
+            return sequence - 1
+        if sequence > last + 1:
+            self.drops += sequence - last - 1
+        return 0
 
     def pending(self) -> bool:
         """Whether an event is waiting for ``get_next_*``."""

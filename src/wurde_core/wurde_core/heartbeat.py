@@ -48,8 +48,8 @@ class ModuleHeartbeat:
         info.state.set_value(self.manager.state)
         info.pid.set_value(os.getpid())
         info.host.set_value(socket.gethostname())
-        supplied = [o for o in self.manager.objects() if o.role == 'supplier']
-        consumed = [o for o in self.manager.objects() if o.role == 'consumer']
+        supplied = [o for o in self.manager.objects(user_only=True) if o.role == 'supplier']
+        consumed = [o for o in self.manager.objects(user_only=True) if o.role == 'consumer']
         info.interfaces.set_value([o.interface_name for o in supplied])
         info.streams.set_value([o.stream or '' for o in supplied])
         info.consumed_interfaces.set_value([o.interface_name for o in consumed])
@@ -81,6 +81,6 @@ class ModuleHeartbeat:
         states = []
         while self.obj.get_next_request():
             request = self.obj.requests
-            if 'state' in request.message().set_fields:
+            if 'state' in request.ros_message().set_fields:
                 states.append(RunState(request.state.get_value()))
         return states

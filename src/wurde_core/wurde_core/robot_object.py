@@ -150,7 +150,7 @@ class RobotObject:
         loaded = self._load('info', self.info)
         if loaded:
             self._locks = {lock.field: (LockMode(lock.mode), lock.owner)
-                           for lock in self.info.message().locks}
+                           for lock in self.info.ros_message().locks}
         return loaded
 
     def get_next_request(self) -> bool:
@@ -162,7 +162,7 @@ class RobotObject:
         message = inbox.pop() if inbox else None
         if message is None:
             return False
-        struct.adopt(message)
+        struct._adopt(message)
         return True
 
     # -- sending -------------------------------------------------------------------------------
@@ -172,27 +172,27 @@ class RobotObject:
         :raises DirectionError: on a consumer.  :raises NotRegisteredError: before registration.
         """
         self._need(SUPPLIER, 'publish data')
-        return self._send('data', self.data.message())
+        return self._send('data', self.data.ros_message())
 
     def publish_info(self) -> bool:
         """Send ``info`` with the supplier's locks (suppliers); late consumers get it too."""
         self._need(SUPPLIER, 'publish info')
-        message = self.info.message()
+        message = self.info.ros_message()
         message.set_fields = []
         message.locks = [self._lock_msg(field, mode, owner)
                          for field, (mode, owner) in sorted(self._locks.items())]
         sent = self._send('info', message)
-        self.info.written().clear()
+        self.info._written().clear()
         return sent
 
     def publish_request(self) -> bool:
         """Send the members of ``requests`` set since the last request (consumers)."""
         self._need(CONSUMER, 'publish requests')
-        message = self.requests.message()
-        message.set_fields = sorted(self.requests.written())
+        message = self.requests.ros_message()
+        message.set_fields = sorted(self.requests._written())
         sent = self._send('request', message)
         if sent:
-            self.requests.written().clear()
+            self.requests._written().clear()
         return sent
 
     def _need(self, role: str, what: str) -> None:

@@ -45,11 +45,11 @@ class _Struct:
     def source(self, value: str) -> None:
         self._msg.header.source = value
 
-    def message(self) -> Any:
+    def ros_message(self) -> Any:
         """The ROS message behind this structure (shared, not a copy)."""
         return self._msg
 
-    def adopt(self, message: Any) -> None:
+    def _adopt(self, message: Any) -> None:
         """Make ``message`` (a received event) the current one."""
         object.__setattr__(self, '_msg', message)
 
@@ -87,7 +87,7 @@ class InfoStruct(_Struct):
         super().__init__(message)
         object.__setattr__(self, '_owner', owner)
         object.__setattr__(self, '_channel', channel)
-        object.__setattr__(self, '_written', set())
+        object.__setattr__(self, '_written_fields', set())
         object.__setattr__(self, '_writables', {})
 
     def __getattr__(self, name: str) -> 'Writable':
@@ -109,9 +109,9 @@ class InfoStruct(_Struct):
                                  '(info and request members are Writable)')
         object.__setattr__(self, name, value)
 
-    def written(self) -> set[str]:
+    def _written(self) -> set[str]:
         """Members set with ``set_value`` since the last publish."""
-        return self.__dict__['_written']
+        return self.__dict__['_written_fields']
 
     def __repr__(self) -> str:
         values = ', '.join(f'{n}={self._fields[n].get(self._msg)!r}' for n in self._fields)

@@ -61,7 +61,7 @@ class Writable:
 
     def get_value(self) -> Any:
         """The member's current value."""
-        return self._spec.get(self._struct.message())
+        return self._spec.get(self._struct.ros_message())
 
     def set_value(self, value: Any) -> None:
         """Change the value (sent by the next ``publish_info`` or ``publish_request``).
@@ -71,8 +71,8 @@ class Writable:
         owner = self._struct.__dict__['_owner']
         if owner is not None:
             owner._check_write(self._struct.__dict__['_channel'], self._spec.name)
-        self._spec.set(self._struct.message(), value)
-        self._struct.written().add(self._spec.name)
+        self._spec.set(self._struct.ros_message(), value)
+        self._struct._written().add(self._spec.name)
 
     def lock(self, mode: LockMode, owner: str = '') -> None:
         """Lock this member (suppliers only): who may change it from now on."""

@@ -19,8 +19,10 @@ _TYPE_NAME = re.compile(r'^[A-Z][A-Za-z0-9]*$')
 _CAMEL_1 = re.compile(r'(?<=[a-z0-9])([A-Z])')
 _CAMEL_2 = re.compile(r'(?<=[A-Z])([A-Z])(?=[a-z])')
 
-#: Field names every generated Data/Info message already has, so members may not use them.
-RESERVED_FIELDS = frozenset({'header', 'set_fields', 'locks', 'source', 'timestamp'})
+#: Names members may not use: fields every generated Data/Info message already has, and the
+#: accessors wurde_core puts beside the members (``obj.data.timestamp``, ``obj.data.ros_message()``).
+RESERVED_FIELDS = frozenset({'header', 'set_fields', 'locks', 'source', 'timestamp',
+                             'ros_message', 'field_names'})
 
 
 def field_name(name: str) -> str:

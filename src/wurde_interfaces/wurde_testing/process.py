@@ -1,4 +1,8 @@
-"""A child process for tests: started with the test's environment, always reaped."""
+"""A child process for tests: started with the test's environment, always reaped.
+
+Its output is read line by line by background threads, so a test can wait for a line with a
+deadline (:meth:`ChildProcess.expect`) and send it commands on stdin (:meth:`ChildProcess.send`).
+"""
 
 from __future__ import annotations
 
@@ -6,14 +10,17 @@ import os
 import signal
 import subprocess
 import sys
+import threading
+import time
 from collections.abc import Sequence
+from typing import IO
 
 
 class ChildProcess:
-    """Run ``argv`` (a Python module or script by default) as a real child process.
+    """Run ``argv`` (with the current Python unless ``python=False``) as a real child process.
 
-    Output goes to pipes read after :meth:`stop`.  Use as a context manager: leaving the block
-    stops the child (SIGINT, then SIGKILL after ``timeout``) whatever happened in the test.
+    Use as a context manager: leaving the block stops the child (SIGINT, then SIGKILL after
+    ``timeout``) whatever happened in the test.
     """
 
     def __init__(self, argv: Sequence[str], *, env: dict[str, str] | None = None,
@@ -21,15 +28,70 @@ class ChildProcess:
         command = [sys.executable, *argv] if python else list(argv)
         self.process = subprocess.Popen(
             command, env=dict(env if env is not None else os.environ),
-            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        self.stdout = ''
-        self.stderr = ''
+            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+            bufsize=1)
+        self._lines: list[str] = []
+        self._errors: list[str] = []
+        self._seen = 0
+        self._changed = threading.Condition()
+        self._readers = [threading.Thread(target=self._read, args=(self.process.stdout, self._lines),
+                                          daemon=True),
+                         threading.Thread(target=self._read, args=(self.process.stderr, self._errors),
+                                          daemon=True)]
+        for reader in self._readers:
+            reader.start()
         self._stopped = False
+
+    def _read(self, stream: IO[str] | None, into: list[str]) -> None:
+        assert stream is not None
+        for line in stream:
+            with self._changed:
+                into.append(line.rstrip('\n'))
+                self._changed.notify_all()
+
+    @property
+    def stdout(self) -> str:
+        with self._changed:
+            return '\n'.join(self._lines) + ('\n' if self._lines else '')
+
+    @property
+    def stderr(self) -> str:
+        with self._changed:
+            return '\n'.join(self._errors) + ('\n' if self._errors else '')
+
+    def send(self, line: str) -> None:
+        """Write one line to the child's stdin."""
+        assert self.process.stdin is not None
+        self.process.stdin.write(line + '\n')
+        self.process.stdin.flush()
+
+    def expect(self, text: str, timeout: float = 20.0) -> str:
+        """The first not yet consumed output line containing ``text``; waits up to ``timeout``.
+
+        :raises AssertionError: with the child's output when no such line comes in time.
+        """
+        deadline = time.monotonic() + timeout
+        with self._changed:
+            while True:
+                for index in range(self._seen, len(self._lines)):
+                    if text in self._lines[index]:
+                        self._seen = index + 1
+                        return self._lines[index]
+                remaining = deadline - time.monotonic()
+                if remaining <= 0 or (self.process.poll() is not None and not self._alive_reader()):
+                    raise AssertionError(
+                        f'no line with {text!r} within {timeout} s (exit code '
+                        f'{self.process.poll()})\nstdout:\n{chr(10).join(self._lines)}\n'
+                        f'stderr:\n{chr(10).join(self._errors)}')
+                self._changed.wait(min(remaining, 0.1))
+
+    def _alive_reader(self) -> bool:
+        return any(reader.is_alive() for reader in self._readers)
 
     def stop(self, timeout: float = 10.0) -> int:
         """Ask the child to finish (SIGINT, stdin closed), kill it after ``timeout``; return its code.
 
-        Idempotent; the child's output is in :attr:`stdout` and :attr:`stderr` afterwards.
+        Idempotent; the child's output stays in :attr:`stdout` and :attr:`stderr`.
         """
         if self._stopped:
             return self.process.returncode
@@ -37,11 +99,17 @@ class ChildProcess:
         if self.process.poll() is None:
             self.process.send_signal(signal.SIGINT)
         try:
-            out, err = self.process.communicate(timeout=timeout)
+            if self.process.stdin:
+                self.process.stdin.close()
+        except OSError:
+            pass
+        try:
+            self.process.wait(timeout=timeout)
         except subprocess.TimeoutExpired:
             self.process.kill()
-            out, err = self.process.communicate()
-        self.stdout, self.stderr = out or '', err or ''
+            self.process.wait()
+        for reader in self._readers:
+            reader.join(timeout=5)
         return self.process.returncode
 
     def __enter__(self) -> 'ChildProcess':

@@ -1,0 +1,142 @@
+"""RobotObject API and bad input, in one process (the manager talks to itself over DDS)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+from conftest import HERE, until
+from wurde_core import (CommsManager, DirectionError, LockedError, LockMode, NotRegisteredError,
+                        Pose, RegistrationError, RunState, Time, UnknownInterfaceError,
+                        global_configuration)
+from wurde_core.interfaces import Egomotion, Foo, robot_object_class
+
+
+def test_registering_twice_is_refused(manager: CommsManager) -> None:
+    foo = Foo('twice')
+    manager.register_supplier(foo)
+    with pytest.raises(RegistrationError, match=r'Foo\("twice"\) is already registered as a '
+                       'supplier with this CommsManager'):
+        manager.register_consumer(foo)
+
+
+def test_direction_is_enforced(manager: CommsManager) -> None:
+    consumer = Foo('direction')
+    manager.register_consumer(consumer)
+    with pytest.raises(DirectionError, match='only a supplier may publish info'):
+        consumer.publish_info()
+    with pytest.raises(DirectionError, match='only a supplier may publish data'):
+        consumer.publish_data()
+    with pytest.raises(DirectionError, match="consumer's info is read-only"):
+        consumer.info.max_range.set_value(1.0)
+    supplier = Foo('direction2')
+    manager.register_supplier(supplier)
+    with pytest.raises(DirectionError, match='only a consumer may publish requests'):
+        supplier.publish_request()
+    with pytest.raises(NotRegisteredError, match='register it with a CommsManager'):
+        Foo('loose').publish_data()
+
+
+def test_supplier_may_not_write_a_member_locked_to_consumers(manager: CommsManager) -> None:
+    foo = Foo('consumers_only')
+    manager.register_supplier(foo)
+    foo.info.angle_max.lock(LockMode.CONSUMERS)
+    assert foo.info.angle_max.locked() == (LockMode.CONSUMERS, '')
+    with pytest.raises(LockedError, match='angle_max is locked to consumers only'):
+        foo.info.angle_max.set_value(1.0)
+    foo.info.angle_max.unlock()
+    foo.info.angle_max.set_value(1.0)
+    foo.lock(LockMode.PROCESS, 'Somebody')
+    with pytest.raises(LockedError, match='locked to process "Somebody"'):
+        foo.info.max_range.set_value(2.0)
+
+
+def test_unknown_interface_names_the_installed_ones() -> None:
+    with pytest.raises(UnknownInterfaceError, match='unknown interface "Fooo"; installed: .*Foo'):
+        robot_object_class('Fooo')
+    with pytest.raises(UnknownInterfaceError):
+        from wurde_core.interfaces import NoSuchInterface  # noqa: F401
+
+
+def test_unknown_member_names_the_members() -> None:
+    with pytest.raises(AttributeError, match='has no member .maxRange.; members: ranges'):
+        Foo('m').data.maxRange  # noqa: B018
+    with pytest.raises(AttributeError, match='use info.max_range.set_value'):
+        Foo('m').info.max_range = 3.0
+
+
+def test_data_info_and_header_round_trip_in_one_process(manager: CommsManager) -> None:
+    supplier, consumer = Egomotion('ego'), Egomotion('ego')
+    supplier.set_queue_mode(True)
+    consumer.set_queue_mode(True)
+    manager.register_supplier(supplier)
+    manager.register_consumer(consumer)
+    until(manager, lambda: supplier._outboxes['data'].subscribers() > 0, what='match')
+    supplier.data.location = Pose(1.0, 2.0, 0.5)
+    supplier.data.location.theta(0.75)
+    supplier.data.tv = 0.3
+    before = Time.now()
+    assert supplier.publish_data()
+    supplier.set_auto_tag(False)
+    supplier.set_auto_timestamp(False)
+    supplier.data.source = 'Mimic'
+    supplier.data.timestamp = Time(12.5)
+    assert supplier.publish_data()
+    until(manager, lambda: consumer._inboxes['data'].received == 2, what='two events')
+    assert consumer.get_next_data()
+    assert consumer.data.location == Pose(1.0, 2.0, 0.75)
+    assert consumer.data.tv == pytest.approx(0.3)
+    assert consumer.data.source == 'Tester' and consumer.data.timestamp >= before
+    assert consumer.get_next_data()
+    assert consumer.data.source == 'Mimic' and consumer.data.timestamp == Time(12.5)
+    assert not consumer.get_next_data()
+
+
+def test_nothing_flows_in_idle(manager: CommsManager) -> None:
+    foo = Foo('idle')
+    manager.register_supplier(foo)
+    manager.set_state(RunState.IDLE)
+    assert manager.step() == RunState.IDLE
+    assert foo.publish_data() is False and foo.suppressed == 1
+    manager.set_run()
+    assert foo.publish_data() is True
+
+
+def test_user_options_reach_the_global_configuration(ros_domain: int) -> None:
+    manager = CommsManager('Opt')
+    try:
+        opts = manager.parse_options(['prog', '-c', 'laser.xml', '-a', '-n', 'Renamed', 'rest'],
+                                     'c:ab')
+        assert manager.name == 'Renamed' and opts.arguments == ['rest']
+        config = global_configuration()
+        assert config.get_option('c') == 'laser.xml' and config.get_option('a') == 'true'
+        assert not config.have_option('b')
+    finally:
+        manager.clean_up()
+
+
+def run_module(*args: str) -> subprocess.CompletedProcess[str]:
+    code = ('import sys; from wurde_core import CommsManager; '
+            'CommsManager("M").parse_options(sys.argv, "c:")')
+    return subprocess.run([sys.executable, '-c', code, *args], capture_output=True, text=True,
+                          timeout=60, check=False, cwd=HERE)
+
+
+def test_wrong_option_prints_usage_and_exits_2() -> None:
+    result = run_module('-z')
+    assert result.returncode == 2
+    assert 'option -z not recognized' in result.stderr and 'usage:' in result.stderr
+    result = run_module('-c')
+    assert result.returncode == 2 and 'option -c requires argument' in result.stderr
+
+
+def test_bad_role_config_is_refused_with_file_and_line(tmp_path) -> None:
+    bad = tmp_path / 'bad.xml'
+    bad.write_text('<wurde-config>\n<log level="x"\n</wurde-config>\n')
+    result = run_module('-g', str(bad))
+    assert result.returncode == 2
+    assert f'{bad}:3: not well-formed XML' in result.stderr
+    result = run_module('-g', str(tmp_path / 'missing.xml'))
+    assert result.returncode == 2 and 'missing.xml: cannot read' in result.stderr
