@@ -43,3 +43,8 @@ clean:
 
 distclean: clean
 	rm -rf .venv
+
+# Benchmarks (not tests): compare wurde_core with raw rclpy in the same run.
+.PHONY: bench
+bench: build
+	$(IN_ENV) python bench/rangefinder.py

@@ -348,13 +348,16 @@ class CommsManager:
             self._beat()
 
     def _wait_once(self, seconds: float) -> bool:
-        subs = [s for o in self._objects + self._system_objects for s in o._subscriptions()]
+        if self._wait_set is None:
+            self._wait_subs = [s for o in self._objects + self._system_objects
+                               for s in o._subscriptions()]
+            if self._wait_subs:
+                self._wait_set = _rclpy.WaitSet(len(self._wait_subs), 0, 0, 0, 0, 0,
+                                                self._context.handle)
+        subs = self._wait_subs
         if not subs:
             time.sleep(seconds)
             return False
-        if self._wait_set is None or self._wait_subs != subs:
-            self._wait_set = _rclpy.WaitSet(len(subs), 0, 0, 0, 0, 0, self._context.handle)
-            self._wait_subs = subs
         wait_set = self._wait_set
         wait_set.clear_entities()
         for sub in subs:
