@@ -1,18 +1,22 @@
 """`make demo`: the main job of the workspace as it stands.
 
-Runs a supplier and a consumer of a WURDE interface as two separate ROS 2 processes, found the way
-`ros2 run` finds them (lib/<package>/<executable> under the ament prefixes), and shows what the
-consumer receives.  Today that is the example Thermometer interface, generated from XML at build
-time; as the suite grows this becomes the FooServer/FooClient pair and then the simulated robot.
-DDS stays on loopback (env.sh sets ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST).
+Runs the WURDE Programming Guide's first programs, FooServer and FooClient (wurde_core's
+``foo_server`` and ``foo_client``), as two ROS 2 processes found the way `ros2 run` finds them
+(lib/<package>/<executable> under the ament prefixes), shows what the client receives for a few
+seconds, then stops both with SIGINT as a user would.  When the simulated robot exists it takes
+over as the main job.  DDS stays on loopback (env.sh sets ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST).
 """
 
 from __future__ import annotations
 
 import os
 import pathlib
+import signal
 import subprocess
 import sys
+import time
+
+DEMO_SECONDS = 5.0
 
 
 def find_executable(package: str, name: str) -> str:
@@ -27,21 +31,26 @@ def find_executable(package: str, name: str) -> str:
 def main() -> int:
     if os.environ.get('ROS_AUTOMATIC_DISCOVERY_RANGE') != 'LOCALHOST':
         raise SystemExit('demo: DDS must stay on loopback; run through `make demo` or env.sh')
-    package = 'wurde_example_thermometer'
-    print(f'demo: ROS_DOMAIN_ID={os.environ.get("ROS_DOMAIN_ID")}, discovery on loopback only')
-    consumer = subprocess.Popen([sys.executable, find_executable(package, 'thermometer_consumer'),
-                                 '--count', '20'])
-    supplier = subprocess.Popen([sys.executable, find_executable(package, 'thermometer_supplier'),
-                                 '--count', '20', '--rate', '10'])
+    print(f'demo: ROS_DOMAIN_ID={os.environ.get("ROS_DOMAIN_ID")}, discovery on loopback only; '
+          f'FooServer and FooClient for {DEMO_SECONDS:.0f} s', flush=True)
+    client = subprocess.Popen([sys.executable, find_executable('wurde_core', 'foo_client')])
+    server = subprocess.Popen([sys.executable, find_executable('wurde_core', 'foo_server')])
+    codes = []
     try:
-        code = consumer.wait(timeout=60)
+        time.sleep(DEMO_SECONDS)
     finally:
-        for process in (consumer, supplier):
+        for process in (server, client):
             if process.poll() is None:
-                process.terminate()
-            process.wait(timeout=10)
-    print('demo: done' if code == 0 else f'demo: consumer failed ({code})')
-    return code
+                process.send_signal(signal.SIGINT)
+        for process in (server, client):
+            try:
+                codes.append(process.wait(timeout=15))
+            except subprocess.TimeoutExpired:
+                process.kill()
+                codes.append(process.wait())
+    ok = all(code == 0 for code in codes)
+    print('demo: both modules stopped cleanly' if ok else f'demo: exit codes {codes}')
+    return 0 if ok else 1
 
 
 if __name__ == '__main__':

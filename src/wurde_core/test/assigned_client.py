@@ -6,9 +6,10 @@ from wurde_core import CommsManager, ConnectionStrategy, RunState
 from wurde_core.interfaces import Foo
 
 manager = CommsManager('AssignedClient')
-manager.parse_options(sys.argv)
+manager.parse_options(sys.argv[:1])
 manager.set_sleep(0.01)
-foo = Foo(ConnectionStrategy.ASSIGNED, 'BarClient')
+strategy = ConnectionStrategy[sys.argv[1]] if len(sys.argv) > 1 else ConnectionStrategy.ASSIGNED
+foo = Foo(strategy, 'BarClient')
 manager.register_consumer(foo)
 announced = False
 while manager.run_update() == RunState.RUN:

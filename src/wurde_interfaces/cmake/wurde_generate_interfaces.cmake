@@ -30,6 +30,24 @@ macro(wurde_generate_interfaces target)
   set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS
     ${_wurde_xml_files} ${_wurde_generator_sources})
 
+  # rosidl does not regenerate a package's type hashes when a dependency's messages change, so
+  # the generated .msg files name a digest of the dependencies' type descriptions: a changed
+  # dependency changes them, and rosidl rebuilds this package from scratch.
+  set(_wurde_dep_digest "")
+  foreach(_wurde_dep ${_wurde_DEPENDENCIES})
+    if(DEFINED ${_wurde_dep}_DIR)
+      file(GLOB _wurde_dep_json "${${_wurde_dep}_DIR}/../msg/*.json")
+      foreach(_wurde_json ${_wurde_dep_json})
+        file(SHA256 "${_wurde_json}" _wurde_sum)
+        string(APPEND _wurde_dep_digest "${_wurde_sum}")
+      endforeach()
+      set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${_wurde_dep_json})
+    endif()
+  endforeach()
+  if(NOT _wurde_dep_digest STREQUAL "")
+    string(SHA256 _wurde_dep_digest "${_wurde_dep_digest}")
+  endif()
+
   set(_wurde_out "${CMAKE_CURRENT_BINARY_DIR}/wurde_generated")
   set(_wurde_extra "")
   if(_wurde_BUILTINS)
@@ -42,7 +60,8 @@ macro(wurde_generate_interfaces target)
   execute_process(
     COMMAND "${CMAKE_COMMAND}" -E env "PYTHONPATH=${_wurde_pythonpath}"
             "${Python3_EXECUTABLE}" -m wurde_idl generate --package "${PROJECT_NAME}"
-            --output "${_wurde_out}" ${_wurde_extra} ${_wurde_xml_files}
+            --output "${_wurde_out}" --depends-digest "${_wurde_dep_digest}"
+            ${_wurde_extra} ${_wurde_xml_files}
     OUTPUT_VARIABLE _wurde_generated
     ERROR_VARIABLE _wurde_errors
     RESULT_VARIABLE _wurde_result

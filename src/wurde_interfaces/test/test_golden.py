@@ -91,3 +91,13 @@ def test_name_of_an_installed_interface_is_refused(tmp_path: pathlib.Path) -> No
     with pytest.raises(InterfaceError, match='"Foo" is already defined by installed package '
                        'wurde_interfaces'):
         generate('example_pkg', [str(EXAMPLE)], tmp_path)
+
+
+def test_dependency_digest_marks_every_interface_message(tmp_path: pathlib.Path) -> None:
+    """A dependency's changed messages must change ours, or rosidl keeps stale type hashes."""
+    generate('example_pkg', [str(EXAMPLE)], tmp_path, installed={}, depends_digest='ab' * 32)
+    for name in ('FooData.msg', 'FooInfo.msg', 'Pixel.msg'):
+        text = (tmp_path / 'msg' / name).read_text()
+        assert '# Built against dependency interfaces abababababababab.' in text
+        assert text.replace('# Built against dependency interfaces abababababababab.\n', '') == \
+            (EXPECTED / name).read_text()

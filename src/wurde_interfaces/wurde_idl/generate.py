@@ -31,12 +31,15 @@ def _write(path: pathlib.Path, text: str) -> None:
 
 
 def generate(package: str, xml_files: Sequence[str], output: pathlib.Path,
-             *, with_builtins: bool = False, installed: dict[str, str] | None = None) -> list[str]:
+             *, with_builtins: bool = False, installed: dict[str, str] | None = None,
+             depends_digest: str = '') -> list[str]:
     """Generate everything for ``package``; return the relative ``.msg`` paths.
 
     ``with_builtins`` adds the built-in types (only ``wurde_interfaces`` defines them).
     ``installed`` maps interface names other packages already define to where; by default they
     are looked up in the ament index, so that a name is never defined twice.
+    ``depends_digest`` (from the CMake macro) is written into every interface message, so that a
+    change in a dependency's messages changes this package's and rosidl rebuilds it.
 
     :raises WurdeError: when an interface file is refused.
     """
@@ -52,7 +55,7 @@ def generate(package: str, xml_files: Sequence[str], output: pathlib.Path,
         keep.add(output / rel)
         msg_paths.append(rel)
     for interface in interfaces:
-        for message, text in msg_writer.messages(interface, package).items():
+        for message, text in msg_writer.messages(interface, package, depends_digest).items():
             rel = f'msg/{message}.msg'
             _write(output / rel, text)
             keep.add(output / rel)
@@ -75,6 +78,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     gen.add_argument('--package', required=True, help='ROS package the messages belong to')
     gen.add_argument('--output', required=True, type=pathlib.Path, help='output directory')
     gen.add_argument('--builtins', action='store_true', help='also generate the built-in types')
+    gen.add_argument('--depends-digest', default='',
+                     help='digest of the dependencies\' interfaces, written into every .msg')
     gen.add_argument('xml_files', nargs='+', help='interface definition files')
     check = sub.add_parser('check', help='validate interface files, generate nothing')
     check.add_argument('xml_files', nargs='+')
@@ -82,7 +87,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if args.command == 'generate':
             for rel in generate(args.package, args.xml_files, args.output,
-                                with_builtins=args.builtins):
+                                with_builtins=args.builtins,
+                                depends_digest=args.depends_digest):
                 print(rel)
         else:
             for interface in read_interfaces(args.xml_files):

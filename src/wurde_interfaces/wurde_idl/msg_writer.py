@@ -46,20 +46,23 @@ def _fields(members: tuple[Member, ...] | None, package: str) -> str:
     return ''.join(f'{line}\n' for line in lines)
 
 
-def _banner(interface: Interface, what: str) -> str:
+def _banner(interface: Interface, what: str, depends_digest: str) -> str:
+    digest = f'# Built against dependency interfaces {depends_digest[:16]}.\n' \
+        if depends_digest else ''
     return (f'# {what} of WURDE interface {interface.name} {interface.version}.\n'
-            f'# Generated from {interface.path.rsplit("/", 1)[-1]} by wurde_idl; do not edit.\n')
+            f'# Generated from {interface.path.rsplit("/", 1)[-1]} by wurde_idl; do not edit.\n'
+            + digest)
 
 
-def messages(interface: Interface, package: str) -> dict[str, str]:
+def messages(interface: Interface, package: str, depends_digest: str = '') -> dict[str, str]:
     """Return ``{message name: .msg text}`` for every message of ``interface``."""
     result = {
-        interface.data_message: _banner(interface, 'Data (publish section)') + _DATA_HEADER
-        + _fields(interface.publish, package),
-        interface.info_message: _banner(interface, 'Info (info section; also requests)')
+        interface.data_message: _banner(interface, 'Data (publish section)', depends_digest)
+        + _DATA_HEADER + _fields(interface.publish, package),
+        interface.info_message: _banner(interface, 'Info (info section; also requests)', depends_digest)
         + _INFO_HEADER + _fields(interface.info, package),
     }
     for struct in interface.types:
-        result[struct.name] = (_banner(interface, f'Type {struct.name}')
+        result[struct.name] = (_banner(interface, f'Type {struct.name}', depends_digest)
                                + _fields(struct.members, package))
     return result
