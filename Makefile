@@ -19,7 +19,7 @@ DEMO_DOMAIN_ID    ?= 57
 
 build: $(BUILD_STAMP)
 
-$(VENV_STAMP): requirements.txt tools/setup_venv.sh tools/fix_ros_wheel_cmake.py
+$(VENV_STAMP): $(wildcard requirements*.txt) tools/setup_venv.sh tools/fix_ros_wheel_cmake.py
 	tools/setup_venv.sh
 
 # The stamp takes the time the build started, so a file edited during a build rebuilds next time.

@@ -26,6 +26,10 @@ if [ ! -x "$venv/bin/python" ]; then
   echo "setup_venv: creating .venv with $($python --version)"
   "$python" -m venv "$venv"
 fi
-"$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r "$root/requirements.txt"
+# Exact pins per interpreter: requirements-py3XX.txt where one exists, else requirements.txt (3.11).
+version=$("$venv/bin/python" -c 'import sys; print(f"{sys.version_info[0]}{sys.version_info[1]}")')
+requirements="$root/requirements-py$version.txt"
+[ -f "$requirements" ] || requirements="$root/requirements.txt"
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r "$requirements"
 "$venv/bin/python" "$root/tools/fix_ros_wheel_cmake.py" "$venv"
 touch "$venv/.wurde-installed"

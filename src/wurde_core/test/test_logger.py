@@ -54,3 +54,24 @@ def test_messages_travel_to_a_consumer_of_the_log_stream(manager: CommsManager) 
     reader.get_next_data()
     assert (reader.data.level, reader.data.message) == (5, 'the sky fell')
     assert reader.data.source == 'Tester'
+
+
+def test_messages_reach_rosout(manager: CommsManager) -> None:
+    from rcl_interfaces.msg import Log
+    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+    log = Logger('Rosout', stderr=False, use_syslog=False)
+    manager.register_supplier(log)
+    qos = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE,
+                     durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    rosout = manager.node.create_subscription(Log, '/rosout', lambda _: None, qos)
+    log.error('seen by every ROS 2 tool')
+    found = []
+
+    def arrived() -> bool:
+        result = rosout.handle.take_message(Log, False)
+        while result is not None:
+            found.append((result[0].level, result[0].msg))
+            result = rosout.handle.take_message(Log, False)
+        return (Log.ERROR, 'seen by every ROS 2 tool') in found
+
+    until(manager, arrived, what='the message on /rosout')

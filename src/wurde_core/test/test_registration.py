@@ -2,25 +2,18 @@
 
 from __future__ import annotations
 
-import os
-import pathlib
-
 import pytest
 
 from conftest import HERE, until
 from wurde_core import CommsManager, ConnectionStrategy, RunState
 from wurde_core.interfaces import Foo, robot_object_class
-from wurde_testing import ChildProcess
+from wurde_testing import ChildProcess, find_executable
 
 McpRequest = robot_object_class('McpRequest')
 
 
 def foo_server() -> str:
-    for prefix in os.environ['AMENT_PREFIX_PATH'].split(os.pathsep):
-        path = pathlib.Path(prefix) / 'lib' / 'wurde_core' / 'foo_server'
-        if path.is_file():
-            return str(path)
-    raise AssertionError('foo_server is not installed')
+    return find_executable('wurde_core', 'foo_server')
 
 
 def test_registration_mode_reports_capabilities_to_the_mcp_and_exits(manager) -> None:

@@ -7,6 +7,6 @@
 """
 
 from .domain import DomainClaim, claim_domain_id
-from .process import ChildProcess
+from .process import ChildProcess, find_executable
 
-__all__ = ['ChildProcess', 'DomainClaim', 'claim_domain_id']
+__all__ = ['ChildProcess', 'DomainClaim', 'claim_domain_id', 'find_executable']

@@ -117,3 +117,16 @@ class ChildProcess:
 
     def __exit__(self, *exc: object) -> None:
         self.stop()
+
+
+def find_executable(package: str, name: str) -> str:
+    """``lib/<package>/<name>`` under the first ament prefix that has it (where `ros2 run` looks).
+
+    :raises AssertionError: when it is not installed (the test should fail, not skip).
+    """
+    import pathlib
+    for prefix in os.environ.get('AMENT_PREFIX_PATH', '').split(os.pathsep):
+        path = pathlib.Path(prefix) / 'lib' / package / name
+        if path.is_file():
+            return str(path)
+    raise AssertionError(f'{name} is not installed under lib/{package}')

@@ -2,18 +2,11 @@
 
 from __future__ import annotations
 
-import os
-import pathlib
-
 from wurde_idl import load
-from wurde_testing import ChildProcess
+from wurde_testing import ChildProcess, find_executable
 
 def executable(name: str) -> str:
-    for prefix in os.environ['AMENT_PREFIX_PATH'].split(os.pathsep):
-        path = pathlib.Path(prefix) / 'lib' / 'wurde_example_thermometer' / name
-        if path.is_file():
-            return str(path)
-    raise AssertionError(f'{name} is not installed')
+    return find_executable('wurde_example_thermometer', name)
 
 
 def test_interface_is_registered_with_its_description() -> None:
