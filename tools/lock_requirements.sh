@@ -4,7 +4,8 @@
 # Usage: tools/lock_requirements.sh            -> requirements.txt        (python3, 3.11)
 #        PYTHON=python3.10 tools/lock_requirements.sh requirements-py310.txt
 # tools/setup_venv.sh installs requirements-py3XX.txt when it exists for the interpreter, else
-# requirements.txt.
+# requirements.txt.  A package pip installs with the legacy setup.py route (empy on Python 3.10)
+# leaves no dist-info and is missed: add it by hand (requirements-py310.txt has empy so).
 # The ROS wheels also carry egg-info records of their colcon builds (rclpy, std_msgs, ...):
 # those are not PyPI names and must not be pinned, which is why this is not `pip freeze`.
 set -euo pipefail

@@ -18,5 +18,9 @@ setup(
     description="The Master Control Program: a lifecycle supervisor node that starts modules from mcp-config and mcp-mappings, watches heartbeats, restarts and assigns streams (issue: wurde_mcp).",
     license='BSD-3-Clause',
     tests_require=['pytest'],
-    entry_points={'console_scripts': []},
+    entry_points={'console_scripts': [
+        'mcp = wurde_mcp.node:main',
+        'turn_off = wurde_mcp.control:turn_off',
+        'mcp_controller = wurde_mcp.control:mcp_controller',
+    ]},
 )

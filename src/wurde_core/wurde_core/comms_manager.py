@@ -37,8 +37,9 @@ from .trigger import Trigger
 
 #: Longest single wait inside run_update, so that signals and commands are seen promptly.
 WAIT_SLICE_S = 0.05
-#: How long registration mode (-r) waits for an MCP to listen.
-REGISTRATION_WAIT_S = 3.0
+#: How long registration mode (-r) waits for an MCP to listen (discovery on a loaded machine can
+#: take seconds).
+REGISTRATION_WAIT_S = 10.0
 
 
 class CommsManager:

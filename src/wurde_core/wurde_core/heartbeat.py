@@ -37,7 +37,7 @@ class ModuleHeartbeat:
         self.obj: RobotObject = robot_object_class('Heartbeat')(heartbeat_stream(manager.name))
         self.obj._system = True
         self.obj.set_queue_mode(True)  # never lose a state command
-        self._last_beat = 0.0
+        self._last_beat: float | None = None
         self.beats = 0
 
     def describe(self) -> None:
@@ -64,7 +64,7 @@ class ModuleHeartbeat:
             return False
         now = time.monotonic()
         ttl = manager.ttl()
-        if not force and now - self._last_beat < ttl / 2:
+        if not force and self._last_beat is not None and now - self._last_beat < ttl / 2:
             return False
         self.obj.data.ttl = ttl
         self.obj.publish_data()
@@ -74,6 +74,8 @@ class ModuleHeartbeat:
 
     def next_beat_in(self) -> float:
         """Seconds until the next beat is due."""
+        if self._last_beat is None:
+            return 0.0
         return max(0.0, self._last_beat + self.manager.ttl() / 2 - time.monotonic())
 
     def commands(self) -> list[RunState]:

@@ -1,0 +1,94 @@
+"""A running MCP for end-to-end tests, and a client that reads its module table."""
+
+from __future__ import annotations
+
+import os
+import pathlib
+import time
+from collections.abc import Callable
+from typing import Any
+
+from wurde_core import CommsManager, RunState, StatusMode
+from wurde_core.interfaces import robot_object_class
+from wurde_testing import ChildProcess, find_executable
+
+HERE = pathlib.Path(__file__).resolve().parent
+WORKER = str(HERE / 'worker.py')
+
+
+def write_config(directory: pathlib.Path, modules: str, mappings: str = '') -> tuple[str, str]:
+    config = directory / 'mcp-config.xml'
+    config.write_text(f'<?xml version="1.0"?>\n<mcp-config>\n{modules}\n</mcp-config>\n')
+    mapping = directory / 'mcp-mappings.xml'
+    mapping.write_text(f'<?xml version="1.0"?>\n<mcp-mappings>\n{mappings}\n</mcp-mappings>\n')
+    return str(config), str(mapping)
+
+
+def worker(name: str, managed: str = 'managed', extra: str = '') -> str:
+    """A module entry running worker.py as ``name``."""
+    return (f'<module name="{name}" binary="{WORKER}" managed="{managed}">'
+            f'<options>-n {name} {extra}</options></module>')
+
+
+def start_mcp(directory: pathlib.Path, config: str, mappings: str, *args: str) -> ChildProcess:
+    env = dict(os.environ, WURDE_LOG_DIRECTORY=str(directory))
+    mcp = ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', config, '-m', mappings, *args],
+                       env=env)
+    mcp.expect('MCP ready', timeout=60)
+    return mcp
+
+
+class Table:
+    """Reads the MCP's module table (SimpleControl data on mcp_control) from this process."""
+
+    def __init__(self) -> None:
+        self.manager = CommsManager('Tester')
+        self.manager.set_no_sleep()
+        self.control = robot_object_class('SimpleControl')('mcp_control')
+        self.manager.register_consumer(self.control)
+        self.rows: dict[str, dict[str, Any]] = {}
+
+    def refresh(self) -> dict[str, dict[str, Any]]:
+        self.manager.step()
+        while self.control.get_next_data():
+            d = self.control.data
+            self.rows = {n: dict(status=StatusMode(s), state=RunState(r), pid=p, restarts=k)
+                         for n, s, r, p, k in zip(d.module_names, d.module_status,
+                                                  d.module_state, d.module_pid,
+                                                  d.module_restarts)}
+        return self.rows
+
+    def until(self, predicate: Callable[[dict[str, dict[str, Any]]], bool], what: str,
+              timeout: float = 30.0) -> dict[str, dict[str, Any]]:
+        deadline = time.monotonic() + timeout
+        while True:
+            rows = self.refresh()
+            if rows and predicate(rows):
+                return rows
+            if time.monotonic() > deadline:
+                raise AssertionError(f'{what} not reached within {timeout} s; table: {rows}')
+            self.manager.wait(0.05)
+
+    def command(self, command: int, module: str = '', state: RunState = RunState.RUN) -> None:
+        deadline = time.monotonic() + 20
+        while not self.control._outboxes['request'].subscribers():
+            assert time.monotonic() < deadline, 'MCP control channel not matched'
+            self.manager.step()
+            self.manager.wait(0.05)
+        requests = self.control.requests
+        requests.command.set_value(command)
+        requests.module.set_value(module)
+        requests.state.set_value(state)
+        self.control.publish_request()
+
+    def close(self) -> None:
+        self.manager.clean_up()
+
+
+def alive(pid: int) -> bool:
+    """Whether ``pid`` is a live (not zombie) process."""
+    try:
+        with open(f'/proc/{pid}/stat') as handle:
+            return handle.read().rsplit(')', 1)[1].split()[0] != 'Z'
+    except (FileNotFoundError, ProcessLookupError):
+        return False

@@ -1,0 +1,140 @@
+"""MCP configuration and mappings: both seed forms, and refusals with file, line and reason."""
+
+from __future__ import annotations
+
+import pathlib
+
+import pytest
+
+from wurde_core import ConfigError, ProcessLocale, ProcessType
+from wurde_idl import load_all
+from wurde_mcp.config import McpConfig, read_mcp_config, read_mcp_mappings, validate
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
+
+CHAPTER1 = '''<?xml version="1.0" encoding="UTF-8"?>
+<!DOCTYPE mcp-config SYSTEM "mcp-config.dtd">
+<mcp-config>
+<module name="VectorMover">
+<binary>vectorMover</binary>
+</module>
+<module name="HollowayLMS">
+<binary>sickServer</binary>
+<options>-n HollowayLMS</options>
+</module>
+</mcp-config>
+'''
+
+APPENDIX = '''<?xml version="1.0" encoding="UTF-8"?>
+<robot>
+<wurde-config xmlns="http://wurde.sf.net/wurde-config"><data-directory location="/d"/></wurde-config>
+<mcp-config xmlns:xs="http://www.w3.org/2001/XMLSchema-instance"
+xmlns="http://wurde.sf.net/mcp-config"
+xs:schemalocation="http://wurde.sf.net/mcp-config mcp.xsd">
+<module name="TomRFlex" binary="rFlexServer"/>
+<module name="SynchroMover" binary="synchroMover">
+<connect consumer="DriveClient" supplier="TomRFlexDrive" interface="RobotDrive"/>
+<connect consumer="EgoClient" supplier="TomRFlexMotion" interface="Egomotion"/>
+</module>
+<module name="BlindTeleop">
+<connect consumer="EgoClient" supplier="TomRFlexMotion" interface="Egomotion"/>
+</module>
+<module name="StereoVisionModule" binary="visionModule" managed="critical">
+<arg value="-n StereoVisionModule"/>
+<arg value="-v local-vision-config.xml"/>
+</module>
+</mcp-config>
+</robot>
+'''
+
+
+def write(tmp_path: pathlib.Path, text: str, name: str = 'mcp.xml') -> pathlib.Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def test_chapter1_form(tmp_path: pathlib.Path) -> None:
+    config = read_mcp_config(write(tmp_path, CHAPTER1))
+    assert list(config.modules) == ['VectorMover', 'HollowayLMS']
+    lms = config.modules['HollowayLMS']
+    assert (lms.binary, lms.args, lms.locale, lms.managed) == \
+        ('sickServer', ['-n', 'HollowayLMS'], ProcessLocale.INTERNAL, ProcessType.MANAGED)
+
+
+def test_appendix_combined_form(tmp_path: pathlib.Path) -> None:
+    config = read_mcp_config(write(tmp_path, APPENDIX))
+    assert config.modules['StereoVisionModule'].args == \
+        ['-n', 'StereoVisionModule', '-v', 'local-vision-config.xml']
+    assert config.modules['StereoVisionModule'].managed == ProcessType.CRITICAL
+    assert config.modules['BlindTeleop'].locale == ProcessLocale.EXTERNAL  # no binary
+    assert [(m.interface, m.source, m.object) for m in config.mappings_for('SynchroMover')] == \
+        [('RobotDrive', 'TomRFlexDrive', 'DriveClient'),
+         ('Egomotion', 'TomRFlexMotion', 'EgoClient')]
+    validate(config, load_all())
+
+
+@pytest.mark.parametrize('name', ['foo', 'blind-teleop'])
+def test_shipped_configs_load(name: str) -> None:
+    config = read_mcp_config(ROOT / 'config' / name / 'mcp-config.xml')
+    read_mcp_mappings(ROOT / 'config' / name / 'mcp-mappings.xml', config)
+    validate(config, load_all())
+    assert config.mappings
+
+
+@pytest.mark.parametrize('text, line, reason', [
+    ('<mcp-config>\n<modul name="a"/>\n</mcp-config>', 2, 'unknown tag <modul>'),
+    ('<mcp-config>\n<module name="a" binary="b" speed="2"/>\n</mcp-config>', 2,
+     'unknown attribute "speed"'),
+    ('<mcp-config>\n<module binary="b"/>\n</mcp-config>', 2, 'needs a non-empty "name"'),
+    ('<mcp-config>\n<module name="a" locale="internal"/>\n</mcp-config>', 2,
+     'internal module "a" has no binary'),
+    ('<mcp-config>\n<module name="a" binary="b" managed="sometimes"/>\n</mcp-config>', 2,
+     'managed="sometimes" is not one of managed, unmanaged, critical'),
+    ('<mcp-config>\n<module name="a" binary="b"/>\n<module name="a" binary="c"/>\n</mcp-config>',
+     3, 'defined twice'),
+    ('<mcp-config>\n<module name="a">\n<binary>b</binary>\n<binary>c</binary>\n</module>\n'
+     '</mcp-config>', 4, 'names its binary twice'),
+    ('<mcp-config>\n<module name="a" binary="b">\n<options>-n "open</options>\n</module>\n'
+     '</mcp-config>', 3, 'cannot split arguments'),
+    ('<?xml version="1.0"?>\n<!DOCTYPE mcp-config [<!ENTITY a "aaaa">]>\n<mcp-config/>', 2,
+     'internal subset'),
+    ('<mcp-config>\n<module name="a" binary="b">\n</mcp-config>', 3, 'not well-formed'),
+])
+def test_bad_config_is_refused(tmp_path: pathlib.Path, text: str, line: int, reason: str) -> None:
+    path = write(tmp_path, text)
+    with pytest.raises(ConfigError) as caught:
+        read_mcp_config(path)
+    assert (caught.value.path, caught.value.line) == (str(path), line), str(caught.value)
+    assert reason in caught.value.reason
+
+
+def test_huge_config_is_refused(tmp_path: pathlib.Path) -> None:
+    path = write(tmp_path, '<mcp-config>' + ' ' * (2 << 20) + '</mcp-config>')
+    with pytest.raises(ConfigError, match='larger than'):
+        read_mcp_config(path)
+
+
+@pytest.mark.parametrize('mapping, line, reason', [
+    ('<connect module="Nobody">\n<input interface="Foo" source="Bar"/>\n</connect>', 3,
+     'unknown module "Nobody"'),
+    ('<connect module="A">\n<input interface="Fooo" source="Bar"/>\n</connect>', 3,
+     'unknown interface "Fooo"'),
+    ('<connect module="A">\n<input interface="Foo"/>\n</connect>', 3, 'needs a non-empty "source"'),
+    ('<connect module="A">\n<output interface="Foo" source="Bar"/>\n</connect>', 3,
+     'unknown tag <output>'),
+])
+def test_bad_mapping_is_refused(tmp_path: pathlib.Path, mapping: str, line: int,
+                                reason: str) -> None:
+    config = read_mcp_config(write(tmp_path, '<mcp-config><module name="A" binary="a"/>'
+                                   '</mcp-config>'))
+    path = write(tmp_path, f'<mcp-mappings>\n{mapping}\n</mcp-mappings>', 'map.xml')
+    with pytest.raises(ConfigError) as caught:
+        read_mcp_mappings(path, config)
+        validate(config, load_all())
+    assert (caught.value.path, caught.value.line) == (str(path), line), str(caught.value)
+    assert reason in caught.value.reason
+
+
+def test_empty_config_is_fine() -> None:
+    validate(McpConfig(), load_all())

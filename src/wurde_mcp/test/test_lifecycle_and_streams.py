@@ -1,0 +1,132 @@
+"""The MCP as a lifecycle node, its registration pass, and stream assignment to modules."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+from lifecycle_msgs.msg import Transition
+from lifecycle_msgs.srv import ChangeState, GetState
+
+from mcp_fixture import WORKER, Table, alive, start_mcp, worker, write_config
+from wurde_core import RunState, StatusMode
+from wurde_core.interfaces import robot_object_class
+from wurde_mcp.supervisor import CMD_START, CMD_STOP
+
+ACTIVE, DEAD = StatusMode.ACTIVE, StatusMode.DEAD
+
+
+@pytest.fixture
+def table(ros_domain: int):
+    reader = Table()
+    try:
+        yield reader
+    finally:
+        reader.close()
+
+
+def call(table: Table, client, request, timeout: float = 30.0):
+    deadline = time.monotonic() + timeout
+    while not client.service_is_ready():
+        assert time.monotonic() < deadline, 'lifecycle service not available'
+        table.manager.wait(0.05)
+    future = client.call_async(request)
+    from rclpy.executors import SingleThreadedExecutor
+    executor = SingleThreadedExecutor(context=table.manager._context)
+    executor.add_node(table.manager.node)
+    try:
+        while not future.done():
+            assert time.monotonic() < deadline, 'lifecycle service did not answer'
+            executor.spin_once(timeout_sec=0.05)
+            table.refresh()
+    finally:
+        executor.remove_node(table.manager.node)
+    return future.result()
+
+
+def test_lifecycle_transitions_drive_the_modules(tmp_path, table) -> None:
+    config, mappings = write_config(tmp_path, worker('Life'))
+    with start_mcp(tmp_path, config, mappings) as mcp:
+        node = table.manager.node
+        change = node.create_client(ChangeState, '/mcp/change_state')
+        get = node.create_client(GetState, '/mcp/get_state')
+        assert call(table, get, GetState.Request()).current_state.label == 'unconfigured'
+
+        def transition(tid: int) -> None:
+            assert call(table, change, ChangeState.Request(
+                transition=Transition(id=tid))).success
+
+        transition(Transition.TRANSITION_CONFIGURE)  # the registration pass runs here
+        assert 'Life.log' in [p.name for p in (tmp_path / 'mcp-modules').iterdir()]
+        assert '-r' in (tmp_path / 'mcp-modules' / 'Life.log').read_text()
+        rows = table.until(lambda r: 'Life' in r, 'module table')
+        assert rows['Life']['pid'] == 0 or not alive(rows['Life']['pid'])
+        transition(Transition.TRANSITION_ACTIVATE)
+        rows = table.until(lambda r: r['Life']['status'] == ACTIVE, 'Life started')
+        pid = rows['Life']['pid']
+        transition(Transition.TRANSITION_DEACTIVATE)
+        table.until(lambda r: r['Life']['state'] == RunState.IDLE, 'Life idle')
+        transition(Transition.TRANSITION_CLEANUP)
+        deadline = time.monotonic() + 20
+        while alive(pid):
+            assert time.monotonic() < deadline, 'cleanup left the module running'
+            time.sleep(0.05)
+        assert call(table, get, GetState.Request()).current_state.label == 'unconfigured'
+        assert mcp.process.poll() is None
+
+
+def test_assigned_stream_and_supplier_started_on_demand(tmp_path, table) -> None:
+    client_script = tmp_path / 'assigned.py'
+    client_script.write_text(
+        '#!/usr/bin/env python3\n'
+        'import sys\n'
+        'from wurde_core import CommsManager, ConnectionStrategy, RunState\n'
+        'from wurde_core.interfaces import Foo\n'
+        'm = CommsManager("Client"); m.parse_options(sys.argv); m.set_sleep(0.05)\n'
+        'foo = Foo(ConnectionStrategy.ASSIGNED, "BarClient"); m.register_consumer(foo)\n'
+        'while m.run_update() != RunState.QUIT:\n'
+        '    pass\n'
+        'm.clean_up()\n')
+    client_script.chmod(0o755)
+    modules = (worker('Server') +
+               f'<module name="Client" binary="{client_script}"/>')
+    mappings_xml = ('<connect module="Client">\n'
+                    '<input interface="Foo" source="Server_out" object="BarClient"/>\n</connect>')
+    config, mappings = write_config(tmp_path, modules, mappings_xml)
+    heartbeat = robot_object_class('Heartbeat')('heartbeat/Client')
+    heartbeat.set_queue_mode(True)
+    table.manager.register_consumer(heartbeat)
+    with start_mcp(tmp_path, config, mappings, '-a'):
+        table.until(lambda r: all(x['status'] == ACTIVE for x in r.values()), 'both active')
+
+        def consumed() -> list[str]:
+            streams: list[str] = []
+            while heartbeat.get_next_info():
+                streams = heartbeat.info.consumed_streams.get_value()
+            return streams
+
+        deadline = time.monotonic() + 30
+        while consumed() != ['Server_out']:
+            assert time.monotonic() < deadline, 'Client never got its assigned stream'
+            table.refresh()
+            table.manager.wait(0.05)
+
+        # Stop the supplier, then restart the client: its request makes the MCP start the
+        # supplier again (start on demand).
+        table.command(CMD_STOP, 'Server')
+        table.until(lambda r: r['Server']['status'] == DEAD, 'Server stopped')
+        table.command(CMD_STOP, 'Client')
+        table.until(lambda r: r['Client']['status'] == DEAD, 'Client stopped')
+        table.command(CMD_START, 'Client')
+        table.until(lambda r: r['Server']['status'] == ACTIVE and r['Client']['status'] == ACTIVE,
+                    'Server started on demand for Client')
+
+
+def test_registration_pass_collects_capabilities(tmp_path, table) -> None:
+    """Configure with -r runs: the MCP learns what Worker supplies before starting it."""
+    config, mappings = write_config(tmp_path, worker('Cap'))
+    with start_mcp(tmp_path, config, mappings, '-a'):
+        table.until(lambda r: r['Cap']['status'] == ACTIVE, 'Cap active')
+    log = (tmp_path / 'mcp-modules' / 'Cap.log').read_text()
+    assert 'supplies Foo Cap_out' in log and 'capabilities of Cap sent to the MCP' in log
+    assert WORKER in log

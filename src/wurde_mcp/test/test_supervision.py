@@ -1,0 +1,161 @@
+"""The MCP end to end: real module processes, real signals, real DDS."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from mcp_fixture import Table, alive, start_mcp, worker, write_config
+from wurde_core import RunState, StatusMode
+from wurde_mcp.supervisor import CMD_START, CMD_STATE, CMD_STOP
+from wurde_testing import ChildProcess, find_executable
+
+ACTIVE, DEAD, FAILED, ZOMBIE = (StatusMode.ACTIVE, StatusMode.DEAD, StatusMode.FAILED,
+                                StatusMode.ZOMBIE)
+
+
+@pytest.fixture
+def table(ros_domain: int):
+    reader = Table()
+    try:
+        yield reader
+    finally:
+        reader.close()
+
+
+def both_active(rows) -> bool:
+    return all(rows[m]['status'] == ACTIVE for m in rows if m != 'Ext')
+
+
+def test_kill9_of_a_managed_module_restarts_it_and_disturbs_no_other(tmp_path, table) -> None:
+    config, mappings = write_config(tmp_path, worker('A') + worker('B'))
+    with start_mcp(tmp_path, config, mappings, '-a') as mcp:
+        rows = table.until(both_active, 'A and B active')
+        a_pid, b_pid = rows['A']['pid'], rows['B']['pid']
+        os.kill(a_pid, signal.SIGKILL)
+        rows = table.until(lambda r: r['A']['restarts'] == 1 and r['A']['status'] == ACTIVE
+                           and r['A']['pid'] != a_pid, 'A restarted and alive')
+        assert rows['B']['pid'] == b_pid and rows['B']['restarts'] == 0
+        assert rows['B']['status'] == ACTIVE
+        assert mcp.process.poll() is None
+
+
+def test_a_hung_module_becomes_a_zombie_and_is_restarted(tmp_path, table) -> None:
+    config, mappings = write_config(tmp_path, worker('Hung'))
+    with start_mcp(tmp_path, config, mappings, '-a') as mcp:
+        pid = table.until(both_active, 'Hung active')['Hung']['pid']
+        os.kill(pid, signal.SIGSTOP)
+        table.until(lambda r: r['Hung']['pid'] != pid and r['Hung']['status'] == ACTIVE,
+                    'Hung replaced by a live process')
+        assert 'missed its TTL' in mcp.stderr + mcp.stdout
+        assert not alive(pid)
+
+
+def test_unmanaged_module_is_left_dead(tmp_path, table) -> None:
+    config, mappings = write_config(tmp_path, worker('Loose', 'unmanaged') + worker('Kept'))
+    with start_mcp(tmp_path, config, mappings, '-a'):
+        rows = table.until(both_active, 'both active')
+        os.kill(rows['Loose']['pid'], signal.SIGKILL)
+        os.kill(rows['Kept']['pid'], signal.SIGKILL)
+        rows = table.until(lambda r: r['Kept']['restarts'] == 1 and r['Kept']['status'] == ACTIVE,
+                           'Kept restarted')
+        # By the time the managed one is back, the unmanaged one has long been seen dead.
+        assert rows['Loose']['status'] == DEAD and rows['Loose']['restarts'] == 0
+
+
+def test_critical_module_down_idles_everyone_until_it_is_back(tmp_path, table) -> None:
+    config, mappings = write_config(tmp_path, worker('Heart', 'critical') + worker('Limb'))
+    with start_mcp(tmp_path, config, mappings, '-a'):
+        rows = table.until(both_active, 'both active')
+        os.kill(rows['Heart']['pid'], signal.SIGKILL)
+        table.until(lambda r: r['Limb']['state'] == RunState.IDLE, 'Limb idled')
+        table.until(lambda r: r['Heart']['status'] == ACTIVE and r['Heart']['restarts'] == 1
+                    and r['Limb']['state'] == RunState.RUN, 'Heart back, Limb running again')
+
+
+def test_binary_that_cannot_start_is_retried_to_the_cap_without_harm(tmp_path, table) -> None:
+    config, mappings = write_config(
+        tmp_path, '<module name="Ghost" binary="no_such_package/ghost"/>' + worker('Fine'))
+    with start_mcp(tmp_path, config, mappings, '-a', '-k', '2') as mcp:
+        rows = table.until(lambda r: r['Ghost']['status'] == FAILED and
+                           r['Fine']['status'] == ACTIVE, 'Ghost given up, Fine active')
+        assert rows['Ghost']['restarts'] == 2 and rows['Fine']['restarts'] == 0
+        assert 'binary "no_such_package/ghost" of Ghost not found' in mcp.stderr
+        assert 'giving up on Ghost after 2 restarts' in mcp.stderr
+
+
+def test_absurd_ttl_is_clamped_not_trusted(tmp_path, table) -> None:
+    config, mappings = write_config(tmp_path, worker('Liar', extra='-t 86400'))
+    with start_mcp(tmp_path, config, mappings, '-a') as mcp:
+        pid = table.until(both_active, 'Liar active')['Liar']['pid']
+        os.kill(pid, signal.SIGSTOP)
+        # Trusting a day-long TTL would leave the hung module alone; the clamp (10 s) does not.
+        table.until(lambda r: r['Liar']['status'] == ZOMBIE or r['Liar']['pid'] != pid,
+                    'Liar found hung', timeout=40)
+        assert 'announces TTL 86400.0 s; using 10.0 s' in mcp.stderr
+
+
+def test_controller_and_turn_off(tmp_path, table) -> None:
+    config, mappings = write_config(tmp_path, worker('One') + worker('Two'))
+    with start_mcp(tmp_path, config, mappings, '-a'):
+        table.until(both_active, 'both active')
+        listing = subprocess.run([sys.executable, find_executable('wurde_mcp', 'mcp_controller'),
+                                  'list'], capture_output=True, text=True, timeout=60, check=True)
+        assert 'One' in listing.stdout and 'ACTIVE' in listing.stdout
+        off = subprocess.run([sys.executable, find_executable('wurde_mcp', 'turn_off'), 'One'],
+                             capture_output=True, text=True, timeout=60, check=True)
+        assert 'quit One' in off.stdout
+        rows = table.until(lambda r: r['One']['status'] == DEAD, 'One quit')
+        assert rows['One']['restarts'] == 0 and rows['Two']['status'] == ACTIVE
+        table.command(CMD_START, 'One')
+        table.until(lambda r: r['One']['status'] == ACTIVE, 'One started again')
+        table.command(CMD_STATE, 'Two', RunState.IDLE)
+        table.until(lambda r: r['Two']['state'] == RunState.IDLE, 'Two idle')
+        table.command(CMD_STOP, 'Two')
+        table.until(lambda r: r['Two']['status'] == DEAD, 'Two stopped')
+        bad = subprocess.run([sys.executable, find_executable('wurde_mcp', 'mcp_controller'),
+                              'state', 'One', 'SLEEPY'], capture_output=True, text=True,
+                             timeout=60, check=False)
+        assert bad.returncode == 2 and 'unknown state SLEEPY' in bad.stderr
+
+
+def test_mcp_killed_by_sigkill_leaves_no_orphans(tmp_path, table) -> None:
+    config, mappings = write_config(tmp_path, worker('Child1') + worker('Child2'))
+    mcp = start_mcp(tmp_path, config, mappings, '-a')
+    try:
+        rows = table.until(both_active, 'children active')
+        pids = [rows['Child1']['pid'], rows['Child2']['pid']]
+        mcp.process.kill()
+        deadline = time.monotonic() + 20
+        while any(alive(pid) for pid in pids):
+            assert time.monotonic() < deadline, f'orphans left: {pids}'
+            time.sleep(0.05)
+    finally:
+        mcp.stop()
+
+
+def test_sigterm_quits_and_reaps_every_module(tmp_path, table) -> None:
+    config, mappings = write_config(tmp_path, worker('Tidy'))
+    mcp = start_mcp(tmp_path, config, mappings, '-a')
+    rows = table.until(both_active, 'Tidy active')
+    mcp.process.terminate()
+    assert mcp.process.wait(timeout=30) == 0
+    mcp.stop()
+    assert not alive(rows['Tidy']['pid'])
+    assert 'exit code 0' in (tmp_path / 'mcp-modules' / 'Tidy.log').read_text()
+
+
+def test_bad_configuration_is_refused_before_anything_starts(tmp_path) -> None:
+    config, mappings = write_config(tmp_path, worker('Never'),
+                                    '<connect module="Nobody">\n<input interface="Foo" '
+                                    'source="Bar"/>\n</connect>')
+    with ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', config, '-m', mappings,
+                       '-a']) as mcp:
+        assert mcp.process.wait(timeout=60) == 1
+    assert f'{mappings}:4: mapping names unknown module "Nobody"' in mcp.stderr
+    assert not (tmp_path / 'mcp-modules' / 'Never.log').exists()

@@ -1,0 +1,224 @@
+"""MCP configuration and mappings (seed: WURDE Programming Guide 1.1.5, 6.1, 6.2, appendix 10.1.1).
+
+Both seed forms of the MCP configuration are read:
+
+- chapter 1's ``<mcp-config><module name="..."><binary>b</binary><options>-n X</options></module>``;
+- the appendix's ``<module name="..." binary="b">`` with ``<arg value="..."/>`` and
+  ``<connect consumer="..." supplier="..." interface="..."/>`` children, alone or inside the
+  combined ``<robot>`` file (its ``<wurde-config>`` is RoleConfiguration's business).
+
+Per module, optional attributes ``locale`` (internal | external) and ``managed`` (managed |
+unmanaged | critical) set the guide's locale and managed state (6.1).  A module with no binary and
+no explicit locale is external (the MCP watches it but cannot start it, like the appendix's
+BlindTeleop); an internal module must name its binary.  The mapping file is
+``<mcp-mappings><connect module="M"><input interface="I" source="S" object="O"/>``.  Everything
+else — unknown tags or attributes, unknown modules or interfaces in mappings, hostile XML — is
+refused with file, line and reason before anything starts.
+"""
+
+from __future__ import annotations
+
+import os
+import shlex
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+
+from lxml import etree
+
+from wurde_core import ConfigError, ProcessLocale, ProcessType
+from wurde_idl.safe_xml import parse_file
+
+
+@dataclass(frozen=True)
+class Mapping:
+    """One consumer-to-stream mapping: the consumer ``object`` of ``interface`` in ``module``
+    is connected to stream ``source``."""
+
+    module: str
+    interface: str
+    source: str
+    object: str
+    path: str = ''
+    line: int = 0
+
+
+@dataclass
+class ModuleSpec:
+    """A module the MCP knows."""
+
+    name: str
+    binary: str = ''
+    args: list[str] = field(default_factory=list)
+    locale: ProcessLocale = ProcessLocale.INTERNAL
+    managed: ProcessType = ProcessType.MANAGED
+    path: str = ''
+    line: int = 0
+
+
+@dataclass
+class McpConfig:
+    """Modules by name and mappings by module."""
+
+    modules: dict[str, ModuleSpec] = field(default_factory=dict)
+    mappings: list[Mapping] = field(default_factory=list)
+
+    def mappings_for(self, module: str) -> list[Mapping]:
+        return [m for m in self.mappings if m.module == module]
+
+
+def _local(tag: object) -> str | None:
+    return etree.QName(tag).localname if isinstance(tag, str) else None
+
+
+def _elements(path: str, node: etree._Element) -> Iterable[etree._Element]:
+    for child in node:
+        tag = _local(child.tag)
+        if tag is None or tag == 'comment':
+            continue
+        yield child
+
+
+def _attributes(path: str, node: etree._Element, allowed: set[str],
+                required: set[str] = frozenset()) -> dict[str, str]:
+    values = {}
+    for attr, value in node.attrib.items():
+        if attr.startswith('{'):
+            continue  # xs:schemalocation and other namespaced attributes
+        if attr not in allowed:
+            raise ConfigError(path, node.sourceline,
+                              f'unknown attribute "{attr}" on <{_local(node.tag)}>')
+        values[attr] = value.strip()
+    for attr in required:
+        if not values.get(attr):
+            raise ConfigError(path, node.sourceline,
+                              f'<{_local(node.tag)}> needs a non-empty "{attr}" attribute')
+    return values
+
+
+def _enum(path: str, node: etree._Element, attr: str, value: str, enum: type) -> object:
+    try:
+        return enum[value.upper()]
+    except KeyError:
+        allowed = ', '.join(e.name.lower() for e in enum)
+        raise ConfigError(path, node.sourceline,
+                          f'{attr}="{value}" is not one of {allowed}') from None
+
+
+def _text(path: str, node: etree._Element) -> str:
+    _attributes(path, node, set())
+    for child in _elements(path, node):
+        raise ConfigError(path, child.sourceline, f'<{_local(node.tag)}> holds text only')
+    return (node.text or '').strip()
+
+
+def _split(path: str, node: etree._Element, text: str) -> list[str]:
+    try:
+        return shlex.split(text)
+    except ValueError as exc:
+        raise ConfigError(path, node.sourceline, f'cannot split arguments {text!r}: {exc}') from exc
+
+
+def read_mcp_config(path: str | os.PathLike[str], config: McpConfig | None = None) -> McpConfig:
+    """Read an MCP configuration file (either seed form).
+
+    :raises ConfigError: naming the file, the line and the reason.
+    """
+    path = os.fspath(path)
+    config = config or McpConfig()
+    root = parse_file(path, root_tag=('mcp-config', 'robot'))
+    if _local(root.tag) == 'robot':
+        found = [c for c in _elements(path, root) if _local(c.tag) == 'mcp-config']
+        for child in _elements(path, root):
+            if _local(child.tag) not in ('mcp-config', 'wurde-config'):
+                raise ConfigError(path, child.sourceline,
+                                  f'unknown tag <{_local(child.tag)}> in <robot>')
+        if len(found) != 1:
+            raise ConfigError(path, root.sourceline,
+                              f'<robot> must hold exactly one <mcp-config>, found {len(found)}')
+        root = found[0]
+    _attributes(path, root, set())
+    for node in _elements(path, root):
+        if _local(node.tag) != 'module':
+            raise ConfigError(path, node.sourceline,
+                              f'unknown tag <{_local(node.tag)}> in <mcp-config> (only <module>)')
+        _read_module(path, node, config)
+    return config
+
+
+def _read_module(path: str, node: etree._Element, config: McpConfig) -> None:
+    attrs = _attributes(path, node, {'name', 'binary', 'locale', 'managed'}, {'name'})
+    name = attrs['name']
+    if name in config.modules:
+        first = config.modules[name]
+        raise ConfigError(path, node.sourceline, f'module "{name}" is defined twice (first at '
+                          f'{first.path}:{first.line})')
+    spec = ModuleSpec(name=name, binary=attrs.get('binary', ''), path=path,
+                      line=node.sourceline or 0)
+    explicit_locale = 'locale' in attrs
+    if explicit_locale:
+        spec.locale = _enum(path, node, 'locale', attrs['locale'], ProcessLocale)
+    if 'managed' in attrs:
+        spec.managed = _enum(path, node, 'managed', attrs['managed'], ProcessType)
+    for child in _elements(path, node):
+        tag = _local(child.tag)
+        if tag == 'binary':
+            if spec.binary:
+                raise ConfigError(path, child.sourceline, f'module "{name}" names its binary twice')
+            spec.binary = _text(path, child)
+        elif tag == 'options':
+            spec.args += _split(path, child, _text(path, child))
+        elif tag == 'arg':
+            spec.args += _split(path, child, _attributes(path, child, {'value'}, {'value'})['value'])
+        elif tag == 'connect':
+            c = _attributes(path, child, {'consumer', 'supplier', 'interface'},
+                            {'consumer', 'supplier', 'interface'})
+            config.mappings.append(Mapping(name, c['interface'], c['supplier'], c['consumer'],
+                                           path, child.sourceline or 0))
+        else:
+            raise ConfigError(path, child.sourceline, f'unknown tag <{tag}> in <module>')
+    if not spec.binary:
+        if explicit_locale and spec.locale == ProcessLocale.INTERNAL:
+            raise ConfigError(path, node.sourceline,
+                              f'internal module "{name}" has no binary (give <binary> or binary=)')
+        spec.locale = ProcessLocale.EXTERNAL
+    config.modules[name] = spec
+
+
+def read_mcp_mappings(path: str | os.PathLike[str], config: McpConfig) -> McpConfig:
+    """Read a mappings file into ``config``.
+
+    :raises ConfigError: naming the file, the line and the reason.
+    """
+    path = os.fspath(path)
+    root = parse_file(path, root_tag='mcp-mappings')
+    _attributes(path, root, set())
+    for node in _elements(path, root):
+        if _local(node.tag) != 'connect':
+            raise ConfigError(path, node.sourceline,
+                              f'unknown tag <{_local(node.tag)}> in <mcp-mappings>')
+        module = _attributes(path, node, {'module'}, {'module'})['module']
+        for child in _elements(path, node):
+            if _local(child.tag) != 'input':
+                raise ConfigError(path, child.sourceline,
+                                  f'unknown tag <{_local(child.tag)}> in <connect>')
+            a = _attributes(path, child, {'interface', 'source', 'object'}, {'interface', 'source'})
+            config.mappings.append(Mapping(module, a['interface'], a['source'], a.get('object', ''),
+                                           path, child.sourceline or 0))
+    return config
+
+
+def validate(config: McpConfig, interfaces: Iterable[str]) -> None:
+    """Refuse mappings that name an unknown module or interface.
+
+    Every module a mapping names must be in the MCP configuration; a program the user starts by
+    hand (the guide's BlindTeleop) is listed there as ``locale="external"``.
+    """
+    known = set(interfaces)
+    for mapping in config.mappings:
+        if mapping.module not in config.modules:
+            raise ConfigError(mapping.path, mapping.line,
+                              f'mapping names unknown module "{mapping.module}" (not in the MCP '
+                              'configuration)')
+        if mapping.interface not in known:
+            raise ConfigError(mapping.path, mapping.line,
+                              f'mapping names unknown interface "{mapping.interface}"')

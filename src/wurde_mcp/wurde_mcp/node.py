@@ -1,0 +1,204 @@
+"""The MCP executable: a WURDE module and a ROS 2 lifecycle node (seed: WURDE chapter 6).
+
+``mcp -c mcp-config.xml -m mcp-mappings.xml [-a]`` (``ros2 run wurde_mcp mcp ...``):
+
+- configure: read the configuration and mappings (refusing bad ones with file, line and reason)
+  and run the registration pass — each internal binary is started with ``-r`` and reports what it
+  supplies and consumes;
+- activate: start the internal modules and set every module to Run;
+- deactivate: set every module to Idle;
+- cleanup and shutdown: Quit every module and reap the internal ones.
+
+``-a`` configures and activates at once.  Transitions are driven with the standard lifecycle
+services (``/mcp/change_state``), so any ROS 2 lifecycle tool can drive the MCP.  Files come from
+``-c`` / ``-m``, else the role configuration (WURDE_MCP_CONFIG, WURDE_MCP_MAPPINGS, ...).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
+
+from wurde_core import (CommsManager, ConfigError, RunState, StatusMode, g_error, g_info,
+                        global_configuration)
+from wurde_idl import load_all
+
+from .config import McpConfig, read_mcp_config, read_mcp_mappings, validate
+from .supervisor import MAX_RESTARTS, Supervisor
+
+#: How long the registration pass waits for the binaries started with -r.
+REGISTRATION_TIMEOUT_S = 15.0
+
+
+class _McpNode(LifecycleNode):
+    """The lifecycle node; its transition callbacks are the MCP's."""
+
+    def __init__(self, mcp: 'Mcp', **kwargs: object) -> None:
+        self._mcp = mcp
+        super().__init__('mcp', enable_communication_interface=True, **kwargs)
+
+    def on_configure(self, state: LifecycleState) -> TransitionCallbackReturn:
+        return self._mcp.on_configure(state)
+
+    def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        return self._mcp.on_activate(state)
+
+    def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        return self._mcp.on_deactivate(state)
+
+    def on_cleanup(self, state: LifecycleState) -> TransitionCallbackReturn:
+        return self._mcp.on_cleanup(state)
+
+    def on_shutdown(self, state: LifecycleState) -> TransitionCallbackReturn:
+        return self._mcp.on_shutdown(state)
+
+
+class Mcp:
+    """The MCP: lifecycle callbacks around a :class:`Supervisor`."""
+
+    def __init__(self, manager: CommsManager, config_file: str, mappings_file: str,
+                 max_restarts: int = MAX_RESTARTS) -> None:
+        self.manager = manager
+        self.max_restarts = max_restarts
+        self.config_file = config_file
+        self.mappings_file = mappings_file
+        self.supervisor: Supervisor | None = None
+        self.node = _McpNode(self, context=manager._context)
+        self.executor = SingleThreadedExecutor(context=manager._context)
+        self.executor.add_node(self.node)
+
+    def load(self) -> McpConfig:
+        """Read and check the configuration and mappings.
+
+        :raises ConfigError: naming the file, the line and the reason.
+        """
+        config = read_mcp_config(self.config_file)
+        if self.mappings_file and os.path.exists(self.mappings_file):
+            read_mcp_mappings(self.mappings_file, config)
+        elif self.mappings_file and self.mappings_file != self._default_mappings():
+            raise ConfigError(self.mappings_file, None, 'cannot read: no such file')
+        validate(config, load_all())
+        return config
+
+    @staticmethod
+    def _default_mappings() -> str:
+        return global_configuration().get_mcp_mappings_file()
+
+    def on_configure(self, state: LifecycleState) -> TransitionCallbackReturn:
+        try:
+            config = self.load()
+        except ConfigError as exc:
+            g_error(f'MCP: {exc}')
+            return TransitionCallbackReturn.FAILURE
+        role = global_configuration()
+        log_directory = os.path.join(role.get_log_directory(), 'mcp-modules')
+        self.supervisor = Supervisor(self.manager, config, log_directory=log_directory,
+                                     bin_directory=role.get_bin_directory(),
+                                     max_restarts=self.max_restarts)
+        self.registration_pass()
+        g_info(f'MCP: configured with {len(config.modules)} modules from {self.config_file}')
+        return TransitionCallbackReturn.SUCCESS
+
+    def registration_pass(self) -> None:
+        """Start every internal binary with -r and take in the capability reports."""
+        supervisor = self.supervisor
+        assert supervisor is not None
+        started = []
+        for module in supervisor.modules.values():
+            if module.internal and supervisor.start(module.name, argv_extra=('-r',)):
+                module.wanted = False  # it is meant to exit: no restart
+                started.append(module)
+        deadline = time.monotonic() + REGISTRATION_TIMEOUT_S
+        while time.monotonic() < deadline and any(
+                m.process is not None and m.process.poll() is None for m in started):
+            self.manager.step()
+            supervisor.tick()
+            self.manager.wait(0.02)
+        for module in supervisor.modules.values():
+            if module.process is not None:
+                if module.process.poll() is None:
+                    g_error(f'MCP: {module.name} did not finish its registration (-r) in time')
+                module.process.stop(step_s=1.0)
+                module.process = None
+            module.restarts = 0
+            module.restart_at = None
+            module.status = StatusMode.UNKNOWN
+        self.manager.step()
+        supervisor.tick()
+
+    def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        assert self.supervisor is not None
+        self.supervisor.start_all()
+        self.supervisor.set_all(RunState.RUN)
+        return TransitionCallbackReturn.SUCCESS
+
+    def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        assert self.supervisor is not None
+        self.supervisor.set_all(RunState.IDLE)
+        return TransitionCallbackReturn.SUCCESS
+
+    def on_cleanup(self, state: LifecycleState) -> TransitionCallbackReturn:
+        self.quit_all()
+        return TransitionCallbackReturn.SUCCESS
+
+    def on_shutdown(self, state: LifecycleState) -> TransitionCallbackReturn:
+        self.quit_all()
+        return TransitionCallbackReturn.SUCCESS
+
+    def quit_all(self) -> None:
+        if self.supervisor is not None:
+            self.supervisor.quit_all()
+
+    def spin_once(self) -> None:
+        """Serve lifecycle services and supervise; never blocks."""
+        self.executor.spin_once(timeout_sec=0.0)
+        if self.supervisor is not None:
+            self.supervisor.tick()
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv if argv is None else argv)
+    manager = CommsManager('MCP')
+    manager.set_help_string('  -c FILE  MCP configuration (default: role config, mcp-config.xml)\n'
+                            '  -m FILE  MCP mappings (default: role config, mcp-mapping.xml)\n'
+                            '  -a       configure and activate at once\n'
+                            f'  -k N     restarts of a module before giving up (default {MAX_RESTARTS})')
+    manager.parse_options(argv, 'c:m:ak:')
+    role = global_configuration()
+    config_file = role.get_option('c') if role.have_option('c') else role.get_mcp_config_file()
+    mappings_file = role.get_option('m') if role.have_option('m') else \
+        role.get_mcp_mappings_file()
+    manager.set_sleep_only(0.01)
+    manager.set_heartbeat_only(0.5)
+    manager.step()
+    try:
+        max_restarts = int(role.get_option('k')) if role.have_option('k') else MAX_RESTARTS
+    except ValueError:
+        print(f'mcp: -k needs a number, not {role.get_option("k")!r}', file=sys.stderr)
+        return 2
+    mcp = Mcp(manager, config_file, mappings_file, max_restarts)
+    if role.have_option('a'):
+        if mcp.node.trigger_configure() != TransitionCallbackReturn.SUCCESS \
+                or mcp.supervisor is None:
+            manager.clean_up()
+            return 1
+        mcp.node.trigger_activate()
+    print('MCP ready', flush=True)
+    try:
+        while manager.run_update() != RunState.QUIT:
+            if manager.state != RunState.RUN:
+                manager.set_run()  # the MCP itself is not idled by anyone
+            mcp.spin_once()
+    finally:
+        mcp.quit_all()
+        mcp.node.destroy_node()
+        manager.clean_up()
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

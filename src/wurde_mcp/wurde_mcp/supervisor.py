@@ -1,0 +1,395 @@
+"""The MCP's supervision: start modules, watch heartbeats and exits, restart, idle, assign.
+
+Seed: WURDE Programming Guide 5.2.1 (heartbeat, states), 6.1 (locale, managed / unmanaged /
+critical), 6.3 (stream selection).  :meth:`Supervisor.tick` is called from the MCP's WURDE loop;
+nothing in it blocks (stopping a process escalates in a background thread).
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+from wurde_core import (CommsManager, ConnectionStrategy, ProcessLocale, ProcessType, RunState,
+                        StatusMode, g_error, g_info, g_warn)
+from wurde_core.interfaces import robot_object_class
+
+from .binaries import find_binary
+from .config import McpConfig, ModuleSpec
+from .process import ModuleProcess
+
+#: Restart delays by restart count (s); the last repeats until the cap.
+BACKOFF_S = (0.0, 0.5, 1.0, 2.0, 4.0)
+#: Restarts of one module before the MCP gives up on it.
+MAX_RESTARTS = 5
+#: TTLs outside this range are not trusted (a module announcing 0 or a day is clamped).
+TTL_RANGE_S = (0.05, 10.0)
+#: Slack on top of the TTL before a silent module is a zombie.
+TTL_GRACE_S = 0.05
+#: How often the module table is published (s), besides on every change.
+TABLE_PERIOD_S = 0.5
+KIND_ASSIGN, KIND_START, KIND_CAPABILITIES = 0, 1, 2
+CMD_QUIT_ALL, CMD_START, CMD_STOP, CMD_RESTART, CMD_STATE = 1, 2, 3, 4, 5
+
+
+@dataclass
+class Module:
+    """What the MCP knows of one module."""
+
+    spec: ModuleSpec
+    heartbeat: Any
+    status: StatusMode = StatusMode.UNKNOWN
+    process: ModuleProcess | None = None
+    wanted: bool = False
+    last_beat: float | None = None
+    ttl: float = 1.0
+    run_state: RunState = RunState.RUN
+    pid: int = 0
+    host: str = ''
+    restarts: int = 0
+    restart_at: float | None = None
+    supplies: list[tuple[str, str]] = field(default_factory=list)
+    consumes: list[tuple[str, str]] = field(default_factory=list)
+    stopping: bool = False
+    ever_active: bool = False
+
+    @property
+    def name(self) -> str:
+        return self.spec.name
+
+    @property
+    def internal(self) -> bool:
+        return self.spec.locale == ProcessLocale.INTERNAL
+
+
+class Supervisor:
+    """Supervises the modules of one MCP configuration."""
+
+    def __init__(self, manager: CommsManager, config: McpConfig, *, log_directory: str,
+                 bin_directory: str = '', max_restarts: int = MAX_RESTARTS) -> None:
+        self.manager = manager
+        self.config = config
+        self.log_directory = log_directory
+        self.bin_directory = bin_directory
+        self.max_restarts = max_restarts
+        self.modules: dict[str, Module] = {}
+        self.idled_for: str | None = None
+        self._table_at = 0.0
+        self._changed = True
+        self.mcp = robot_object_class('McpRequest')('mcp')
+        self.mcp.set_queue_mode(True)
+        manager.register_supplier(self.mcp)
+        self.control = robot_object_class('SimpleControl')('mcp_control')
+        self.control.set_queue_mode(True)
+        manager.register_supplier(self.control)
+        for spec in config.modules.values():
+            self._watch(spec)
+
+    # -- modules -------------------------------------------------------------------------------
+    def _watch(self, spec: ModuleSpec) -> Module:
+        heartbeat = robot_object_class('Heartbeat')(f'heartbeat/{spec.name}')
+        heartbeat.set_queue_mode(True)
+        self.manager.register_consumer(heartbeat)
+        module = Module(spec=spec, heartbeat=heartbeat)
+        self.modules[spec.name] = module
+        return module
+
+    def start(self, name: str, *, argv_extra: tuple[str, ...] = ()) -> bool:
+        """Start an internal module (if it is not running); False when it cannot start."""
+        module = self.modules[name]
+        if not module.internal:
+            g_warn(f'MCP: {name} is external; the MCP watches it but cannot start it')
+            return False
+        if module.process is not None and module.process.poll() is None:
+            module.wanted = True
+            return True
+        module.wanted = True
+        module.restart_at = None
+        binary = find_binary(module.spec.binary, self.bin_directory)
+        if binary is None:
+            g_error(f'MCP: binary "{module.spec.binary}" of {name} not found (absolute path, '
+                    'bin-directory, ament index lib/<pkg>/<exe>, PATH)')
+            self._failed_start(module)
+            return False
+        try:
+            module.process = ModuleProcess(name, [binary, *module.spec.args, *argv_extra],
+                                           self.log_directory)
+        except OSError as exc:
+            g_error(f'MCP: cannot start {name} ({binary}): {exc}')
+            self._failed_start(module)
+            return False
+        module.pid = module.process.pid
+        module.status = StatusMode.STARTING
+        module.last_beat = None
+        module.stopping = False
+        self._changed = True
+        g_info(f'MCP: started {name} (pid {module.pid})')
+        return True
+
+    def _failed_start(self, module: Module) -> None:
+        module.status = StatusMode.DEAD
+        self._schedule_restart(module, time.monotonic())
+
+    def stop(self, name: str) -> None:
+        """Quit a module and keep it down (escalating to signals for internal ones)."""
+        module = self.modules[name]
+        module.wanted = False
+        module.restart_at = None
+        self.command_state(name, RunState.QUIT)
+        process = module.process
+        if process is not None and process.poll() is None and not module.stopping:
+            module.stopping = True
+            threading.Thread(target=process.stop, kwargs={'grace_s': 2.0}, name=f'stop-{name}',
+                             daemon=True).start()
+        self._changed = True
+
+    def restart(self, name: str) -> None:
+        """Stop a module and start it again (internal modules)."""
+        module = self.modules[name]
+        process = module.process
+        self.stop(name)
+        if process is not None:
+            process.stop(step_s=1.0, grace_s=2.0)
+            module.process = None
+        module.restarts += 1
+        self.start(name)
+
+    def command_state(self, name: str, state: RunState) -> None:
+        """Send a run-state command to a module (through its heartbeat channel)."""
+        heartbeat = self.modules[name].heartbeat
+        heartbeat.requests.state.set_value(state)
+        heartbeat.publish_request()
+
+    def start_all(self) -> None:
+        """Start every internal module that has a binary."""
+        for module in self.modules.values():
+            if module.internal:
+                self.start(module.name)
+
+    def set_all(self, state: RunState, *, except_: str | None = None) -> None:
+        """Command every module but ``except_`` into ``state``."""
+        for name in self.modules:
+            if name != except_:
+                self.command_state(name, state)
+
+    def quit_all(self, wait_s: float = 10.0) -> None:
+        """Quit every module and reap the internal ones (escalating after ``wait_s``)."""
+        for module in self.modules.values():
+            module.wanted = False
+            module.restart_at = None
+            self.command_state(module.name, RunState.QUIT)
+        deadline = time.monotonic() + wait_s
+        for module in self.modules.values():
+            if module.process is not None:
+                remaining = max(0.1, deadline - time.monotonic())
+                module.process.stop(step_s=min(remaining, 3.0), grace_s=min(remaining, 2.0))
+                module.process = None
+                module.pid = 0
+                module.status = StatusMode.DEAD
+        self._changed = True
+
+    # -- the loop ------------------------------------------------------------------------------
+    def tick(self) -> None:
+        """Take in heartbeats, requests and exits; restart, idle and publish as needed."""
+        now = time.monotonic()
+        for module in self.modules.values():
+            self._take_heartbeats(module, now)
+            self._check_exit(module, now)
+            self._check_ttl(module, now)
+            if module.restart_at is not None and now >= module.restart_at and module.wanted:
+                module.restart_at = None
+                self.start(module.name)
+        self._critical()
+        self._requests()
+        self._control()
+        if self._changed or now - self._table_at >= TABLE_PERIOD_S:
+            self._publish_table(now)
+
+    def _take_heartbeats(self, module: Module, now: float) -> None:
+        heartbeat = module.heartbeat
+        while heartbeat.get_next_info():
+            info = heartbeat.info
+            module.run_state = RunState(info.state.get_value())
+            module.pid = info.pid.get_value()
+            module.host = info.host.get_value()
+            module.supplies = list(zip(info.interfaces.get_value(), info.streams.get_value()))
+            self._changed = True
+        beats = 0
+        while heartbeat.get_next_data():
+            beats += 1
+            ttl = heartbeat.data.ttl
+            low, high = TTL_RANGE_S
+            if not math.isfinite(ttl) or not low <= ttl <= high:
+                clamped = min(max(ttl if math.isfinite(ttl) else high, low), high)
+                if module.ttl != clamped:
+                    g_warn(f'MCP: {module.name} announces TTL {ttl!r} s; using {clamped} s')
+                ttl = clamped
+            module.ttl = ttl
+        if beats:
+            module.last_beat = now
+            if module.status != StatusMode.ACTIVE:
+                module.status = StatusMode.ACTIVE
+                module.ever_active = True
+                self._changed = True
+                g_info(f'MCP: {module.name} is alive')
+
+    def _check_exit(self, module: Module, now: float) -> None:
+        process = module.process
+        if process is None:
+            return
+        code = process.poll()
+        if code is None:
+            return
+        process.reap(0.0)
+        module.process = None
+        module.pid = 0
+        module.status = StatusMode.DEAD
+        self._changed = True
+        if module.wanted and module.spec.managed != ProcessType.UNMANAGED:
+            g_warn(f'MCP: {module.name} exited with code {code}')
+            self._schedule_restart(module, now)
+        else:
+            g_info(f'MCP: {module.name} exited with code {code}')
+
+    def _check_ttl(self, module: Module, now: float) -> None:
+        if module.status != StatusMode.ACTIVE or module.last_beat is None:
+            return
+        if now - module.last_beat <= module.ttl + TTL_GRACE_S:
+            return
+        module.status = StatusMode.ZOMBIE
+        self._changed = True
+        g_warn(f'MCP: {module.name} missed its TTL ({module.ttl:.3f} s): zombie')
+        if (module.internal and module.wanted and module.process is not None
+                and module.spec.managed != ProcessType.UNMANAGED):
+            module.process.signal(9)  # a hung module gets no second chance to hang on exit
+
+    def _schedule_restart(self, module: Module, now: float) -> None:
+        if module.spec.managed == ProcessType.UNMANAGED or not module.wanted:
+            return
+        if module.restarts >= self.max_restarts:
+            module.status = StatusMode.FAILED
+            module.wanted = False
+            self._changed = True
+            g_error(f'MCP: giving up on {module.name} after {module.restarts} restarts')
+            return
+        delay = BACKOFF_S[min(module.restarts, len(BACKOFF_S) - 1)]
+        module.restarts += 1
+        module.restart_at = now + delay
+
+    def _critical(self) -> None:
+        """While a critical module that has run is not up in Run, every other module is Idle."""
+        down = next((m.name for m in self.modules.values()
+                     if m.spec.managed == ProcessType.CRITICAL and m.ever_active
+                     and (m.status != StatusMode.ACTIVE or m.run_state != RunState.RUN)), None)
+        if down is not None and self.idled_for is None:
+            self.idled_for = down
+            g_warn(f'MCP: critical module {down} is down: every other module goes Idle')
+            self.set_all(RunState.IDLE, except_=down)
+        elif down is None and self.idled_for is not None:
+            g_info(f'MCP: critical module {self.idled_for} is back: every module goes to Run')
+            self.idled_for = None
+            self.set_all(RunState.RUN)
+
+    # -- stream assignment (guide 6.3) ---------------------------------------------------------
+    def _supplier_of(self, stream: str) -> Module | None:
+        return next((m for m in self.modules.values()
+                     if any(s == stream for _, s in m.supplies)), None)
+
+    def _requests(self) -> None:
+        while self.mcp.get_next_request():
+            request = self.mcp.requests
+            kind = request.kind.get_value()
+            module = request.module.get_value()
+            if kind == KIND_CAPABILITIES:
+                target = self.modules.get(module)
+                if target is not None:
+                    target.supplies = list(zip(request.provided_interfaces.get_value(),
+                                               request.provided_streams.get_value()))
+                    target.consumes = list(zip(request.consumed_interfaces.get_value(),
+                                               request.consumed_objects.get_value()))
+                continue
+            if kind == KIND_ASSIGN:
+                self._answer(request, *self._assign(module, request.interface.get_value(),
+                                                    request.object.get_value(),
+                                                    ConnectionStrategy(request.strategy.get_value())))
+            elif kind == KIND_START:
+                supplier = self._supplier_of(request.object.get_value())
+                ok = supplier is not None and self.start(supplier.name)
+                self._answer(request, ok, request.object.get_value(),
+                             '' if ok else f'no startable module supplies {request.object.get_value()}')
+
+    def _assign(self, module: str, interface: str, obj: str,
+                strategy: ConnectionStrategy) -> tuple[bool, str, str]:
+        mappings = [m for m in self.config.mappings_for(module) if m.interface == interface]
+        stream = ''
+        if strategy == ConnectionStrategy.ASSIGNED:
+            stream = next((m.source for m in mappings if m.object == obj), '')
+        elif strategy == ConnectionStrategy.AUTO:
+            stream = next((m.source for m in mappings if m.object in ('', obj)), '')
+            if not stream:
+                stream = next((s for m in self.modules.values() for i, s in m.supplies
+                               if i == interface), '')
+        if not stream:
+            return False, '', (f'no mapping for {interface} object "{obj}" of module "{module}"'
+                               if strategy == ConnectionStrategy.ASSIGNED
+                               else f'no supplier of {interface} known')
+        supplier = self._supplier_of(stream)
+        if supplier is not None and supplier.internal and not supplier.wanted \
+                and supplier.status != StatusMode.FAILED:
+            self.start(supplier.name)
+        return True, stream, ''
+
+    def _answer(self, request: Any, success: bool, stream: str, detail: str) -> None:
+        info = self.mcp.info
+        info.request_id.set_value(request.request_id.get_value())
+        info.kind.set_value(request.kind.get_value())
+        info.strategy.set_value(request.strategy.get_value())
+        info.module.set_value(request.module.get_value())
+        info.interface.set_value(request.interface.get_value())
+        info.object.set_value(request.object.get_value())
+        info.stream.set_value(stream)
+        info.success.set_value(success)
+        info.detail.set_value(detail)
+        self.mcp.publish_info()
+
+    # -- control and the module table ----------------------------------------------------------
+    def _control(self) -> None:
+        while self.control.get_next_request():
+            request = self.control.requests
+            command = request.command.get_value()
+            name = request.module.get_value()
+            if command == CMD_QUIT_ALL:
+                for module in list(self.modules):
+                    self.stop(module)
+            elif name not in self.modules:
+                g_warn(f'MCP: control command {command} for unknown module "{name}"')
+            elif command == CMD_START:
+                self.modules[name].restarts = 0
+                self.start(name)
+            elif command == CMD_STOP:
+                self.stop(name)
+            elif command == CMD_RESTART:
+                self.restart(name)
+            elif command == CMD_STATE:
+                self.command_state(name, RunState(request.state.get_value()))
+            self._changed = True
+
+    def _publish_table(self, now: float) -> None:
+        modules = list(self.modules.values())
+        data = self.control.data
+        data.module_names = [m.name for m in modules]
+        data.module_status = [m.status for m in modules]
+        data.module_managed = [m.spec.managed for m in modules]
+        data.module_locale = [m.spec.locale for m in modules]
+        data.module_state = [m.run_state for m in modules]
+        data.module_pid = [m.pid for m in modules]
+        data.module_host = [m.host for m in modules]
+        data.module_heartbeat_age = [now - m.last_beat if m.last_beat is not None else -1.0
+                                     for m in modules]
+        data.module_restarts = [m.restarts for m in modules]
+        self.control.publish_data()
+        self._table_at = now
+        self._changed = False
