@@ -48,3 +48,4 @@ distclean: clean
 .PHONY: bench
 bench: build
 	$(IN_ENV) python bench/rangefinder.py
+	$(IN_ENV) python bench/mcp_supervision.py

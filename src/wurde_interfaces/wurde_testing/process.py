@@ -24,10 +24,10 @@ class ChildProcess:
     """
 
     def __init__(self, argv: Sequence[str], *, env: dict[str, str] | None = None,
-                 python: bool = True) -> None:
+                 python: bool = True, cwd: str | os.PathLike[str] | None = None) -> None:
         command = [sys.executable, *argv] if python else list(argv)
         self.process = subprocess.Popen(
-            command, env=dict(env if env is not None else os.environ),
+            command, env=dict(env if env is not None else os.environ), cwd=cwd,
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
             bufsize=1)
         self._lines: list[str] = []
