@@ -48,7 +48,7 @@ def main() -> int:
     (workdir / 'm.xml').write_text('<mcp-mappings/>')
     env = dict(os.environ, WURDE_LOG_DIRECTORY=str(workdir))
     mcp = subprocess.Popen([sys.executable, find_executable('wurde_mcp', 'mcp'), '-c',
-                            str(workdir / 'c.xml'), '-m', str(workdir / 'm.xml'), '-a'],
+                            str(workdir / 'c.xml'), '-m', str(workdir / 'm.xml'), '-a', '-k', '100'],
                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     manager = CommsManager('McpBench')
     manager.set_no_sleep()
@@ -108,6 +108,21 @@ def main() -> int:
             back.append(until(new_beat) - start)
             until(lambda: rows['W00'][0] == StatusMode.ACTIVE)
 
+        # The module's own start-up, for comparison: a worker started by hand, to its first beat.
+        solo = robot_object_class('Heartbeat')('heartbeat/Solo')
+        solo.set_queue_mode(True)
+        manager.register_consumer(solo)
+        startup = []
+        for _ in range(3):
+            start = time.monotonic()
+            process = subprocess.Popen([sys.executable, str(WORKER), '-n', 'Solo'],
+                                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            startup.append(until(solo.get_next_data) - start)
+            process.send_signal(signal.SIGINT)
+            process.wait(timeout=30)
+            while solo.get_next_data() or solo.get_next_info():
+                pass
+
         hang = []
         for _ in range(3):
             pid = rows['W01'][1]
@@ -121,14 +136,16 @@ def main() -> int:
         mcp.send_signal(signal.SIGINT)
         mcp.wait(timeout=60)
         claim.release()
-    ttl = 0.1  # worker.py: set_sleep(0.05)
+    ttl = 0.5  # worker.py: set_sleep(0.25)
     print(f'MCP supervision, 20 worker modules, ROS_DOMAIN_ID={claim.domain_id}')
     print(f'{"measure":<44} {"median":>8} {"max":>8}')
     print(f'{"SIGKILL -> exit noticed (ms)":<44} {1000 * statistics.median(detect):>8.1f} '
           f'{1000 * max(detect):>8.1f}')
     print(f'{"SIGKILL -> new process heartbeat in Run (ms)":<44} '
           f'{1000 * statistics.median(back):>8.1f} {1000 * max(back):>8.1f}')
-    print(f'{"SIGSTOP -> zombie noticed (ms, TTL 100)":<44} {1000 * statistics.median(hang):>8.1f} '
+    print(f'{"module start-up alone, spawn -> heartbeat (ms)":<44} '
+          f'{1000 * statistics.median(startup):>8.1f} {1000 * max(startup):>8.1f}')
+    print(f'{"SIGSTOP -> zombie noticed (ms, TTL 500)":<44} {1000 * statistics.median(hang):>8.1f} '
           f'{1000 * max(hang):>8.1f}')
     print(f'MCP CPU with 20 modules: {cpu_percent:.1f} % of a core '
           f'({cpu_percent / 20:.2f} % per module); anchor: nav2 lifecycle manager 4000-4200 ms '

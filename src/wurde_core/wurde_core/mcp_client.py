@@ -14,6 +14,7 @@ each module is a consumer that sends requests and reads the answers from the MCP
 from __future__ import annotations
 
 import itertools
+import os
 import time
 from typing import TYPE_CHECKING, Any
 
@@ -37,7 +38,9 @@ class McpClient:
         self.obj: RobotObject = robot_object_class('McpRequest')(STREAM)
         self.obj._system = True
         self.obj.set_queue_mode(True)
-        self._ids = itertools.count(1)
+        # Ids differ between incarnations of a module, so that the MCP's last answer to an earlier
+        # process of the same name (info is transient-local) is never taken for this one's.
+        self._ids = itertools.count((os.getpid() % 100_000) * 20_000 + 1)
         self._pending: dict[int, tuple[RobotObject, float]] = {}
 
     def _request(self, kind: int, **values: Any) -> int:

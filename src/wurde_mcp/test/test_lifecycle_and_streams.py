@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import os
+import signal
+import subprocess
+import sys
 import time
 
 import pytest
@@ -12,6 +16,7 @@ from mcp_fixture import WORKER, Table, alive, start_mcp, worker, write_config
 from wurde_core import RunState, StatusMode
 from wurde_core.interfaces import robot_object_class
 from wurde_mcp.supervisor import CMD_START, CMD_STOP
+from wurde_testing import find_executable
 
 ACTIVE, DEAD = StatusMode.ACTIVE, StatusMode.DEAD
 
@@ -96,7 +101,7 @@ def test_assigned_stream_and_supplier_started_on_demand(tmp_path, table) -> None
     heartbeat = robot_object_class('Heartbeat')('heartbeat/Client')
     heartbeat.set_queue_mode(True)
     table.manager.register_consumer(heartbeat)
-    with start_mcp(tmp_path, config, mappings, '-a'):
+    with start_mcp(tmp_path, config, mappings, '-a') as mcp:
         table.until(lambda r: all(x['status'] == ACTIVE for x in r.values()), 'both active')
 
         def consumed() -> list[str]:
@@ -118,8 +123,11 @@ def test_assigned_stream_and_supplier_started_on_demand(tmp_path, table) -> None
         table.command(CMD_STOP, 'Client')
         table.until(lambda r: r['Client']['status'] == DEAD, 'Client stopped')
         table.command(CMD_START, 'Client')
-        table.until(lambda r: r['Server']['status'] == ACTIVE and r['Client']['status'] == ACTIVE,
-                    'Server started on demand for Client')
+        try:
+            table.until(lambda r: r['Server']['status'] == ACTIVE and
+                        r['Client']['status'] == ACTIVE, 'Server started on demand for Client')
+        except AssertionError as exc:
+            raise AssertionError(f'{exc}\nMCP stderr:\n{mcp.stderr}') from None
 
 
 def test_registration_pass_collects_capabilities(tmp_path, table) -> None:
@@ -130,3 +138,62 @@ def test_registration_pass_collects_capabilities(tmp_path, table) -> None:
     log = (tmp_path / 'mcp-modules' / 'Cap.log').read_text()
     assert 'supplies Foo Cap_out' in log and 'capabilities of Cap sent to the MCP' in log
     assert WORKER in log
+
+
+def test_assigned_consumer_receives_data_also_after_its_supplier_restarts(tmp_path, table) -> None:
+    client_script = tmp_path / 'listener.py'
+    client_script.write_text(
+        '#!/usr/bin/env python3\n'
+        'import sys\n'
+        'from wurde_core import CommsManager, ConnectionStrategy, RunState\n'
+        'from wurde_core.interfaces import Foo\n'
+        'm = CommsManager("Listener"); m.parse_options(sys.argv); m.set_sleep(0.02)\n'
+        'foo = Foo(ConnectionStrategy.ASSIGNED, "BarClient"); foo.set_queue_mode(True)\n'
+        'm.register_consumer(foo)\n'
+        'while m.run_update() != RunState.QUIT:\n'
+        '    while foo.get_next_data():\n'
+        '        print("VALUE", foo.data.source, foo.data.ranges[0], flush=True)\n'
+        'm.clean_up()\n')
+    client_script.chmod(0o755)
+    modules = ('<module name="FooServer" binary="wurde_core/foo_server"/>'
+               f'<module name="Listener" binary="{client_script}"/>')
+    mappings_xml = ('<connect module="Listener">\n'
+                    '<input interface="Foo" source="Bar" object="BarClient"/>\n</connect>')
+    config, mappings = write_config(tmp_path, modules, mappings_xml)
+    log = tmp_path / 'mcp-modules' / 'Listener.log'
+
+    def values() -> list[float]:
+        text = log.read_text() if log.exists() else ''
+        return [float(line.split()[-1]) for line in text.splitlines()
+                if line.startswith('VALUE FooServer')]
+
+    def wait_for(predicate, what: str) -> None:
+        deadline = time.monotonic() + 40
+        while not predicate():
+            assert time.monotonic() < deadline, f'{what}; listener log:\n{log.read_text()}'
+            table.refresh()
+            table.manager.wait(0.1)
+
+    with start_mcp(tmp_path, config, mappings, '-a'):
+        wait_for(lambda: len(values()) >= 3, 'no data through the assigned stream')
+        rows = table.refresh()
+        server_pid = rows['FooServer']['pid']
+        os.kill(server_pid, signal.SIGKILL)
+        table.until(lambda r: r['FooServer']['restarts'] == 1 and
+                    r['FooServer']['status'] == ACTIVE, 'FooServer restarted')
+        seen = len(values())
+        # The restarted FooServer counts from 0 again; the listener keeps its stream.
+        wait_for(lambda: 0.0 in values()[seen:] and len(values()) >= seen + 3,
+                 'no data from the restarted supplier')
+
+
+def test_turn_off_stops_everyone(tmp_path, table) -> None:
+    config, mappings = write_config(tmp_path, worker('X1') + worker('X2', 'critical'))
+    with start_mcp(tmp_path, config, mappings, '-a') as mcp:
+        table.until(lambda r: all(x['status'] == ACTIVE for x in r.values()), 'all active')
+        off = subprocess.run([sys.executable, find_executable('wurde_mcp', 'turn_off')],
+                             capture_output=True, text=True, timeout=60, check=True)
+        assert 'quit every module' in off.stdout
+        rows = table.until(lambda r: all(x['status'] == DEAD for x in r.values()), 'all quit')
+        assert all(x['restarts'] == 0 for x in rows.values())
+        assert mcp.process.poll() is None
