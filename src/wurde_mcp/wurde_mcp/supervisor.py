@@ -25,8 +25,9 @@ from .process import ModuleProcess
 BACKOFF_S = (0.0, 0.5, 1.0, 2.0, 4.0)
 #: Restarts of one module before the MCP gives up on it.
 MAX_RESTARTS = 5
-#: TTLs outside this range are not trusted (a module announcing 0 or a day is clamped).
-TTL_RANGE_S = (0.05, 10.0)
+#: TTLs outside this range are not trusted (a module announcing 0 or a day is clamped).  The floor
+#: keeps a busy machine from turning every briefly descheduled module into a "zombie".
+TTL_RANGE_S = (0.25, 10.0)
 #: Slack on top of the TTL before a silent module is a zombie.
 TTL_GRACE_S = 0.05
 #: How often the module table is published (s), besides on every change.
