@@ -22,6 +22,9 @@ if TYPE_CHECKING:
     from .robot_object import RobotObject
 
 STREAM_PREFIX = 'heartbeat/'
+#: Longest gap between beats whatever the TTL, so that a beat lost before the MCP had discovered
+#: this module is soon followed by another.
+MAX_BEAT_INTERVAL_S = 1.0
 
 
 def heartbeat_stream(module: str) -> str:
@@ -58,13 +61,14 @@ class ModuleHeartbeat:
         self.obj.publish_info()
 
     def beat(self, *, force: bool = False) -> bool:
-        """Send a beat if half the TTL has passed since the last one (or ``force``)."""
+        """Send a beat if half the TTL (at most a second) has passed since the last one."""
         manager = self.manager
         if not manager.heartbeat_enabled():
             return False
         now = time.monotonic()
         ttl = manager.ttl()
-        if not force and self._last_beat is not None and now - self._last_beat < ttl / 2:
+        interval = min(ttl / 2, MAX_BEAT_INTERVAL_S)
+        if not force and self._last_beat is not None and now - self._last_beat < interval:
             return False
         self.obj.data.ttl = ttl
         self.obj.publish_data()
@@ -76,7 +80,8 @@ class ModuleHeartbeat:
         """Seconds until the next beat is due."""
         if self._last_beat is None:
             return 0.0
-        return max(0.0, self._last_beat + self.manager.ttl() / 2 - time.monotonic())
+        interval = min(self.manager.ttl() / 2, MAX_BEAT_INTERVAL_S)
+        return max(0.0, self._last_beat + interval - time.monotonic())
 
     def commands(self) -> list[RunState]:
         """State commands that arrived (requests setting ``state``), oldest first."""

@@ -181,11 +181,11 @@ def test_assigned_consumer_receives_data_also_after_its_supplier_restarts(tmp_pa
                  'no data through the assigned stream')
         rows = table.until(lambda r: r['FooServer']['status'] == ACTIVE, 'FooServer active')
         server_pid, restarts = rows['FooServer']['pid'], rows['FooServer']['restarts']
+        seen = len(values())
+        before = values()[-1]
         os.kill(server_pid, signal.SIGKILL)
         table.until(lambda r: r['FooServer']['restarts'] == restarts + 1 and
                     r['FooServer']['status'] == ACTIVE, 'FooServer restarted')
-        seen = len(values())
-        before = values()[-1]
         # The listener keeps its stream: the restarted FooServer's values (from 0 again) arrive.
         wait_for(lambda: len([v for v in values()[seen:] if v < before]) >= 3,
                  'no data from the restarted supplier')

@@ -30,6 +30,8 @@ MAX_RESTARTS = 5
 TTL_RANGE_S = (0.25, 10.0)
 #: Slack on top of the TTL before a silent module is a zombie.
 TTL_GRACE_S = 0.05
+#: A started module that has not sent its first heartbeat by then is taken as hung.
+START_TIMEOUT_S = 30.0
 #: How often the module table is published (s), besides on every change.
 TABLE_PERIOD_S = 0.5
 KIND_ASSIGN, KIND_START, KIND_CAPABILITIES = 0, 1, 2
@@ -256,13 +258,19 @@ class Supervisor:
             g_info(f'MCP: {module.name} exited with code {code}')
 
     def _check_ttl(self, module: Module, now: float) -> None:
-        if module.status != StatusMode.ACTIVE or module.last_beat is None:
+        if module.status == StatusMode.STARTING and module.process is not None:
+            if now - module.process.started <= START_TIMEOUT_S:
+                return
+            g_warn(f'MCP: {module.name} sent no heartbeat within {START_TIMEOUT_S:.0f} s of its '
+                   'start: zombie')
+        elif module.status != StatusMode.ACTIVE or module.last_beat is None:
             return
-        if now - module.last_beat <= module.ttl + TTL_GRACE_S:
+        elif now - module.last_beat <= module.ttl + TTL_GRACE_S:
             return
+        else:
+            g_warn(f'MCP: {module.name} missed its TTL ({module.ttl:.3f} s): zombie')
         module.status = StatusMode.ZOMBIE
         self._changed = True
-        g_warn(f'MCP: {module.name} missed its TTL ({module.ttl:.3f} s): zombie')
         if (module.internal and module.wanted and module.process is not None
                 and module.spec.managed != ProcessType.UNMANAGED):
             module.process.signal(9)  # a hung module gets no second chance to hang on exit
