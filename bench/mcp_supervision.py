@@ -36,7 +36,7 @@ def cpu_seconds(pid: int) -> float:
 def main() -> int:
     if os.environ.get('ROS_AUTOMATIC_DISCOVERY_RANGE') != 'LOCALHOST':
         raise SystemExit('bench: run it through `make bench` or env.sh (DDS on loopback only)')
-    from wurde_core import CommsManager, RunState, StatusMode
+    from wurde_core import CommsManager, StatusMode
     from wurde_core.interfaces import robot_object_class
     from wurde_testing import claim_domain_id, find_executable
     claim = claim_domain_id()

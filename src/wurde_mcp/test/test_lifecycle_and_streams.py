@@ -8,7 +8,6 @@ import subprocess
 import sys
 import time
 
-import pytest
 from lifecycle_msgs.msg import Transition
 from lifecycle_msgs.srv import ChangeState, GetState
 
@@ -19,15 +18,6 @@ from wurde_mcp.supervisor import CMD_START, CMD_STOP
 from wurde_testing import find_executable
 
 ACTIVE, DEAD = StatusMode.ACTIVE, StatusMode.DEAD
-
-
-@pytest.fixture
-def table(ros_domain: int):
-    reader = Table()
-    try:
-        yield reader
-    finally:
-        reader.close()
 
 
 def call(table: Table, client, request, timeout: float = 30.0):

@@ -8,24 +8,13 @@ import subprocess
 import sys
 import time
 
-import pytest
-
-from mcp_fixture import Table, alive, start_mcp, worker, write_config
+from mcp_fixture import alive, start_mcp, worker, write_config
 from wurde_core import RunState, StatusMode
 from wurde_mcp.supervisor import CMD_START, CMD_STATE, CMD_STOP
 from wurde_testing import ChildProcess, find_executable
 
 ACTIVE, DEAD, FAILED, ZOMBIE = (StatusMode.ACTIVE, StatusMode.DEAD, StatusMode.FAILED,
                                 StatusMode.ZOMBIE)
-
-
-@pytest.fixture
-def table(ros_domain: int):
-    reader = Table()
-    try:
-        yield reader
-    finally:
-        reader.close()
 
 
 def both_active(rows) -> bool:
