@@ -56,9 +56,13 @@ def main() -> int:
     table = robot_object_class('SimpleControl')('mcp_control')
     table.set_queue_mode(True)
     manager.register_consumer(table)
-    beat = robot_object_class('Heartbeat')('heartbeat/W00')
-    beat.set_queue_mode(True)
-    manager.register_consumer(beat)
+    # Each kill hits a different module, so every restart is a first one (no back-off delay).
+    victims = [f'W{i:02d}' for i in range(2, 7)]
+    beats = {}
+    for name in victims:
+        beats[name] = robot_object_class('Heartbeat')(f'heartbeat/{name}')
+        beats[name].set_queue_mode(True)
+        manager.register_consumer(beats[name])
     rows: dict[str, tuple[StatusMode, int]] = {}
 
     def poll() -> None:
@@ -89,24 +93,25 @@ def main() -> int:
         cpu_percent = 100 * (cpu_seconds(mcp.pid) - cpu0) / (time.monotonic() - t0)
 
         detect, back = [], []
-        for _ in range(5):
-            old = rows['W00'][1]
+        for name in victims:
+            beat = beats[name]
+            old = rows[name][1]
             while beat.get_next_data() or beat.get_next_info():
                 pass
             start = time.monotonic()
             os.kill(old, signal.SIGKILL)
-            detect.append(until(lambda: rows['W00'][0] != StatusMode.ACTIVE or
-                                rows['W00'][1] != old) - start)
+            detect.append(until(lambda: rows[name][0] != StatusMode.ACTIVE or
+                                rows[name][1] != old) - start)
 
             def new_beat() -> bool:
                 while beat.get_next_info():
                     pass
                 fresh = False
                 while beat.get_next_data():
-                    fresh = beat.data.source == 'W00' and beat.info.pid.get_value() not in (0, old)
+                    fresh = beat.data.source == name and beat.info.pid.get_value() not in (0, old)
                 return fresh
             back.append(until(new_beat) - start)
-            until(lambda: rows['W00'][0] == StatusMode.ACTIVE)
+            until(lambda: rows[name][0] == StatusMode.ACTIVE)
 
         # The module's own start-up, for comparison: a worker started by hand, to its first beat.
         solo = robot_object_class('Heartbeat')('heartbeat/Solo')
@@ -124,13 +129,13 @@ def main() -> int:
                 pass
 
         hang = []
-        for _ in range(3):
-            pid = rows['W01'][1]
+        for name in ('W07', 'W08', 'W09'):
+            pid = rows[name][1]
             start = time.monotonic()
             os.kill(pid, signal.SIGSTOP)
-            hang.append(until(lambda: rows['W01'][0] == StatusMode.ZOMBIE or
-                              rows['W01'][1] != pid) - start)
-            until(lambda: rows['W01'][0] == StatusMode.ACTIVE and rows['W01'][1] != pid)
+            hang.append(until(lambda: rows[name][0] == StatusMode.ZOMBIE or
+                              rows[name][1] != pid) - start)
+            until(lambda: rows[name][0] == StatusMode.ACTIVE and rows[name][1] != pid)
     finally:
         manager.clean_up()
         mcp.send_signal(signal.SIGINT)
