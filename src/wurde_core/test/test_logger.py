@@ -75,3 +75,4 @@ def test_messages_reach_rosout(manager: CommsManager) -> None:
         return (Log.ERROR, 'seen by every ROS 2 tool') in found
 
     until(manager, arrived, what='the message on /rosout')
+    assert (Log.ERROR, 'seen by every ROS 2 tool') in found

@@ -136,5 +136,12 @@ def test_bad_mapping_is_refused(tmp_path: pathlib.Path, mapping: str, line: int,
     assert reason in caught.value.reason
 
 
-def test_empty_config_is_fine() -> None:
-    validate(McpConfig(), load_all())
+def test_mapping_for_a_listed_module_and_known_interface_is_accepted(tmp_path) -> None:
+    config = read_mcp_config(write(tmp_path, '<mcp-config><module name="A" binary="a"/>'
+                                   '</mcp-config>'))
+    read_mcp_mappings(write(tmp_path, '<mcp-mappings><connect module="A"><input interface="Foo" '
+                            'source="Bar"/></connect></mcp-mappings>', 'map.xml'), config)
+    validate(config, load_all())
+    assert [(m.interface, m.source, m.object) for m in config.mappings_for('A')] == \
+        [('Foo', 'Bar', '')]
+    assert McpConfig().mappings_for('A') == []
