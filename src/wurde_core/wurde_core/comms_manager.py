@@ -401,6 +401,11 @@ class CommsManager:
                 if self._heartbeat is not None:
                     self.state = RunState.QUIT
                     self._heartbeat.describe()
+                    # Let the goodbye reach the MCP before the writer disappears (bounded).
+                    from rclpy.duration import Duration
+                    info = self._heartbeat.obj._outboxes.get('info')
+                    if info is not None and info.subscribers():
+                        info.publisher.wait_for_all_acked(Duration(seconds=1.0))
                 for obj in self._objects + self._system_objects:
                     obj._disconnect()
                 self.node.destroy_node()
