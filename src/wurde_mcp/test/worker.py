@@ -8,7 +8,7 @@ from wurde_core.interfaces import Foo
 
 manager = CommsManager('Worker')
 manager.parse_options(sys.argv, 't:')
-manager.set_sleep(0.25)  # TTL 0.5 s: no false zombies on a loaded 2-core machine
+manager.set_sleep(0.5)  # TTL 1 s: no false zombies on a loaded 2-core machine
 if global_configuration().have_option('t'):
     manager.set_heartbeat_only(float(global_configuration().get_option('t')))
 foo = Foo(f'{manager.name}_out')
