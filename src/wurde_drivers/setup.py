@@ -18,5 +18,7 @@ setup(
     description="Device drivers that speak the real protocols (SICK, rFLEX, PTU, CAN wrist, GPS, DMU), their device emulators, and the simulated Pluto robot (issues: drivers, simulated robot).",
     license='BSD-3-Clause',
     tests_require=['pytest'],
-    entry_points={'console_scripts': []},
+    entry_points={'console_scripts': [
+        f'{name} = {PACKAGE}.modules.{name}:main' for name in (
+            'dummy_base', 'dummy_sick', 'dummy_wrist', 'dummy_dmu', 'dummy_gps', 'tour')]},
 )

@@ -1,0 +1,55 @@
+"""What every driver and dummy module does the same way: find its config file, refuse bad ones."""
+
+from __future__ import annotations
+
+import os
+import pathlib
+import sys
+
+from wurde_core import CommsManager
+from wurde_idl.errors import ConfigError
+
+from ..sim.config import SimConfig, load_sim_config
+from ..sim.mapfile import load_map
+from ..sim.world import World
+
+__all__ = ['MODULE_TTL_S', 'config_file', 'exit_on_config_error', 'load_sim', 'set_loop']
+
+
+def config_file(manager: CommsManager, given: str | None, default_name: str) -> str:
+    """``-c`` if given, else ``default_name`` in the role configuration's config directory
+    (``WURDE_CONFIG_DIR``), as the SICKServer's ``-c`` (WURDE 7.5)."""
+    if given:
+        return given
+    return str(pathlib.Path(manager.config.get_config_directory()) / default_name)
+
+
+def exit_on_config_error(program: str, error: ConfigError) -> int:
+    """Print ``program: file:line: reason`` and return the exit status of a refused config (2)."""
+    print(f'{os.path.basename(program)}: {error}', file=sys.stderr, flush=True)
+    return 2
+
+
+def load_sim(path: str) -> tuple[SimConfig, World, tuple[float, float, float]]:
+    """The sim config, its world and the start pose (a named place or x y theta)."""
+    config = load_sim_config(path)
+    world = load_map(config.map_file)
+    start = config.start
+    if isinstance(start, str):
+        if start not in world.places:
+            raise ConfigError(path, None, f'start place "{start}" is not in map {config.map_file} '
+                                          f'(places: {", ".join(sorted(world.places)) or "none"})')
+        place = world.places[start]
+        start = (float(place[0]), float(place[1]), float(place[2]))
+    return config, world, start
+
+
+#: Heartbeat TTL of the device modules: their loops are short (milliseconds), but a TTL of twice
+#: that would make a busy machine's scheduling look like a hang to the MCP.
+MODULE_TTL_S = 1.0
+
+
+def set_loop(manager: CommsManager, sleep_s: float, ttl_s: float = MODULE_TTL_S) -> None:
+    """Sleep ``sleep_s`` per loop but announce a heartbeat TTL of ``ttl_s``."""
+    manager.set_sleep_only(sleep_s)
+    manager.set_heartbeat_only(ttl_s)

@@ -1,0 +1,3 @@
+"""The simulated Pluto robot (Pluto 5, "dummies"): a 2D world of walls, a robot with a base, a sonar
+ring, bumpers, a laser, a wrist, a DMU and a GPS. Pure numpy: no rclpy, no wurde_core; the dummy
+modules wrap it."""

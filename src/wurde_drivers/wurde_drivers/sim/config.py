@@ -1,0 +1,242 @@
+"""sim-config.xml: what the simulated robot is, read by every dummy module.
+
+One file describes the whole dummy robot, so the dummies agree on the world, the seed and the
+time scale::
+
+    <sim-config seed="1" time-scale="1.0" step="0.02">
+      <map file="maps/office.xml" start="start"/>           <!-- path relative to this file -->
+      <base name="PlutoBase" type="ATRVJr" rate="10" command-timeout="1.0"
+            max-tv="1.0" max-rv="1.5" tv-accel="1.0" rv-accel="2.0" radius="0.35"/>
+      <odometry-noise trans="0" rot="0" drift="0"/>          <!-- zero: Pluto's ideal dummy -->
+      <sonar count="16" radius="0.3" max-range="8.0" half-angle="0.218" rate="10"/>
+      <laser name="PlutoLaser" model="LMS" count="361" units="cm" inverted="false"
+             baud="38400" mount-x="0.2" noise="0"/>
+      <wrist name="PlutoWrist" rate="20" max-velocity="1.0" max-acceleration="2.0"
+             pan-min="-2.9" pan-max="2.9" tilt-min="-0.8" tilt-max="0.5"/>
+      <dmu name="PlutoDMU" rate="50" rate-bias="0" rate-noise="0" cutoff="5.0"/>
+      <gps name="PlutoGPS" rate="1" latitude="59.3498" longitude="18.0707" altitude="30"
+           noise="0" satellites="8" quality="2" hdop="0.9"/>
+    </sim-config>
+
+Every element but ``map`` and ``base`` is optional; every attribute has the default shown. The
+ground truth of the base is the stream ``<base name>Truth``; the other dummies read it. Wrong
+files are refused with file, line and reason.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import pathlib
+
+from wurde_idl.errors import ConfigError
+
+from ..xml_config import Attributes, children, local_name, read_root
+from .body import BumperRing, SonarRing
+from .kinematics import DriveLimits
+from .laser import LaserGeometry
+from .robot import OdometryNoise, RobotSpec
+
+__all__ = ['BaseConfig', 'DmuConfig', 'GpsConfig', 'SimConfig', 'WristConfig', 'load_sim_config']
+
+
+@dataclasses.dataclass(frozen=True)
+class BaseConfig:
+    name: str = 'PlutoBase'
+    type: str = 'ATRVJr'          # ATRVJr: RobotDrive; B21r: SynchroDrive (as the real rFLEX bases)
+    rate: float = 10.0            # Hz of simulated time: odometry, bumpers, power
+    command_timeout: float = 1.0  # s: the base stops when commands stop coming
+    sonar_rate: float = 10.0
+
+    @property
+    def truth_stream(self) -> str:
+        return f'{self.name}Truth'
+
+
+@dataclasses.dataclass(frozen=True)
+class WristConfig:
+    name: str = 'PlutoWrist'
+    rate: float = 20.0
+    max_velocity: float = 1.0
+    max_acceleration: float = 2.0
+    pan_min: float = -2.9
+    pan_max: float = 2.9
+    tilt_min: float = -0.8
+    tilt_max: float = 0.5
+
+
+@dataclasses.dataclass(frozen=True)
+class DmuConfig:
+    name: str = 'PlutoDMU'
+    rate: float = 50.0
+    rate_bias: float = 0.0
+    rate_noise: float = 0.0
+    cutoff: float = 5.0
+
+
+@dataclasses.dataclass(frozen=True)
+class GpsConfig:
+    name: str = 'PlutoGPS'
+    rate: float = 1.0
+    latitude: float = 59.3498
+    longitude: float = 18.0707
+    altitude: float = 30.0
+    noise: float = 0.0
+    satellites: int = 8
+    quality: int = 2
+    hdop: float = 0.9
+
+
+@dataclasses.dataclass(frozen=True)
+class SimConfig:
+    path: str
+    map_file: str
+    start: str | tuple[float, float, float]
+    seed: int = 1
+    time_scale: float = 1.0
+    step: float = 0.02
+    base: BaseConfig = BaseConfig()
+    robot: RobotSpec = RobotSpec()
+    lasers: dict[str, LaserGeometry] = dataclasses.field(default_factory=dict)
+    wrist: WristConfig | None = None
+    dmu: DmuConfig | None = None
+    gps: GpsConfig | None = None
+
+
+_ELEMENTS = ('map', 'base', 'odometry-noise', 'sonar', 'laser', 'wrist', 'dmu', 'gps')
+
+
+def _start(attrs: Attributes) -> str | tuple[float, float, float]:
+    text = attrs.text('start', 'start')
+    parts = text.replace(',', ' ').split()
+    if len(parts) == 3:
+        try:
+            x, y, theta = (float(p) for p in parts)
+        except ValueError:
+            return text
+        if not all(math.isfinite(v) for v in (x, y, theta)):
+            raise attrs.error(f'start="{text}" is not finite')
+        return x, y, theta
+    return text
+
+
+def load_sim_config(path: str | os.PathLike[str]) -> SimConfig:
+    """Read and check a sim-config file; :raises ConfigError: with file, line and reason."""
+    path = os.fspath(path)
+    root = read_root(path, 'sim-config')
+    top = Attributes(path, root, optional=('seed', 'time-scale', 'step'))
+    seed = top.number('seed', 1, integer=True, minimum=0)
+    time_scale = top.number('time-scale', 1.0, minimum=0.01, maximum=1000.0)
+    step = top.number('step', 0.02, minimum=0.001, maximum=0.5)
+    found: dict[str, Attributes] = {}
+    lasers: dict[str, LaserGeometry] = {}
+    for node in children(path, root, _ELEMENTS):
+        a = Attributes(path, node, **_SCHEMA[local_name(node)])
+        if a.tag == 'laser':
+            name = a.text('name')
+            if name in lasers:
+                raise a.error(f'laser "{name}" is defined twice')
+            lasers[name] = _laser(a)
+            continue
+        if a.tag in found:
+            raise a.error(f'<{a.tag}> appears twice (first at line {found[a.tag].line})')
+        found[a.tag] = a
+    for needed in ('map', 'base'):
+        if needed not in found:
+            raise ConfigError(path, root.sourceline, f'<sim-config> needs a <{needed}> element')
+    m = found['map']
+    map_file = str((pathlib.Path(path).parent / m.text('file')).resolve())
+    base, limits, bumpers = _base(found['base'])
+    sonar = _sonar(found.get('sonar'))
+    noise = _noise(found.get('odometry-noise'))
+    spec = RobotSpec(limits=limits, sonar=sonar, bumpers=bumpers, odometry_noise=noise)
+    if 'sonar' in found:
+        base = dataclasses.replace(base, sonar_rate=found['sonar'].number('rate', 10.0, minimum=0.1))
+    return SimConfig(path=path, map_file=map_file, start=_start(m), seed=seed,
+                     time_scale=time_scale, step=step, base=base, robot=spec, lasers=lasers,
+                     wrist=_wrist(found.get('wrist')), dmu=_dmu(found.get('dmu')),
+                     gps=_gps(found.get('gps')))
+
+
+_SCHEMA: dict[str, dict[str, tuple[str, ...]]] = {
+    'map': {'required': ('file',), 'optional': ('start',)},
+    'base': {'optional': ('name', 'type', 'rate', 'command-timeout', 'max-tv', 'max-rv', 'tv-accel',
+                          'rv-accel', 'radius')},
+    'odometry-noise': {'optional': ('trans', 'rot', 'drift')},
+    'sonar': {'optional': ('count', 'radius', 'max-range', 'half-angle', 'rate')},
+    'laser': {'required': ('name',), 'optional': ('model', 'count', 'units', 'inverted', 'baud',
+                                                   'mount-x', 'mount-y', 'mount-z', 'noise')},
+    'wrist': {'optional': ('name', 'rate', 'max-velocity', 'max-acceleration', 'pan-min', 'pan-max',
+                           'tilt-min', 'tilt-max')},
+    'dmu': {'optional': ('name', 'rate', 'rate-bias', 'rate-noise', 'cutoff')},
+    'gps': {'optional': ('name', 'rate', 'latitude', 'longitude', 'altitude', 'noise', 'satellites',
+                         'quality', 'hdop')},
+}
+
+
+def _base(a: Attributes) -> tuple[BaseConfig, DriveLimits, BumperRing]:
+    base = BaseConfig(name=a.text('name', 'PlutoBase'), type=a.choice('type', ('ATRVJr', 'B21r'), 'ATRVJr'),
+                      rate=a.number('rate', 10.0, minimum=0.1, maximum=1000.0),
+                      command_timeout=a.number('command-timeout', 1.0, minimum=0.05))
+    limits = DriveLimits(max_tv=a.number('max-tv', 1.0, minimum=0.0),
+                         max_rv=a.number('max-rv', 1.5, minimum=0.0),
+                         tv_accel=a.number('tv-accel', 1.0, minimum=0.0),
+                         rv_accel=a.number('rv-accel', 2.0, minimum=0.0))
+    return base, limits, BumperRing(radius=a.number('radius', 0.35, minimum=0.05, maximum=5.0))
+
+
+def _sonar(a: Attributes | None) -> SonarRing:
+    if a is None:
+        return SonarRing()
+    return SonarRing(count=a.number('count', 16, integer=True, minimum=1, maximum=64),
+                     radius=a.number('radius', 0.3, minimum=0.0),
+                     max_range=a.number('max-range', 8.0, minimum=0.1),
+                     half_angle=a.number('half-angle', math.radians(12.5), minimum=0.0, maximum=math.pi / 2))
+
+
+def _noise(a: Attributes | None) -> OdometryNoise:
+    if a is None:
+        return OdometryNoise()
+    return OdometryNoise(trans=a.number('trans', 0.0, minimum=0.0), rot=a.number('rot', 0.0, minimum=0.0),
+                         drift=a.number('drift', 0.0))
+
+
+def _laser(a: Attributes) -> LaserGeometry:
+    return LaserGeometry(model=a.choice('model', ('LMS', 'PLS'), 'LMS'),
+                         count=int(a.choice('count', ('181', '361'), '361')),
+                         units=a.choice('units', ('cm', 'mm'), 'cm'),
+                         inverted=a.boolean('inverted', False),
+                         baudrate=int(a.choice('baud', ('9600', '19200', '38400', '500000'), '38400')),
+                         mount_x=a.number('mount-x', 0.0), mount_y=a.number('mount-y', 0.0),
+                         mount_z=a.number('mount-z', 0.4), noise_sigma=a.number('noise', 0.0, minimum=0.0))
+
+
+def _wrist(a: Attributes | None) -> WristConfig | None:
+    if a is None:
+        return None
+    return WristConfig(name=a.text('name', 'PlutoWrist'), rate=a.number('rate', 20.0, minimum=0.1),
+                       max_velocity=a.number('max-velocity', 1.0, minimum=0.0),
+                       max_acceleration=a.number('max-acceleration', 2.0, minimum=0.0),
+                       pan_min=a.number('pan-min', -2.9), pan_max=a.number('pan-max', 2.9),
+                       tilt_min=a.number('tilt-min', -0.8), tilt_max=a.number('tilt-max', 0.5))
+
+
+def _dmu(a: Attributes | None) -> DmuConfig | None:
+    if a is None:
+        return None
+    return DmuConfig(name=a.text('name', 'PlutoDMU'), rate=a.number('rate', 50.0, minimum=0.1),
+                     rate_bias=a.number('rate-bias', 0.0), rate_noise=a.number('rate-noise', 0.0, minimum=0.0),
+                     cutoff=a.number('cutoff', 5.0, minimum=0.01))
+
+
+def _gps(a: Attributes | None) -> GpsConfig | None:
+    if a is None:
+        return None
+    return GpsConfig(name=a.text('name', 'PlutoGPS'), rate=a.number('rate', 1.0, minimum=0.01),
+                     latitude=a.number('latitude', 59.3498, minimum=-90.0, maximum=90.0),
+                     longitude=a.number('longitude', 18.0707, minimum=-180.0, maximum=180.0),
+                     altitude=a.number('altitude', 30.0), noise=a.number('noise', 0.0, minimum=0.0),
+                     satellites=a.number('satellites', 8, integer=True, minimum=0, maximum=32),
+                     quality=a.number('quality', 2, integer=True, minimum=0, maximum=8),
+                     hdop=a.number('hdop', 0.9, minimum=0.0))
