@@ -76,3 +76,31 @@ def test_messages_reach_rosout(manager: CommsManager) -> None:
 
     until(manager, arrived, what='the message on /rosout')
     assert (Log.ERROR, 'seen by every ROS 2 tool') in found
+
+
+def test_one_logger_sends_every_severity_to_rosout(manager: CommsManager) -> None:
+    """rclpy refuses a second severity from one call site; each level must still get through."""
+    from rcl_interfaces.msg import Log
+    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+    log = Logger('Levels', stderr=False, use_syslog=False)
+    manager.register_supplier(log)
+    qos = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE,
+                     durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    rosout = manager.node.create_subscription(Log, '/rosout', lambda _: None, qos)
+    log.notice('first a notice')
+    log.warn('then a warning')
+    log.error('then an error')
+    log.notice('and a notice again')
+    found = []
+
+    def arrived() -> bool:
+        result = rosout.handle.take_message(Log, False)
+        while result is not None:
+            found.append((result[0].level, result[0].msg))
+            result = rosout.handle.take_message(Log, False)
+        return (Log.INFO, 'and a notice again') in found
+
+    until(manager, arrived, what='the four messages on /rosout')
+    assert [m for m in found if m[1] != ''][-4:] == [
+        (Log.INFO, 'first a notice'), (Log.WARN, 'then a warning'), (Log.ERROR, 'then an error'),
+        (Log.INFO, 'and a notice again')]

@@ -92,8 +92,18 @@ class Logger(robot_object_class('LoggerTransport')):  # type: ignore[misc]
         if manager is None or manager.node is None:
             return
         ros_logger = manager.node.get_logger()
-        (ros_logger.debug, ros_logger.info, ros_logger.info, ros_logger.warning,
-         ros_logger.error, ros_logger.fatal)[number](text)
+        # rclpy binds a severity to each call site ("Logger severity cannot be changed between
+        # calls"), so every severity needs a line of its own.
+        if number == 0:
+            ros_logger.debug(text)
+        elif number in (1, 2):
+            ros_logger.info(text)
+        elif number == 3:
+            ros_logger.warning(text)
+        elif number == 4:
+            ros_logger.error(text)
+        else:
+            ros_logger.fatal(text)
 
     def _to_network(self, number: int, text: str) -> None:
         if self.role != 'supplier' or not self.is_connected():

@@ -38,6 +38,7 @@ def main(argv: list[str] | None = None) -> int:
                      quality=gc.quality, hdop=gc.hdop)
     streams = GpsStreams(manager.name)
     truth = Egomotion(config.base.truth_stream)
+    truth.set_queue_mode(True)     # every step, so fixes fall exactly on the period
     logger = Logger(manager.name)
     streams.register(manager)
     manager.register_consumer(truth)
@@ -47,19 +48,18 @@ def main(argv: list[str] | None = None) -> int:
     period = 1.0 / gc.rate
     next_fix: float | None = None
     while manager.run_update() == RunState.RUN:
-        if not truth.get_next_data():
-            continue
-        stamp = truth.data.timestamp.get_seconds()
-        if next_fix is None:
-            next_fix = stamp
-        if stamp < next_fix:
-            continue
-        loc = truth.data.location
-        fix = model.fix(loc.x(), loc.y())
-        streams.publish_fix(latitude=fix.latitude, longitude=fix.longitude, altitude=fix.altitude,
-                            satellites=fix.satellites, quality=fix.quality, hdop=fix.hdop,
-                            fix_time=stamp % 86400.0, x=fix.x, y=fix.y, stamp=stamp)
-        next_fix += period * max(1, int((stamp - next_fix) / period) + 1)
+        while truth.get_next_data():
+            stamp = truth.data.timestamp.get_seconds()
+            if next_fix is None:
+                next_fix = stamp
+            if stamp < next_fix - 1e-6:
+                continue
+            loc = truth.data.location
+            fix = model.fix(loc.x(), loc.y())
+            streams.publish_fix(latitude=fix.latitude, longitude=fix.longitude, altitude=fix.altitude,
+                                satellites=fix.satellites, quality=fix.quality, hdop=fix.hdop,
+                                fix_time=stamp % 86400.0, x=fix.x, y=fix.y, stamp=stamp)
+            next_fix += period * max(1, int((stamp - next_fix) / period) + 1)
     manager.clean_up()
     return 0
 

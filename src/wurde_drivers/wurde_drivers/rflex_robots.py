@@ -1,0 +1,199 @@
+"""The robots an rFLEX controller drives (B21r, ATRV-Jr): units, sonars, bumpers, conversions.
+
+Pure data and arithmetic; no I/O. WURDE 7.6 supports exactly these two robots.
+
+**Units per metre / radian** (PROTOCOLS.md 3 lists two rows per robot):
+
+- B21r: **103000 / 35000**, the row of Player's ``b21r_rflex_lms200.cfg`` and DLu's ``b21_config.h``
+  (two sources agree, and the golden SET_DIR vector is built with 103000); CARMEN's 101230 /
+  35343.888 is one site's calibration.
+- ATRV-Jr: **90810 / 37000**, DLu's ``atrvjr_config.h`` (ported from Player's ATRV-Jr setup, the
+  same source family as the B21r row and as the sonar geometry below); CARMEN's 87462.73 /
+  36277.67 is again a calibration. Pluto's drive module calibrates odometry at run time anyway
+  (Pluto doc 2), and :func:`dataclasses.replace` gives a robot with other factors.
+
+**Sonar ids** are ``bank * 16 + index`` (``SONAR_MAX_PER_BANK`` 16). B21r: two rings of 24 (body:
+banks 0-5 of 4, first at 180 deg, -15 deg apart, radius 0.25 m, 0.055 m up; base: banks 6-13 of 3,
+first at 90 deg, radius 0.26 m, 0.06 m down), each ring in its own frame (the B21r body turns with
+the synchro-drive bearing). ATRV-Jr: 26 sonars in banks of 5, 8, 5, 8 (rear, left, front, right)
+at the positions DLu gives in millimetres, 0.36 m up.
+
+**Bumpers** (B21r only): DIO addresses 0x40-0x45 are the 6 body panels, 0x46-0x4D the 8 base
+panels; the low 4 bits of the value name the switches (corners) of a panel. 0x31 is heading-home.
+
+**Voltage**: DLu reports ``raw / 100 + 1.2`` volts for both robots (``POWER_OFFSET``); a raw 0
+means "not measured" and gives 0.0 V, as in DLu.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import enum
+import functools
+import math
+
+__all__ = ['ATRV_JR', 'B21R', 'BumperPanel', 'DriveKind', 'ROBOTS', 'RobotParams',
+           'SONAR_NO_ECHO', 'SONAR_UNITS_PER_M', 'SonarPose', 'robot_named', 'sonar_range_m',
+           'sonar_range_raw', 'voltage_raw', 'voltage_v']
+
+SONAR_UNITS_PER_M = 1476
+SONAR_NO_ECHO = 32766
+HEADING_HOME_ADDRESS = 0x31
+
+
+class DriveKind(enum.Enum):
+    SYNCHRO = 'synchro'              # B21r: all wheels steer together, the body turns with them
+    DIFFERENTIAL = 'differential'    # ATRV-Jr: skid steering, left/right sides
+
+
+@dataclasses.dataclass(frozen=True)
+class SonarPose:
+    """Where one sonar sits: its id in SONAR_REPORT, position (m) and pointing angle (rad)."""
+
+    sonar_id: int
+    x: float
+    y: float
+    z: float
+    yaw: float
+    ring: str = 'body'
+
+
+@dataclasses.dataclass(frozen=True)
+class BumperPanel:
+    """One bumper panel: its DIO address, ring and the direction it faces (rad)."""
+
+    address: int
+    ring: str
+    index: int
+    yaw: float
+
+
+@dataclasses.dataclass(frozen=True)
+class RobotParams:
+    """Everything robot-specific the rFLEX driver and emulator need."""
+
+    name: str
+    drive: DriveKind
+    units_per_m: float
+    units_per_rad: float
+    sonars: tuple[SonarPose, ...]
+    bumpers: tuple[BumperPanel, ...] = ()
+    trans_torque: int = 30000          # Player's STD_TRANS_TORQUE
+    rot_torque: int = 35000            # Player's STD_ROT_TORQUE
+    trans_accel: float = 0.7           # m/s^2, DLu's default command acceleration
+    rot_accel_counts: int = 100000     # Player's STD_ROT_ACC (counts/s^2)
+    voltage_offset: float = 1.2
+
+    @property
+    def rot_accel(self) -> float:
+        """The default rotational acceleration in rad/s^2."""
+        return self.rot_accel_counts / self.units_per_rad
+
+    # -- conversions ----------------------------------------------------------------------------
+    def counts_from_m(self, metres: float) -> int:
+        return int(round(metres * self.units_per_m))
+
+    def counts_from_rad(self, radians: float) -> int:
+        return int(round(radians * self.units_per_rad))
+
+    def m_from_counts(self, counts: float) -> float:
+        return counts / self.units_per_m
+
+    def rad_from_counts(self, counts: float) -> float:
+        return counts / self.units_per_rad
+
+    def sonar_index(self, sonar_id: int) -> int | None:
+        """Position of ``sonar_id`` in :attr:`sonars`, or None for an id this robot lacks."""
+        return self._sonar_indices.get(sonar_id)
+
+    @functools.cached_property
+    def _sonar_indices(self) -> dict[int, int]:
+        return {pose.sonar_id: i for i, pose in enumerate(self.sonars)}
+
+    def bumper(self, address: int) -> BumperPanel | None:
+        """The panel at DIO ``address``, or None."""
+        return next((panel for panel in self.bumpers if panel.address == address), None)
+
+
+def sonar_range_m(raw: int) -> float:
+    """Raw sonar range to metres; :data:`SONAR_NO_ECHO` (or more) is ``inf``."""
+    return math.inf if raw >= SONAR_NO_ECHO else raw / SONAR_UNITS_PER_M
+
+
+def sonar_range_raw(metres: float) -> int:
+    """Metres to a raw range; ``inf``, NaN or out of range gives :data:`SONAR_NO_ECHO`."""
+    if not math.isfinite(metres) or metres < 0:
+        return SONAR_NO_ECHO
+    return min(int(round(metres * SONAR_UNITS_PER_M)), SONAR_NO_ECHO)
+
+
+def voltage_v(raw: int, offset: float = 1.2) -> float:
+    """SYS_STATUS raw voltage to volts (DLu: ``raw / 100 + 1.2``; raw 0 = not measured = 0 V)."""
+    return 0.0 if raw == 0 else raw / 100.0 + offset
+
+
+def voltage_raw(volts: float, offset: float = 1.2) -> int:
+    """Volts to the raw SYS_STATUS value (for the emulator)."""
+    return max(0, int(round((volts - offset) * 100.0)))
+
+
+def _ring(first_bank: int, per_bank: tuple[int, ...], start_deg: float, radius: float,
+          z: float, ring: str) -> tuple[SonarPose, ...]:
+    poses = []
+    for bank, count in enumerate(per_bank, start=first_bank):
+        for index in range(count):
+            yaw = math.radians(start_deg - 15.0 * len(poses))
+            poses.append(SonarPose(bank * 16 + index, radius * math.cos(yaw),
+                                   radius * math.sin(yaw), z, yaw, ring))
+    return tuple(poses)
+
+
+def _b21r_bumpers() -> tuple[BumperPanel, ...]:
+    panels = []
+    for ring, count, first in (('body', 6, 0x40), ('base', 8, 0x46)):
+        wedge = 2 * math.pi / count
+        panels += [BumperPanel(first + i, ring, i, wedge * (2.5 - i)) for i in range(count)]
+    return tuple(panels)
+
+
+# ATRV-Jr sonars, DLu atrvjr_config.h: (x mm, y mm, yaw rad) for banks of 5, 8, 5, 8.
+_ATRVJR_SONARS = (
+    (-334.95, -104.39, -2.617993), (-340.41, -49.91, -2.879793), (-347.06, 0.0, math.pi),
+    (-340.41, 49.91, 2.879793), (-334.95, 104.39, 2.617993),
+    (230.23, 175.0, 0.785398), (172.49, 178.6, 1.047197), (117.2, 181.1, 1.308997),
+    (72.26, 181.1, 1.570796), (-72.26, 181.1, 1.570796), (-117.2, 181.1, 1.832595),
+    (-172.49, 178.6, 2.094395), (-230.23, 175.0, 2.356194),
+    (296.2, 103.6, 0.523599), (301.5, 49.5, 0.261799), (308.1, 0.0, 0.0),
+    (301.5, -49.5, -0.261799), (296.2, -103.6, -0.523599),
+    (230.23, -175.0, -0.785398), (172.49, -178.6, -1.047197), (117.2, -181.1, -1.308997),
+    (72.26, -181.1, -1.570796), (-72.26, -181.1, -1.570796), (-117.2, -181.1, -1.832595),
+    (-172.49, -178.6, -2.094395), (-230.23, -175.0, -2.356194),
+)
+
+
+def _atrvjr_sonars() -> tuple[SonarPose, ...]:
+    ids = [bank * 16 + i for bank, count in enumerate((5, 8, 5, 8)) for i in range(count)]
+    return tuple(SonarPose(sid, x / 1000.0, y / 1000.0, 0.36, yaw)
+                 for sid, (x, y, yaw) in zip(ids, _ATRVJR_SONARS))
+
+
+B21R = RobotParams(
+    name='B21r', drive=DriveKind.SYNCHRO, units_per_m=103000, units_per_rad=35000,
+    sonars=_ring(0, (4,) * 6, 180.0, 0.25, 0.055, 'body') + _ring(6, (3,) * 8, 90.0, 0.26,
+                                                                  -0.06, 'base'),
+    bumpers=_b21r_bumpers())
+
+ATRV_JR = RobotParams(
+    name='ATRVJr', drive=DriveKind.DIFFERENTIAL, units_per_m=90810, units_per_rad=37000,
+    sonars=_atrvjr_sonars())
+
+#: The robots by the names rflex-config.xml uses for ``type``.
+ROBOTS: dict[str, RobotParams] = {B21R.name: B21R, ATRV_JR.name: ATRV_JR}
+
+
+def robot_named(name: str) -> RobotParams:
+    """:raises KeyError: for a robot type other than ``B21r`` or ``ATRVJr``."""
+    try:
+        return ROBOTS[name]
+    except KeyError:
+        raise KeyError(f'unknown rFLEX robot type {name!r}; known: {", ".join(ROBOTS)}') from None
