@@ -20,5 +20,8 @@ setup(
     tests_require=['pytest'],
     entry_points={'console_scripts': [
         f'{name} = {PACKAGE}.modules.{name}:main' for name in (
-            'dummy_base', 'dummy_sick', 'dummy_wrist', 'dummy_dmu', 'dummy_gps', 'tour')]},
+            'dummy_base', 'dummy_sick', 'dummy_wrist', 'dummy_dmu', 'dummy_gps', 'tour',
+            'sick_server', 'sick_emulator', 'rflex_server', 'rflex_emulator', 'ptu_server',
+            'ptu_emulator', 'gps_module', 'gps_emulator', 'dmu_module', 'dmu_emulator',
+            'wrist_module')]},
 )

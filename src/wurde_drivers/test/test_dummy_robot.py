@@ -189,3 +189,45 @@ def test_a_bad_map_is_refused_by_the_dummy_with_file_and_line(ros_domain: int, t
     line = next(i for i, text in enumerate(broken.read_text().splitlines(), 1) if '<wal ' in text)
     assert f'{broken}:{line}:' in child.stderr
     assert load_map(MAPS / 'office.xml').name == 'office'
+
+
+def test_standard_ros_topics_scan_odometry_and_cmd_vel(base: ChildProcess, tmp_path: pathlib.Path) -> None:
+    """ROS tools see a LaserScan and an Odometry, and a Twist on cmd_vel drives the base."""
+    from geometry_msgs.msg import Twist
+    from nav_msgs.msg import Odometry
+    from sensor_msgs.msg import LaserScan
+    observer = drive_observer()
+    node = observer.manager.node
+    scans = node.create_subscription(LaserScan, '/PlutoLaser/scan', lambda _: None, 10)
+    odoms = node.create_subscription(Odometry, '/PlutoBase/odom', lambda _: None, 10)
+    cmd_vel = node.create_publisher(Twist, '/PlutoBase/cmd_vel', 10)
+    got: dict[str, list] = {'scan': [], 'odom': []}
+
+    def take(o: Observer) -> bool:
+        for key, sub, kind in (('scan', scans, LaserScan), ('odom', odoms, Odometry)):
+            result = sub.handle.take_message(kind, False)
+            while result is not None:
+                got[key].append(result[0])
+                result = sub.handle.take_message(kind, False)
+        return bool(got['scan']) and bool(got['odom'])
+
+    with ChildProcess([find_executable('wurde_drivers', 'dummy_sick'), '-c', str(tmp_path / 'sim-config.xml'),
+                       '-n', 'PlutoLaser']):
+        try:
+            observer.until(take, 'a LaserScan and an Odometry')
+            scan = got['scan'][0]
+            assert len(scan.ranges) == 361 and scan.angle_min == pytest.approx(-math.pi / 2)
+            assert scan.range_max == pytest.approx(81.91) and scan.header.frame_id == 'PlutoLaser'
+            # Facing north from (3, 7.5): straight ahead the laser (0.2 m forward) sees the wall
+            # at y = 8.7 through no door (x = 3 is west of the door at 3.05..3.95).
+            assert scan.ranges[180] == pytest.approx(1.0, abs=0.006)
+            assert got['odom'][0].child_frame_id == 'base_link'
+            twist = Twist()
+            twist.angular.z = 0.4
+
+            def turning(o: Observer) -> bool:
+                cmd_vel.publish(twist)
+                return any(m.rv == pytest.approx(0.4) for _, m in o.events['PlutoBaseTruth'])
+            observer.until(turning, 'the base turning on cmd_vel', timeout=30)
+        finally:
+            observer.close()

@@ -51,7 +51,7 @@ def test_defaults_and_every_attribute(tmp_path: pathlib.Path) -> None:
      '</rflex-config>', 3, 'invert'),
     ('<rflex-config>\n  <laser port="p" name="n" type="B21r"/>\n</rflex-config>', 3, 'laser'),
     ('<rflex-config>\n  <device port="a" name="n" type="B21r"/>\n'
-     '  <device port="b" name="n" type="ATRVJr"/>\n</rflex-config>', 4, 'already used on line 3'),
+     '  <device port="b" name="n" type="ATRVJr"/>\n</rflex-config>', 4, 'duplicate device name "n" (first on line 3)'),
     ('<rflex-config>\n</rflex-config>', 2, 'no <device>'),
     ('<laser-config>\n</laser-config>', None, 'rflex-config'),
     ('<rflex-config>\n  <device port="p"\n</rflex-config>', None, ''),

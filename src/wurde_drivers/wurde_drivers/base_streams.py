@@ -15,7 +15,9 @@ stream         interface        what
 ``NPower``     Power            battery
 ============== ================ =====================================================================
 
-Whatever backend moves the robot, consumers see the same streams, so no module can tell a dummy
+Standard ROS: ``nav_msgs/Odometry`` on ``/N/odom`` and ``geometry_msgs/Twist`` commands on
+``/N/cmd_vel`` (:mod:`wurde_drivers.ros_std`). Whatever backend moves the robot, consumers see the
+same streams, so no module can tell a dummy
 from the real base. Commands are velocity set-points with a watchdog: when no command has come for
 ``command_timeout`` seconds the base is stopped (a command that stops coming stops the robot).
 """
@@ -24,11 +26,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import time
 from collections.abc import Sequence
 
 from wurde_core import CommsManager, Logger, Pose, Pose3D, Time
 from wurde_core.interfaces import (ActuatorState, Bumper, Egomotion, Power, RangeFinder, RobotDrive,
                                    SynchroDrive)
+
+from .ros_std import OdometryPublisher, TwistInbox
 
 __all__ = ['BaseLimits', 'BaseStreams', 'VelocityCommand']
 
@@ -79,6 +84,8 @@ class BaseStreams:
         self.last_command = -math.inf
         self.timeouts = 0
         self.refused_commands = 0
+        self._odom: OdometryPublisher | None = None
+        self._twist: TwistInbox | None = None
 
     @property
     def objects(self) -> list[object]:
@@ -87,6 +94,8 @@ class BaseStreams:
     def register(self, manager: CommsManager) -> None:
         for obj in self.objects:
             manager.register_supplier(obj)  # type: ignore[arg-type]
+        self._odom = OdometryPublisher(manager.node, self.name)
+        self._twist = TwistInbox(manager.node, self.name)
 
     # -- info ---------------------------------------------------------------------------------
     def publish_drive_info(self) -> None:
@@ -163,6 +172,11 @@ class BaseStreams:
             changed |= self._drive_request()
         while self.command.get_next_request():
             changed |= self._pluto_request()
+        twist = self._twist.take() if self._twist is not None else None
+        if twist is not None:
+            tv, rv = self._clamp(twist.linear.x, twist.angular.z)
+            self.current = dataclasses.replace(self.current, tv=tv, rv=rv, brake=False)
+            changed = True
         if changed:
             self.last_command = now
             self.publish_drive_info()
@@ -252,6 +266,8 @@ class BaseStreams:
         data.tv, data.rv, data.acceleration = tv, rv, acceleration
         self._stamp(self.motion, stamp)
         self.motion.publish_data()
+        if self._odom is not None:
+            self._odom.publish(x, y, theta, tv, rv, stamp if stamp is not None else time.time())
 
     def publish_sonar(self, ranges: Sequence[float], stamp: float | None = None) -> None:
         self.sonar.data.ranges = [float(r) for r in ranges]

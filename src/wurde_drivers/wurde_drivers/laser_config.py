@@ -22,12 +22,10 @@ from __future__ import annotations
 
 import dataclasses
 import os
-from collections.abc import Sequence
 
 from lxml import etree
 
-from .errors import ConfigError
-from .xml_config import Attributes, children, read_root
+from .xml_config import Attributes, device_named, read_devices
 
 __all__ = ['LaserDevice', 'device_named', 'load_laser_config']
 
@@ -82,32 +80,4 @@ def load_laser_config(path: str | os.PathLike[str]) -> list[LaserDevice]:
     :raises ConfigError: naming the file and line: malformed XML, wrong root, unknown element or
         attribute, a missing required attribute, a bad value, a duplicate name, no device at all.
     """
-    path = os.fspath(path)
-    root = read_root(path, 'laser-config')
-    devices: list[LaserDevice] = []
-    seen: dict[str, int | None] = {}
-    for node in children(path, root, ('device',)):
-        device = _device(path, node)
-        if device.name in seen:
-            raise ConfigError(path, node.sourceline, f'duplicate device name "{device.name}" '
-                              f'(first on line {seen[device.name]})')
-        seen[device.name] = node.sourceline
-        devices.append(device)
-    if not devices:
-        raise ConfigError(path, root.sourceline, '<laser-config> holds no <device>')
-    return devices
-
-
-def device_named(devices: Sequence[LaserDevice], name: str, *,
-                 path: str | os.PathLike[str] = 'laser-config.xml') -> LaserDevice:
-    """The device called ``name`` (the module's ``-n`` name, WURDE guide 7.5).
-
-    :raises ConfigError: no device has that name; names the file (taken from the devices, else
-        ``path``) and the names it does have.
-    """
-    for device in devices:
-        if device.name == name:
-            return device
-    where = devices[0].path if devices else os.fspath(path)
-    names = ', '.join(device.name for device in devices) or 'none'
-    raise ConfigError(where, None, f'no <device> named "{name}" (devices: {names})')
+    return read_devices(path, 'laser-config', _device)

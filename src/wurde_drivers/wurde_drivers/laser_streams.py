@@ -15,7 +15,8 @@ stream           interface      what
 ================ ============== ===================================================================
 
 Ranges are metres in the robot's order (counter-clockwise from −90° to +90°, also for a laser
-mounted upside down); a beam that saw nothing within range reads ``inf``. When the laser has a
+mounted upside down); a beam that saw nothing within range reads ``inf``. A ``sensor_msgs/LaserScan``
+of the main stream goes to ``/N/scan`` as well (:mod:`wurde_drivers.ros_std`). When the laser has a
 fatal error every range is −1 until it is back (Pluto 8.1: "all data is set to -1").
 """
 
@@ -26,6 +27,8 @@ from collections.abc import Sequence
 
 from wurde_core import CommsManager, Time
 from wurde_core.interfaces import FVectorState, RangeFinder
+
+from .ros_std import ScanPublisher
 
 __all__ = ['LaserStreams']
 
@@ -42,16 +45,25 @@ class LaserStreams:
             obj.set_auto_timestamp(False)
         self.count = 0
         self.max_range = 0.0
+        self.scan_time = 0.0
         self.scans = 0
+        self._node: object = None
+        self._ros: ScanPublisher | None = None
 
     def register(self, manager: CommsManager) -> None:
         for obj in (self.scan, self.rwi, self.timing):
             manager.register_supplier(obj)
+        self._node = manager.node
 
     def publish_info(self, *, count: int, max_range: float, mount_x: float = 0.0, mount_y: float = 0.0,
-                     mount_z: float = 0.4) -> None:
-        """The RangeFinder info: a uniform fan over 180° at the laser's mounting point."""
-        self.count, self.max_range = count, max_range
+                     mount_z: float = 0.4, scan_time: float = 0.0) -> None:
+        """The RangeFinder info: a uniform fan over 180° at the laser's mounting point.
+
+        ``scan_time`` (s between scans) goes into the standard LaserScan on ``/<name>/scan``.
+        """
+        self.count, self.max_range, self.scan_time = count, max_range, scan_time
+        if self._node is not None and self._ros is None and '/' not in self.name:
+            self._ros = ScanPublisher(self._node, self.name, max_range=max_range)
         for obj, beams in ((self.scan, count), (self.rwi, 181)):
             step = math.pi / (beams - 1)
             info = obj.info
@@ -78,6 +90,8 @@ class LaserStreams:
         self.timing.data.data = []
         self.timing.data.timestamp = Time(centre_stamp)
         self.timing.publish_data()
+        if self._ros is not None and values and values[0] != -1.0:
+            self._ros.publish(values, centre_stamp, self.scan_time)
         self.scans += 1
 
     def publish_fatal(self, stamp: float) -> None:

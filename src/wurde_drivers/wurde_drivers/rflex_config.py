@@ -21,11 +21,11 @@ from __future__ import annotations
 
 import dataclasses
 import os
-from collections.abc import Sequence
 
-from .errors import ConfigError
+from lxml import etree
+
 from .rflex_robots import ROBOTS, RobotParams
-from .xml_config import Attributes, children, read_root
+from .xml_config import Attributes, device_named, read_devices
 
 __all__ = ['RFlexDevice', 'device_named', 'load_rflex_config']
 
@@ -50,40 +50,21 @@ class RFlexDevice:
         return ROBOTS[self.type]
 
 
+def _device(path: str, node: etree._Element) -> RFlexDevice:
+    attrs = Attributes(path, node, required=('port', 'name', 'type'),
+                       optional=('brake-reset', 'command-timeout'))
+    return RFlexDevice(
+        port=attrs.text('port'), name=attrs.text('name'),
+        type=attrs.choice('type', tuple(ROBOTS)),
+        brake_reset=attrs.boolean('brake-reset', False),
+        command_timeout=attrs.number('command-timeout', 1.0, minimum=0.001),
+        path=path, line=node.sourceline)
+
+
 def load_rflex_config(path: str | os.PathLike[str]) -> list[RFlexDevice]:
     """The devices of ``path``.
 
     :raises ConfigError: with file and line for a malformed file, an unknown element or attribute,
         a missing or bad attribute, no device at all, or a name used twice.
     """
-    root = read_root(path, ROOT_TAG)
-    devices: list[RFlexDevice] = []
-    for node in children(path, root, ('device',)):
-        attrs = Attributes(path, node, required=('port', 'name', 'type'),
-                           optional=('brake-reset', 'command-timeout'))
-        device = RFlexDevice(
-            port=attrs.text('port'), name=attrs.text('name'),
-            type=attrs.choice('type', tuple(ROBOTS)),
-            brake_reset=attrs.boolean('brake-reset', False),
-            command_timeout=attrs.number('command-timeout', 1.0, minimum=0.001),
-            path=os.fspath(path), line=node.sourceline)
-        clash = next((d for d in devices if d.name == device.name), None)
-        if clash is not None:
-            raise attrs.error(f'device name "{device.name}" is already used on line {clash.line}')
-        devices.append(device)
-    if not devices:
-        raise ConfigError(path, root.sourceline, f'<{ROOT_TAG}> has no <device>')
-    return devices
-
-
-def device_named(devices: Sequence[RFlexDevice], name: str) -> RFlexDevice:
-    """The device called ``name``.
-
-    :raises ConfigError: naming the file and the names there are, when none is called ``name``.
-    """
-    for device in devices:
-        if device.name == name:
-            return device
-    path = devices[0].path if devices else '<rflex-config>'
-    known = ', '.join(d.name for d in devices) or 'none'
-    raise ConfigError(path, None, f'no rFLEX device named "{name}" (devices: {known})')
+    return read_devices(path, ROOT_TAG, _device)

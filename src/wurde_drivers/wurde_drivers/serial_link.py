@@ -105,8 +105,12 @@ class SerialLink:
                 self._lost()
 
     def read(self, timeout: float) -> bytes:
-        """Whatever arrives within ``timeout`` seconds (at least one byte, or b'' at the deadline)."""
+        """Whatever arrives within ``timeout`` seconds (at least one byte, or b'' at the deadline).
+
+        With the device gone this still waits out ``timeout``, so a poll loop does not spin.
+        """
         if not self._ensure_open():
+            time.sleep(max(0.0, timeout))
             return b''
         assert self._port is not None
         try:

@@ -9,14 +9,14 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Iterable
-from typing import Any
+from collections.abc import Callable, Iterable, Sequence
+from typing import Any, Protocol, TypeVar
 
 from lxml import etree
 from wurde_idl.errors import ConfigError
 from wurde_idl.safe_xml import parse_file
 
-__all__ = ['Attributes', 'children', 'local_name', 'read_root']
+__all__ = ['Attributes', 'children', 'device_named', 'local_name', 'read_devices', 'read_root']
 
 _TRUE = {'true', 'yes', '1', 'on'}
 _FALSE = {'false', 'no', '0', 'off'}
@@ -131,3 +131,48 @@ class Attributes:
         if maximum is not None and value > maximum:
             raise self.error(f'attribute {name}={raw} of <{self.tag}> is above {maximum}')
         return value
+
+
+class _Named(Protocol):
+    name: str
+    path: str
+    line: int | None
+
+
+Device = TypeVar('Device', bound=_Named)
+
+
+def read_devices(path: str | os.PathLike[str], root_tag: str,
+                 parse: Callable[[str, etree._Element], Device]) -> list[Device]:
+    """The ``<device>`` elements of a device config (``<laser-config>``, ``<rflex-config>``, ...).
+
+    Every device file of WURDE's drivers has this shape (guide 7.5): a root holding one or more
+    ``<device name=...>``; ``parse(path, node)`` reads one. Duplicate names and an empty file are
+    refused, naming the file and the line.
+    """
+    path = os.fspath(path)
+    root = read_root(path, root_tag)
+    devices: list[Device] = []
+    for node in children(path, root, ('device',)):
+        device = parse(path, node)
+        clash = next((d for d in devices if d.name == device.name), None)
+        if clash is not None:
+            raise ConfigError(path, node.sourceline, f'duplicate device name "{device.name}" '
+                                                     f'(first on line {clash.line})')
+        devices.append(device)
+    if not devices:
+        raise ConfigError(path, root.sourceline, f'<{root_tag}> holds no <device>')
+    return devices
+
+
+def device_named(devices: Sequence[Device], name: str, *, path: str | os.PathLike[str] = '') -> Device:
+    """The device called ``name`` — a module picks its device by its ``-n`` name (WURDE 7.5).
+
+    :raises ConfigError: no device has that name; names the file and the names it does have.
+    """
+    for device in devices:
+        if device.name == name:
+            return device
+    where = devices[0].path if devices else os.fspath(path)
+    names = ', '.join(device.name for device in devices) or 'none'
+    raise ConfigError(where, None, f'no <device> named "{name}" (devices: {names})')

@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import pathlib
 import sys
+from collections.abc import Callable, Sequence
 
 from wurde_core import CommsManager
 from wurde_idl.errors import ConfigError
@@ -12,8 +13,10 @@ from wurde_idl.errors import ConfigError
 from ..sim.config import SimConfig, load_sim_config
 from ..sim.mapfile import load_map
 from ..sim.world import World
+from ..xml_config import Device, device_named
 
-__all__ = ['MODULE_TTL_S', 'config_file', 'exit_on_config_error', 'load_sim', 'set_loop']
+__all__ = ['MODULE_TTL_S', 'config_file', 'configured_device', 'exit_on_config_error', 'load_sim',
+           'set_loop']
 
 
 def config_file(manager: CommsManager, given: str | None, default_name: str) -> str:
@@ -53,3 +56,21 @@ def set_loop(manager: CommsManager, sleep_s: float, ttl_s: float = MODULE_TTL_S)
     """Sleep ``sleep_s`` per loop but announce a heartbeat TTL of ``ttl_s``."""
     manager.set_sleep_only(sleep_s)
     manager.set_heartbeat_only(ttl_s)
+
+
+def configured_device(manager: CommsManager, argv: list[str], file_name: str,
+                      load: Callable[[str], Sequence[Device]]) -> Device:
+    """Parse the options and return the ``<device>`` of the config named like the module.
+
+    ``-c FILE`` names the config (default ``file_name`` in the config directory) and ``-n`` the
+    module, which picks its device by name (WURDE 7.5). A bad config ends the program with status
+    2 and ``file:line: reason`` on stderr.
+    """
+    manager.set_help_string(f'  -c FILE  {file_name} (default: <config dir>/{file_name})\n'
+                            '  -n NAME  the module and stream name; picks the <device> by name')
+    opts = manager.parse_options(argv, 'c:')
+    path = config_file(manager, opts.user.get('c'), file_name)
+    try:
+        return device_named(load(path), manager.name, path=path)
+    except ConfigError as error:
+        raise SystemExit(exit_on_config_error(argv[0], error)) from None

@@ -83,7 +83,8 @@ def main(argv: list[str] | None = None) -> int:
     manager.register_supplier(logger)
     set_loop(manager, min(0.02, geometry.scan_period_s / config.time_scale / 2))
     streams.publish_info(count=geometry.count, max_range=geometry.max_range, mount_x=geometry.mount_x,
-                         mount_y=geometry.mount_y, mount_z=geometry.mount_z)
+                         mount_y=geometry.mount_y, mount_z=geometry.mount_z,
+                         scan_time=geometry.scan_period_s)
     history = TruthHistory()
     delay = geometry.sweep_s / 2 + geometry.transmit_s   # centre of the sweep → last byte read
     next_centre: float | None = None

@@ -20,7 +20,13 @@ import sys
 import time
 
 from wurde_core import CommsManager, Logger, RunState
-from wurde_core.interfaces import Bumper, Egomotion, RangeFinder, RobotDrive, SynchroDrive
+from wurde_core.interfaces import (
+    Bumper,
+    Egomotion,
+    RangeFinder,
+    RobotDrive,
+    SynchroDrive,
+)
 from wurde_idl.errors import ConfigError
 
 from ..sim.plot import plot_run
@@ -30,6 +36,7 @@ from .common import config_file, exit_on_config_error, load_sim
 #: conference room, and back to the start.
 OFFICE_ROUTE = '8,7.5 12.5,7.5 12.5,4.2 12.5,7.5 10,7.5 10,9.6 10,7.5 3.5,7.5'
 REACHED_M = 0.1
+LOOP_S = 0.05   # control period (wall clock)
 WAIT_FOR_BASE_S = 60.0
 TURN_FIRST_RAD = 0.35   # turn on the spot before driving when the heading is this far off
 MAX_TV = 0.6
@@ -78,7 +85,7 @@ def main(argv: list[str] | None = None) -> int:
     for obj in (drive, odometry, truth, bumpers) + ((laser,) if laser else ()):
         manager.register_consumer(obj)
     manager.register_supplier(logger)
-    manager.set_sleep(0.1)
+    manager.set_sleep(LOOP_S)
 
     sx, sy, st = start
     def pose() -> tuple[float, float, float]:

@@ -1,0 +1,104 @@
+"""Standard ROS 2 messages published alongside the WURDE streams (DESIGN, "Topics and QoS").
+
+ROS tools (RViz, Nav2, ``ros2 topic echo``) expect ``sensor_msgs/LaserScan``, ``nav_msgs/Odometry``
+and ``geometry_msgs/Twist`` in; the device modules give them next to their WURDE streams, for the
+stream ``S``:
+
+=============================== ========================= ==========================================
+topic                           type                      what
+=============================== ========================= ==========================================
+``/S/scan``                     sensor_msgs/LaserScan     a laser's scan (frame ``<S>``, REP-103)
+``/S/odom``                     nav_msgs/Odometry         a base's odometry (frames ``odom`` →
+                                                          ``base_link``, REP-105)
+``/S/cmd_vel``                  geometry_msgs/Twist (in)  velocity commands into the same watchdog
+                                                          as the WURDE drive requests
+=============================== ========================= ==========================================
+
+Only plain stream names get these topics (``S`` is the stream's topic path, see
+:func:`wurde_core.naming.stream_segment_path`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+from sensor_msgs.msg import LaserScan
+from wurde_core.naming import stream_segment_path
+
+__all__ = ['OdometryPublisher', 'ScanPublisher', 'TwistInbox']
+
+_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+
+
+def _stamp(message: Any, seconds: float) -> None:
+    whole = math.floor(seconds)
+    message.header.stamp.sec = int(whole)
+    message.header.stamp.nanosec = int(round((seconds - whole) * 1e9)) % 1_000_000_000
+
+
+class ScanPublisher:
+    """``/S/scan``: the scan in robot order, counter-clockwise from −90° (REP-103)."""
+
+    def __init__(self, node: Any, stream: str, *, max_range: float, frame: str | None = None) -> None:
+        self.publisher = node.create_publisher(LaserScan, f'/{stream_segment_path(stream)}/scan', _QOS)
+        self.frame = frame or stream.replace('/', '_')
+        self.max_range = max_range
+
+    def publish(self, ranges: Sequence[float], stamp: float, scan_time: float) -> None:
+        msg = LaserScan()
+        _stamp(msg, stamp)
+        msg.header.frame_id = self.frame
+        count = len(ranges)
+        msg.angle_min = -math.pi / 2
+        msg.angle_max = math.pi / 2
+        msg.angle_increment = math.pi / (count - 1) if count > 1 else 0.0
+        msg.scan_time = scan_time
+        msg.time_increment = (1.0 / 75.0) / 360.0 if count else 0.0   # one mirror turn per 360°
+        msg.range_min = 0.0
+        msg.range_max = self.max_range
+        msg.ranges = [float(r) for r in ranges]
+        self.publisher.publish(msg)
+
+
+class OdometryPublisher:
+    """``/S/odom``: pose and twist of ``base_link`` in ``odom`` (REP-105)."""
+
+    def __init__(self, node: Any, stream: str) -> None:
+        self.publisher = node.create_publisher(Odometry, f'/{stream_segment_path(stream)}/odom', _QOS)
+
+    def publish(self, x: float, y: float, theta: float, tv: float, rv: float, stamp: float) -> None:
+        msg = Odometry()
+        _stamp(msg, stamp)
+        msg.header.frame_id = 'odom'
+        msg.child_frame_id = 'base_link'
+        msg.pose.pose.position.x = x
+        msg.pose.pose.position.y = y
+        msg.pose.pose.orientation.z = math.sin(theta / 2)
+        msg.pose.pose.orientation.w = math.cos(theta / 2)
+        msg.twist.twist.linear.x = tv
+        msg.twist.twist.angular.z = rv
+        self.publisher.publish(msg)
+
+
+class TwistInbox:
+    """``/S/cmd_vel``: the newest Twist, taken without an executor as the WURDE channels are."""
+
+    def __init__(self, node: Any, stream: str) -> None:
+        self.subscription = node.create_subscription(Twist, f'/{stream_segment_path(stream)}/cmd_vel',
+                                                     lambda _msg: None, _QOS)
+
+    def take(self) -> Twist | None:
+        """The newest Twist that arrived since the last call, or None."""
+        newest = None
+        handle = self.subscription.handle
+        with handle:
+            while True:
+                result = handle.take_message(Twist, False)
+                if result is None:
+                    return newest
+                newest = result[0]
