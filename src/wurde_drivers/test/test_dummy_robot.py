@@ -36,12 +36,24 @@ def start_mcp(directory: pathlib.Path) -> ChildProcess:
 
 def test_the_dummy_robot_comes_up_under_the_mcp_and_every_stream_keeps_its_rate(
         ros_domain: int, tmp_path: pathlib.Path) -> None:
+    from sensor_msgs.msg import Imu, NavSatFix, NavSatStatus
     sim_config(tmp_path)
     observer = Observer({stream: interface for stream, (interface, _) in RATES.items()})
+    node = observer.manager.node
+    standard = {'imu': (node.create_subscription(Imu, '/PlutoDMU/imu', lambda _: None, 10), Imu),
+                'fix': (node.create_subscription(NavSatFix, '/PlutoGPS/fix', lambda _: None, 10), NavSatFix)}
+    seen: dict[str, list] = {'imu': [], 'fix': []}
+
+    def everything(o: Observer) -> bool:
+        for key, (sub, kind) in standard.items():
+            result = sub.handle.take_message(kind, False)
+            while result is not None:
+                seen[key].append(result[0])
+                result = sub.handle.take_message(kind, False)
+        return all(seen.values()) and all(len(o.events[s]) >= 4 for s, (_, p) in RATES.items() if p)
     try:
         with start_mcp(tmp_path) as mcp:
-            observer.until(lambda o: all(len(o.events[s]) >= 4 for s, (_, p) in RATES.items() if p),
-                           'four events on every stream', timeout=90)
+            observer.until(everything, 'four events on every stream, an Imu and a NavSatFix', timeout=90)
             for stream, (_, period) in RATES.items():
                 if period is not None:
                     assert median_interval(observer.stamps(stream)) == pytest.approx(period, abs=1e-5), stream
@@ -68,6 +80,10 @@ def test_the_dummy_robot_comes_up_under_the_mcp_and_every_stream_keeps_its_rate(
             assert gps.latitude == pytest.approx(59.3498 + 7.5 / 111_000, abs=1e-5)
             _, dmu = observer.events['PlutoDMU/Raw'][0]
             assert dmu.accel_z == pytest.approx(9.80665)
+            # The same, as standard ROS 2 messages: at rest facing east, a DGPS fix.
+            imu, fix = seen['imu'][0], seen['fix'][0]
+            assert imu.linear_acceleration.z == pytest.approx(9.80665) and imu.orientation.w == pytest.approx(1.0)
+            assert fix.latitude == pytest.approx(gps.latitude) and fix.status.status == NavSatStatus.STATUS_SBAS_FIX
             mcp.stop(timeout=60)
             for module in ('PlutoBase', 'PlutoLaser', 'PlutoWrist', 'PlutoDMU', 'PlutoGPS'):
                 assert f'MCP: {module} is alive' in mcp.stderr

@@ -91,3 +91,11 @@ def test_wrist_axis_reaches_its_target_within_its_limits() -> None:
     assert axis.position == pytest.approx(0.8) and axis.velocity == 0.0 and not axis.moving
     assert peak == pytest.approx(0.5)
     assert axis.command(5.0, 1.0, 2.0) and axis.target == 1.0   # clamped to the joint limit
+
+
+def test_pluto_angles_become_the_standard_quaternion() -> None:
+    from wurde_drivers.ros_std import quaternion
+    assert quaternion(math.pi / 2, 0.0, 0.0) == pytest.approx((0.0, 0.0, math.sin(math.pi / 4), math.cos(math.pi / 4)))
+    assert quaternion(0.0, 0.0, math.pi) == pytest.approx((1.0, 0.0, 0.0, 0.0), abs=1e-12)   # roll about x
+    x, y, z, w = quaternion(0.3, -0.2, 0.1)
+    assert x * x + y * y + z * z + w * w == pytest.approx(1.0)

@@ -8,6 +8,8 @@ A DMU module named ``N`` supplies two DMUState streams, as Pluto's dmuModule had
 - ``N`` — DMUstate: rates and accelerations low-pass filtered, theta the heading integrated from
   the filtered z rate since the start, stamped earlier by the filter's delay
   (:class:`wurde_drivers.dmu_filter.DmuFilter`). Its info carries the cut-off and the delay.
+
+The filtered state also goes out as ``sensor_msgs/Imu`` on ``/N/imu`` (:mod:`wurde_drivers.ros_std`).
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ from wurde_core import CommsManager, Time
 from wurde_core.interfaces import DMUState
 
 from .dmu_filter import DmuFilter, FilteredState
+from .ros_std import ImuPublisher
 
 __all__ = ['DmuStreams']
 
@@ -32,10 +35,13 @@ class DmuStreams:
         self.state = DMUState(name)
         for obj in (self.raw, self.state):
             obj.set_auto_timestamp(False)
+        self._imu: ImuPublisher | None = None
 
     def register(self, manager: CommsManager) -> None:
         manager.register_supplier(self.raw)
         manager.register_supplier(self.state)
+        if '/' not in self.name:
+            self._imu = ImuPublisher(manager.node, self.name)
 
     def publish_info(self) -> None:
         for obj, filtered in ((self.raw, False), (self.state, True)):
@@ -65,4 +71,6 @@ class DmuStreams:
             d.accel_x, d.accel_y, d.accel_z = state.accel_x, state.accel_y, state.accel_z
             d.timestamp = Time(state.stamp)
             self.state.publish_data()
+            if self._imu is not None:
+                self._imu.publish(state, state.stamp)
         return state

@@ -12,6 +12,8 @@ topic                           type                      what
                                                           ``base_link``, REP-105)
 ``/S/cmd_vel``                  geometry_msgs/Twist (in)  velocity commands into the same watchdog
                                                           as the WURDE drive requests
+``/S/imu``                      sensor_msgs/Imu           a DMU's filtered state (frame ``<S>``)
+``/S/fix``                      sensor_msgs/NavSatFix     a GPS fix (frame ``<S>``)
 =============================== ========================= ==========================================
 
 Only plain stream names get these topics (``S`` is the stream's topic path, see
@@ -27,10 +29,10 @@ from typing import Any
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rclpy.qos import QoSProfile, ReliabilityPolicy
-from sensor_msgs.msg import LaserScan
+from sensor_msgs.msg import Imu, LaserScan, NavSatFix, NavSatStatus
 from wurde_core.naming import stream_segment_path
 
-__all__ = ['OdometryPublisher', 'ScanPublisher', 'TwistInbox']
+__all__ = ['FixPublisher', 'ImuPublisher', 'OdometryPublisher', 'ScanPublisher', 'TwistInbox']
 
 _QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 
@@ -102,3 +104,57 @@ class TwistInbox:
                 if result is None:
                     return newest
                 newest = result[0]
+
+
+def quaternion(theta: float, phi: float, psi: float) -> tuple[float, float, float, float]:
+    """(x, y, z, w) of the rotation theta about z, then phi about y, then psi about x (Pluto 3)."""
+    cz, sz = math.cos(theta / 2), math.sin(theta / 2)
+    cy, sy = math.cos(phi / 2), math.sin(phi / 2)
+    cx, sx = math.cos(psi / 2), math.sin(psi / 2)
+    return (sx * cy * cz - cx * sy * sz, cx * sy * cz + sx * cy * sz,
+            cx * cy * sz - sx * sy * cz, cx * cy * cz + sx * sy * sz)
+
+
+class ImuPublisher:
+    """``/S/imu``: orientation, angular velocity and linear acceleration (REP-103, z up)."""
+
+    def __init__(self, node: Any, stream: str) -> None:
+        self.publisher = node.create_publisher(Imu, f'/{stream_segment_path(stream)}/imu', _QOS)
+        self.frame = stream.replace('/', '_')
+
+    def publish(self, state: Any, stamp: float) -> None:
+        msg = Imu()
+        _stamp(msg, stamp)
+        msg.header.frame_id = self.frame
+        q = quaternion(state.theta, state.phi or 0.0, state.psi or 0.0)
+        msg.orientation.x, msg.orientation.y, msg.orientation.z, msg.orientation.w = q
+        msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z = (
+            state.rate_x, state.rate_y, state.rate_z)
+        msg.linear_acceleration.x, msg.linear_acceleration.y, msg.linear_acceleration.z = (
+            state.accel_x, state.accel_y, state.accel_z)
+        self.publisher.publish(msg)
+
+
+#: NMEA GGA fix quality → NavSatStatus (0 invalid, 1 GPS, 2 DGPS, 4/5 RTK, 6 estimated).
+_STATUS = {0: NavSatStatus.STATUS_NO_FIX, 1: NavSatStatus.STATUS_FIX, 2: NavSatStatus.STATUS_SBAS_FIX,
+           3: NavSatStatus.STATUS_FIX, 4: NavSatStatus.STATUS_GBAS_FIX, 5: NavSatStatus.STATUS_GBAS_FIX,
+           6: NavSatStatus.STATUS_FIX, 7: NavSatStatus.STATUS_FIX, 8: NavSatStatus.STATUS_FIX}
+
+
+class FixPublisher:
+    """``/S/fix``: latitude, longitude (degrees) and altitude (m) with the fix's status."""
+
+    def __init__(self, node: Any, stream: str) -> None:
+        self.publisher = node.create_publisher(NavSatFix, f'/{stream_segment_path(stream)}/fix', _QOS)
+        self.frame = stream.replace('/', '_')
+
+    def publish(self, *, latitude: float, longitude: float, altitude: float, quality: int,
+                stamp: float) -> None:
+        msg = NavSatFix()
+        _stamp(msg, stamp)
+        msg.header.frame_id = self.frame
+        msg.status.status = _STATUS.get(int(quality), NavSatStatus.STATUS_NO_FIX)
+        msg.status.service = NavSatStatus.SERVICE_GPS
+        msg.latitude, msg.longitude, msg.altitude = latitude, longitude, altitude
+        msg.position_covariance_type = NavSatFix.COVARIANCE_TYPE_UNKNOWN
+        self.publisher.publish(msg)
