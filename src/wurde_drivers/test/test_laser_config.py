@@ -19,6 +19,8 @@ GOOD = """<?xml version="1.0"?>
   <device port="/dev/ttyS1" name="back" type="PLS" invert="true" log="yes"/>
   <device port="/dev/ttyUSB0" name="fast" type="LMS" baud="500000" resolution="1.0"
           units="mm"/>
+  <device port="/tmp/pty-rear" name="emulated" type="PLS" parity="none"/>
+  <device port="/dev/ttyUSB1" name="odd" type="LMS" parity="even"/>
 </laser-config>
 """
 
@@ -31,13 +33,18 @@ def write(tmp_path: pathlib.Path, text: str) -> pathlib.Path:
 
 def test_good_file(tmp_path: pathlib.Path) -> None:
     path = write(tmp_path, GOOD)
-    front, back, fast = load_laser_config(path)
+    front, back, fast, emulated, odd = load_laser_config(path)
     assert front == LaserDevice('/dev/ttyS0', 'front', 'LMS', path=str(path), line=5)
     assert (front.baud, front.resolution, front.units, front.values) == (38400, 0.5, 'cm', 361)
     assert (back.type, back.invert, back.log) == ('PLS', True, True)
     # libxml2 gives a start tag spread over lines the line where the tag ends.
     assert (fast.baud, fast.values, fast.units, fast.line) == (500000, 181, 'mm', 8)
     assert device_named([front, back, fast], 'back') is back
+    # parity: the type's own by default (PLS 8E1, LMS 8N1), else as configured
+    assert [d.parity for d in (front, back, fast, emulated, odd)] == \
+        ['none', 'even', 'none', 'none', 'even']
+    assert LaserDevice('p', 'n', 'PLS').parity == 'even'
+    assert LaserDevice('p', 'n', 'LMS').parity == 'none'
 
 
 def test_missing_name_names_the_file(tmp_path: pathlib.Path) -> None:
@@ -51,6 +58,9 @@ def test_missing_name_names_the_file(tmp_path: pathlib.Path) -> None:
 def test_shipped_example_reads() -> None:
     devices = load_laser_config(EXAMPLE)
     assert [device.name for device in devices] == ['laser', 'rearLaser']
+    # the rear PLS is on sick_emulator's pty, which cannot carry parity
+    assert [(device.type, device.parity) for device in devices] == [('LMS', 'none'),
+                                                                    ('PLS', 'none')]
 
 
 @pytest.mark.parametrize(('body', 'line', 'reason'), [
@@ -68,6 +78,10 @@ def test_shipped_example_reads() -> None:
      '</laser-config>', 2, 'resolution="0.25"'),
     ('<laser-config>\n  <device port="p" name="a" type="PLS" units="mm"/>\n</laser-config>', 2,
      'PLS'),
+    ('<laser-config>\n  <device port="p" name="a" type="PLS" parity="odd"/>\n</laser-config>', 2,
+     'parity="odd".*none, even'),
+    ('<laser-config>\n  <device port="p" name="a" type="LMS"\n          parity=""/>\n'
+     '</laser-config>', 3, 'parity of <device> is empty'),
     ('<laser-config>\n  <device port="p" name="a" type="LMS"/>\n'
      '  <device port="q" name="a" type="PLS"/>\n</laser-config>', 3,
      'duplicate device name "a" \\(first on line 2\\)'),

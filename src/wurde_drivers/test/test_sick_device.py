@@ -181,6 +181,61 @@ def test_fatal_error_then_recover(emulator: SickEmulator, laser: SickLaser) -> N
     assert_matches_source(scans[-1], 'cm')
 
 
+def test_recover_after_a_failed_reconnect_resets_at_the_known_speed(emulator: SickEmulator,
+                                                                    laser: SickLaser) -> None:
+    """A failed connect leaves the line at 500000 baud; the reset must still reach the laser."""
+    assert collect(laser, 1, within=2.0)
+    emulator.fatal_error()
+    wait_silent(laser, 0.5, within=3.0)
+    laser.reply_timeout = 0.1
+    with pytest.raises(DeviceTimeout):
+        laser.connect()                 # a laser in a fatal error answers nothing but a reset
+    assert laser.baudrate == 500000 and emulator.fatal
+    started = time.monotonic()
+    laser.recover(reset_timeout=3.0)
+    assert laser.state is LaserState.STREAMING and not emulator.fatal
+    assert emulator.commands.count(0x10) == 1 and time.monotonic() - started < 3.0
+    assert collect(laser, 1, within=3.0)
+
+
+@pytest.mark.parametrize('miss', ['reset not heard', 'power cycled to 9600'])
+def test_recover_when_the_first_reset_is_missed(emulator: SickEmulator, laser: SickLaser,
+                                                miss: str) -> None:
+    assert collect(laser, 1, within=2.0)
+    if miss == 'reset not heard':
+        emulator.miss_resets(1)         # heard at 38400 on the second round
+    else:
+        emulator.power_cycle()          # 38400 is wrong now: heard at 9600
+        deadline = time.monotonic() + 2.0
+        while emulator.device_baud != 9600:
+            assert time.monotonic() < deadline, 'the emulator did not power up'
+            time.sleep(0.01)
+    emulator.fatal_error()
+    wait_silent(laser, 0.5, within=3.0)
+    laser.reply_timeout = 0.1
+    laser.recover(reset_timeout=3.0)
+    assert laser.state is LaserState.STREAMING and not emulator.fatal
+    assert emulator.commands.count(0x10) == 1
+    assert emulator.resets_missed == (1 if miss == 'reset not heard' else 0)
+    assert emulator.device_baud == 38400 == laser.baudrate
+    assert len(collect(laser, 2, within=3.0)) == 2
+
+
+def test_recover_gives_up_within_the_reset_timeout(emulator: SickEmulator,
+                                                   laser: SickLaser) -> None:
+    """Resets nobody hears go round the speeds until the reset timeout, then connect reports it."""
+    emulator.miss_resets(1000)
+    emulator.fatal_error()
+    laser.reply_timeout = 0.05
+    started = time.monotonic()
+    with pytest.raises(DeviceTimeout):
+        laser.recover(reset_timeout=0.5)
+    took = time.monotonic() - started
+    assert laser.state is LaserState.FAILED
+    # heard only at 38400, once a round: several rounds within the timeout, then a connect
+    assert emulator.resets_missed >= 2 and 0.5 <= took < 2.5
+
+
 def test_unplug_then_replug(emulator: SickEmulator, laser: SickLaser) -> None:
     assert collect(laser, 1, within=2.0)
     emulator.unplugged.set()

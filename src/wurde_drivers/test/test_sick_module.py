@@ -14,6 +14,7 @@ import time
 from collections.abc import Iterator, Sequence
 
 import pytest
+import serial
 from sim_fixture import Observer
 from wurde_testing import ChildProcess, find_executable
 
@@ -21,7 +22,7 @@ from wurde_drivers.codecs import sick
 from wurde_drivers.emulators.sick import SickEmulator
 from wurde_drivers.modules.sick_emulator import DEFAULT_ROOM, room_source
 from wurde_drivers.laser_config import LaserDevice
-from wurde_drivers.modules.sick_server import LOG_NAME, log_line, scan_period
+from wurde_drivers.modules.sick_server import LOG_NAME, log_line, make_laser, scan_period
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
 SHIPPED = ROOT / 'config' / 'sick'
@@ -81,6 +82,15 @@ def test_log_line_format_and_scan_period_and_room() -> None:
     room = room_source(1.2, 4.5, 2.5)(361, 180.0)
     assert (room[0], room[180], room[360]) == pytest.approx((1.2, 4.5, 2.5))
     assert room[90] == pytest.approx(1.2 / math.sin(math.radians(45)))   # the right wall at -45°
+
+
+def test_the_line_parity_is_the_configured_one() -> None:
+    """No guessing from the port's path: a PLS gets even parity unless its config says none."""
+    for kind, parity, expected in (('PLS', '', serial.PARITY_EVEN), ('LMS', '', serial.PARITY_NONE),
+                                   ('PLS', 'none', serial.PARITY_NONE),
+                                   ('LMS', 'even', serial.PARITY_EVEN)):
+        laser = make_laser(LaserDevice(port='/dev/pts/0', name='n', type=kind, parity=parity))
+        assert laser.parity == expected, (kind, parity)
 
 
 @pytest.fixture
@@ -160,7 +170,8 @@ def test_a_fatal_error_gives_minus_one_ranges_then_real_scans_again(
         observer: Observer, tmp_path: pathlib.Path) -> None:
     expected = source(361, 180.0)[::-1]           # an upside-down PLS: robot order reversed
     with SickEmulator(kind='PLS', scan_source=source, reset_s=1.0) as emulator:
-        config = write_config(tmp_path, emulator.path, type='PLS', invert='true')
+        # the emulator's pty cannot carry the PLS's even parity: the config says so
+        config = write_config(tmp_path, emulator.path, type='PLS', invert='true', parity='none')
         with server(config) as child:
             observer.until(lambda o: len(o.events['laser']) >= 2, 'scans', timeout=30)
             emulator.fatal_error()

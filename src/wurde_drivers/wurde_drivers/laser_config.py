@@ -9,12 +9,16 @@ Optional attributes of ours, with their defaults (Pluto 8.1's: cm, 361 values, 3
 
 - ``baud``: 9600, 19200, 38400 or 500000 (default 38400; 500000 needs RS-422);
 - ``resolution``: degrees between beams over 180°, ``1.0`` (181 values) or ``0.5`` (361, default);
-- ``units``: ``cm`` (81.91 m max, default) or ``mm`` (8.191 m max).  A PLS runs at 0.5° in cm only.
+- ``units``: ``cm`` (81.91 m max, default) or ``mm`` (8.191 m max).  A PLS runs at 0.5° in cm only;
+- ``parity``: ``none`` or ``even``, default the device's own: ``even`` for a PLS (8E1), ``none``
+  for an LMS (8N1).  Say ``none`` for a PLS on a pseudo-terminal, e.g. ``sick_emulator``'s link:
+  a pty cannot carry parity (PROTOCOLS.md 6: reconfiguring it with PARENB fails with EINVAL).
 
 Example::
 
     <laser-config>
       <device port="/dev/ttyS0" name="laser" type="LMS" invert="false" log="false"/>
+      <device port="/tmp/wurde-sick-rear" name="rear" type="PLS" parity="none"/>
     </laser-config>
 """
 
@@ -27,15 +31,20 @@ from lxml import etree
 
 from .xml_config import Attributes, device_named, read_devices
 
-__all__ = ['LaserDevice', 'device_named', 'load_laser_config']
+__all__ = ['DEFAULT_PARITY', 'LaserDevice', 'device_named', 'load_laser_config']
 
 _BAUDS = ('9600', '19200', '38400', '500000')
 _RESOLUTIONS = {'1.0': 1.0, '1': 1.0, '0.5': 0.5}
+#: The line parity each type speaks (PROTOCOLS.md 1.1: a PLS is 8E1, an LMS 8N1).
+DEFAULT_PARITY = {'PLS': 'even', 'LMS': 'none'}
 
 
 @dataclasses.dataclass(frozen=True)
 class LaserDevice:
-    """One ``<device>`` of a laser-config file, with where it was read (``path``, ``line``)."""
+    """One ``<device>`` of a laser-config file, with where it was read (``path``, ``line``).
+
+    ``parity`` is ``'none'`` or ``'even'``; left empty it becomes the type's :data:`DEFAULT_PARITY`.
+    """
 
     port: str
     name: str
@@ -45,8 +54,13 @@ class LaserDevice:
     baud: int = 38400
     resolution: float = 0.5
     units: str = 'cm'
+    parity: str = ''
     path: str = ''
     line: int | None = None
+
+    def __post_init__(self) -> None:
+        if not self.parity:
+            object.__setattr__(self, 'parity', DEFAULT_PARITY.get(self.type, 'none'))
 
     @property
     def values(self) -> int:
@@ -56,7 +70,7 @@ class LaserDevice:
 
 def _device(path: str, node: etree._Element) -> LaserDevice:
     attributes = Attributes(path, node, required=('port', 'name', 'type'),
-                            optional=('invert', 'log', 'baud', 'resolution', 'units'))
+                            optional=('invert', 'log', 'baud', 'resolution', 'units', 'parity'))
     kind = attributes.choice('type', ('PLS', 'LMS'))
     resolution_text = attributes.text('resolution', '0.5')
     if resolution_text not in _RESOLUTIONS:
@@ -68,6 +82,7 @@ def _device(path: str, node: etree._Element) -> LaserDevice:
         baud=int(attributes.choice('baud', _BAUDS, '38400')),
         resolution=_RESOLUTIONS[resolution_text],
         units=attributes.choice('units', ('cm', 'mm'), 'cm'),
+        parity=attributes.choice('parity', ('none', 'even'), DEFAULT_PARITY[kind]),
         path=path, line=node.sourceline)
     if kind == 'PLS' and (device.resolution != 0.5 or device.units != 'cm'):
         raise attributes.error('a PLS runs at resolution 0.5 in cm only')

@@ -26,6 +26,9 @@ data -1 meanwhile"): the driver notices only silence (:meth:`silent_for`).  :met
 the reset request ``10``, waits for ``91`` and for the ``90`` power-on telegram at 9600 baud (the
 sequence the emulator documents), then runs :meth:`connect` again; :attr:`state` says
 ``RESETTING`` meanwhile, so the module can publish -1 ranges, and ``FAILED`` if it did not work.
+A device in a fatal error hears the reset only at its own speed, which need not be the line's
+(a failed :meth:`connect` leaves the line at 500000 baud), so the reset goes out first at the speed
+the device was last known to run at, then at each of the others, until one is acknowledged.
 """
 
 from __future__ import annotations
@@ -92,9 +95,10 @@ class SickLaser:
     :param invert: reverse the beam order (laser mounted upside down, WURDE guide 7.5).
     :param reply_timeout: seconds to wait for the reply to a request (plus, while a frame is
         half received, the time the longest telegram takes on the wire at the current speed).
-    :param parity: override the line parity (default: even for a PLS, none for an LMS).  A pty
-        cannot do parity (PROTOCOLS.md 6: reconfiguring an open pty with PARENB fails with EINVAL),
-        so a PLS emulator is driven with ``serial.PARITY_NONE``.
+    :param parity: ``serial.PARITY_NONE`` or ``serial.PARITY_EVEN``; default even for a PLS,
+        none for an LMS (the devices speak 8E1 / 8N1).  A pty cannot do parity (PROTOCOLS.md 6:
+        reconfiguring an open pty with PARENB fails with EINVAL), so a PLS emulator is driven with
+        ``serial.PARITY_NONE`` (``parity="none"`` in laser-config.xml).
     """
 
     def __init__(self, port: str, *, kind: str = 'LMS', baudrate: int = 38400,
@@ -142,6 +146,11 @@ class SickLaser:
     def baudrate(self) -> int:
         """The speed the line is at now."""
         return self._link.baudrate
+
+    @property
+    def parity(self) -> str:
+        """The line's parity, ``serial.PARITY_NONE`` or ``serial.PARITY_EVEN``."""
+        return self._link.parity
 
     @property
     def stats(self) -> LinkStats:
@@ -230,12 +239,19 @@ class SickLaser:
             raise DeviceError(f'{what}: refused by the device')
 
     # -- life cycle -----------------------------------------------------------------------------
+    def _bauds(self) -> list[int]:
+        """:data:`SEARCH_BAUDS`, the speed the device was last known to run at first."""
+        return list(dict.fromkeys(([self._known_baud] if self._known_baud else [])
+                                  + list(SEARCH_BAUDS)))
+
+    def _listen_at(self, baud: int) -> None:
+        self._link.set_baudrate(baud)
+        self._link.reset_input()
+        self._forget_input()
+
     def _find_baud(self) -> int:
-        order = ([self._known_baud] if self._known_baud else []) + list(SEARCH_BAUDS)
-        for baud in dict.fromkeys(order):
-            self._link.set_baudrate(baud)
-            self._link.reset_input()
-            self._forget_input()
+        for baud in self._bauds():
+            self._listen_at(baud)
             for frame, reply in ((sick.stop_continuous_request(), sick.REPLY_MODE),
                                  (sick.status_request(), sick.REPLY_STATUS)):
                 if not self._link.write(frame):
@@ -246,6 +262,7 @@ class SickLaser:
                         # A scan of the running stream came first: take the probe's own answer
                         # too, so that it is not taken later for the answer to another request.
                         self._await({reply}, self.reply_timeout)
+                    self._known_baud = baud
                     return baud
         self._link.stats.timeouts += 1
         raise DeviceTimeout(f'{self._link.url}: no SICK {self.kind} answers at any of '
@@ -303,8 +320,15 @@ class SickLaser:
     def recover(self, reset_timeout: float = 30.0) -> None:
         """Reset the device (``10`` → ``91``, then ``90`` at 9600 baud) and :meth:`connect` again.
 
-        Blocks up to ``reset_timeout`` plus a connect.  When the reset is not acknowledged (the
-        device is merely silent or was unplugged) it goes straight to :meth:`connect`.
+        The reset goes out at the speed the device was last known to run at, then at each of the
+        other :data:`SEARCH_BAUDS`, round after round, until the device acknowledges it (``91``)
+        or ``reset_timeout`` has passed (one round at least): a device in a fatal error hears
+        nothing else and only at its own speed, and may miss one reset.  After the
+        acknowledgement the device reboots; up to ``reset_timeout`` more is spent waiting for its
+        ``90`` power-on telegram.  When no speed got an acknowledgement (the device is merely
+        silent, or unplugged) or the device refused the reset (``92``: it is alive), it goes
+        straight to :meth:`connect`.  Blocks up to twice ``reset_timeout`` (plus one
+        ``reply_timeout``) plus a connect.
 
         :raises DeviceError: (or DeviceTimeout) when the device cannot be brought back;
             :attr:`state` is then ``FAILED``.
@@ -315,18 +339,32 @@ class SickLaser:
         except DeviceError:
             self.state = LaserState.FAILED
             raise
-        self._link.reset_input()
-        self._forget_input()
-        try:
-            self._transact(sick.reset_request(), sick.REPLY_RESET, attempts=1)
-        except DeviceError:
-            pass  # not acknowledged: try a plain connect
-        else:
+        if self._reset(reset_timeout):
             self._link.set_baudrate(9600)
             self._forget_input()
             self._known_baud = 9600
             self._await({sick.REPLY_POWER_ON}, reset_timeout)
         self.connect()
+
+    def _reset(self, timeout: float) -> bool:
+        """Send the reset at each speed in turn (see :meth:`recover`); True once acknowledged."""
+        deadline = time.monotonic() + timeout
+        bauds, tried = self._bauds(), 0
+        while tried < len(bauds) or time.monotonic() < deadline:
+            baud = bauds[tried % len(bauds)]
+            tried += 1
+            self._listen_at(baud)
+            if not self._link.write(sick.reset_request()):
+                return False            # the line cannot be written: connect reports it
+            reply = self._await({sick.REPLY_RESET, sick.REPLY_NOT_ACK}, self.reply_timeout)
+            if reply is None:
+                self._link.stats.timeouts += 1      # not heard at this speed: the next one
+            elif reply.command == sick.REPLY_NOT_ACK:
+                self._known_baud = baud             # refused, so alive at this speed
+                return False
+            else:
+                return True
+        return False
 
     def poll(self, timeout: float) -> list[Scan]:
         """Scans that arrive within ``timeout`` s; returns as soon as there is at least one."""

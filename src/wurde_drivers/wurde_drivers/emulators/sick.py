@@ -25,11 +25,13 @@ or anything past the maximum becomes 8183 (value > maximum), ``nan`` or a negati
 **PLS parity:** a PLS speaks 8E1.  Parity cannot be emulated on a pty (PARENB does not stick, and
 reconfiguring an open pty that was opened with even parity fails with EINVAL, PROTOCOLS.md 6), so
 this emulator ignores parity and a driver talking to it opens the pty without parity
-(``SickLaser(..., parity=serial.PARITY_NONE)``); on a real line the driver uses even parity.
+(``parity="none"`` on the ``<device>`` of laser-config.xml, or ``SickLaser(...,
+parity=serial.PARITY_NONE)``); on a real line the driver uses even parity.
 
 Fault injection (callable from any thread): :meth:`corrupt_next` (bad CRC on the next N
 telegrams), :meth:`inject_garbage` (bytes before the next frames), :attr:`silent` (says nothing,
-hears nothing), :meth:`fatal_error`, and ``unplugged`` from :class:`PtyDevice`.
+hears nothing), :meth:`fatal_error`, :meth:`miss_resets` (the next reset requests are not heard),
+:meth:`power_cycle` (back at 9600 baud and the defaults), and ``unplugged`` from :class:`PtyDevice`.
 
 **Fatal error and reset (our choice, documented here and in the driver):** after
 :meth:`fatal_error` the device streams nothing and answers nothing except the reset request ``10``
@@ -87,6 +89,9 @@ class SickEmulator(PtyDevice):
         self._garbage = b''
         self._garbage_frames = 0
         self._fatal = False
+        self._resets_to_miss = 0
+        #: Reset requests not heard because of :meth:`miss_resets`.
+        self.resets_missed = 0
         self._deframer = sick.Deframer(sick.HOST_ADDRESS)
         self.scans_sent = 0
         self.bytes_garbled = 0          # request bytes ignored because the speeds differed
@@ -130,6 +135,17 @@ class SickEmulator(PtyDevice):
         """Stop streaming and answering until a reset request ``10`` (see the module docstring)."""
         with self._faults:
             self._fatal = True
+
+    def miss_resets(self, count: int = 1) -> None:
+        """Do not hear the next ``count`` reset requests (a fatal error stays as it is)."""
+        with self._faults:
+            self._resets_to_miss += count
+
+    def power_cycle(self) -> None:
+        """Switch off and on: the device says ``90`` and is at 9600 baud with its defaults."""
+        with self._faults:
+            self._fatal = False
+        self._reset_at = self._now()        # the emulator's thread powers up at its next tick
 
     @property
     def fatal(self) -> bool:
@@ -187,6 +203,11 @@ class SickEmulator(PtyDevice):
     def _handle(self, telegram: sick.Telegram) -> None:
         command, data = telegram.command, telegram.data
         if self._fatal and command != sick.CMD_RESET:
+            return
+        if command == sick.CMD_RESET and self._resets_to_miss > 0:
+            with self._faults:
+                self._resets_to_miss -= 1
+            self.resets_missed += 1
             return
         self.commands.append(command)
         if command == sick.CMD_RESET:

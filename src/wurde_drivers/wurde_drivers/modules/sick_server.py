@@ -22,14 +22,13 @@ answer the reset is merely silent and gets nothing published.
 ``log="true"`` appends one line per scan to ``<data directory>/LaserLog.txt`` (guide 7.5:
 ``[timestamp] : [readings]``); the format is :func:`log_line`'s.
 
-A PLS speaks 8E1, but a pseudo-terminal cannot carry parity (PROTOCOLS.md 6: it refuses PARENB),
-so a PLS whose port resolves to a pty (``/dev/pts/N``, e.g. ``sick_emulator``'s link) is opened
-without parity; a real serial port gets even parity.
+The line's parity is the ``<device>``'s ``parity`` attribute (:mod:`~wurde_drivers.laser_config`:
+``none|even``, default even for a PLS, none for an LMS).  A pseudo-terminal cannot carry parity
+(PROTOCOLS.md 6: it refuses PARENB), so a PLS on ``sick_emulator``'s link says ``parity="none"``.
 """
 
 from __future__ import annotations
 
-import os
 import pathlib
 import sys
 import threading
@@ -55,7 +54,8 @@ SLEEP_S = 0.02
 RETRY_S = 1.0
 #: Seconds without a scan after which the laser is rebooted (its fatal error ends only so).
 RECOVER_AFTER_S = 3.0
-#: Longest wait for the power-on telegram after a reset (Pluto 8.1: a reboot takes about 20 s).
+#: Longest time the reset request goes round the speeds unanswered, and longest wait for the
+#: power-on telegram after it was answered (Pluto 8.1: a reboot takes about 20 s).
 RESET_TIMEOUT_S = 30.0
 #: Longest the loop waits for a connect or reset worker when the module quits.
 QUIT_JOIN_S = 1.0
@@ -74,14 +74,15 @@ def silent_after(device: LaserDevice) -> float:
     return max(0.5, 4 * scan_period(device))
 
 
+#: pyserial's parity for the ``parity`` attribute of laser-config.xml.
+PARITY = {'none': serial.PARITY_NONE, 'even': serial.PARITY_EVEN}
+
+
 def make_laser(device: LaserDevice) -> SickLaser:
-    """The device layer for ``device`` (no I/O but resolving the port's path for the PLS parity)."""
-    parity = None
-    if device.type == 'PLS' and os.path.realpath(device.port).startswith('/dev/pts/'):
-        parity = serial.PARITY_NONE
+    """The device layer for ``device`` (no I/O), with the configured line parity."""
     return SickLaser(device.port, kind=device.type, baudrate=device.baud,
                      resolution=device.resolution, units=device.units, invert=device.invert,
-                     parity=parity)
+                     parity=PARITY[device.parity])
 
 
 def log_line(stamp: float, ranges: Sequence[float]) -> str:
@@ -177,7 +178,7 @@ class SickRunner:
     # -- connect and reset in a worker ----------------------------------------------------------
     def _start_job(self, job: str) -> None:
         if self.laser is None or not self._ever_connected:
-            self.laser = make_laser(self.device)   # resolves the port anew (it may be a new pty)
+            self.laser = make_laser(self.device)   # a fresh one until the laser was found
         laser = self.laser
         self._job, self._job_error = job, None
         self._telegrams_before = laser.stats.telegrams
