@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pathlib
+from collections.abc import Callable
 
 import pytest
 
@@ -56,51 +57,45 @@ def test_messages_travel_to_a_consumer_of_the_log_stream(manager: CommsManager) 
     assert reader.data.source == 'Tester'
 
 
-def test_messages_reach_rosout(manager: CommsManager) -> None:
+def _rosout(manager: CommsManager) -> Callable[[], list[tuple[int, str]]]:
+    """A /rosout reader for this test's node: each call returns everything seen so far."""
     from rcl_interfaces.msg import Log
     from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-    log = Logger('Rosout', stderr=False, use_syslog=False)
-    manager.register_supplier(log)
     qos = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
-    rosout = manager.node.create_subscription(Log, '/rosout', lambda _: None, qos)
-    log.error('seen by every ROS 2 tool')
-    found = []
+    subscription = manager.node.create_subscription(Log, '/rosout', lambda _: None, qos)
+    found: list[tuple[int, str]] = []
 
-    def arrived() -> bool:
-        result = rosout.handle.take_message(Log, False)
+    def read() -> list[tuple[int, str]]:
+        result = subscription.handle.take_message(Log, False)
         while result is not None:
             found.append((result[0].level, result[0].msg))
-            result = rosout.handle.take_message(Log, False)
-        return (Log.ERROR, 'seen by every ROS 2 tool') in found
+            result = subscription.handle.take_message(Log, False)
+        return found
+    return read
 
-    until(manager, arrived, what='the message on /rosout')
-    assert (Log.ERROR, 'seen by every ROS 2 tool') in found
+
+def test_messages_reach_rosout(manager: CommsManager) -> None:
+    from rcl_interfaces.msg import Log
+    log = Logger('Rosout', stderr=False, use_syslog=False)
+    manager.register_supplier(log)
+    rosout = _rosout(manager)
+    log.error('seen by every ROS 2 tool')
+    until(manager, lambda: (Log.ERROR, 'seen by every ROS 2 tool') in rosout(), what='the message on /rosout')
+    assert (Log.ERROR, 'seen by every ROS 2 tool') in rosout()
 
 
 def test_one_logger_sends_every_severity_to_rosout(manager: CommsManager) -> None:
     """rclpy refuses a second severity from one call site; each level must still get through."""
     from rcl_interfaces.msg import Log
-    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
     log = Logger('Levels', stderr=False, use_syslog=False)
     manager.register_supplier(log)
-    qos = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE,
-                     durability=DurabilityPolicy.TRANSIENT_LOCAL)
-    rosout = manager.node.create_subscription(Log, '/rosout', lambda _: None, qos)
+    rosout = _rosout(manager)
     log.notice('first a notice')
     log.warn('then a warning')
     log.error('then an error')
     log.notice('and a notice again')
-    found = []
-
-    def arrived() -> bool:
-        result = rosout.handle.take_message(Log, False)
-        while result is not None:
-            found.append((result[0].level, result[0].msg))
-            result = rosout.handle.take_message(Log, False)
-        return (Log.INFO, 'and a notice again') in found
-
-    until(manager, arrived, what='the four messages on /rosout')
-    assert [m for m in found if m[1] != ''][-4:] == [
+    until(manager, lambda: (Log.INFO, 'and a notice again') in rosout(), what='the four messages on /rosout')
+    assert [m for m in rosout() if m[1] != ''][-4:] == [
         (Log.INFO, 'first a notice'), (Log.WARN, 'then a warning'), (Log.ERROR, 'then an error'),
         (Log.INFO, 'and a notice again')]

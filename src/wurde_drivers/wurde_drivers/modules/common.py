@@ -16,7 +16,7 @@ from ..sim.world import World
 from ..xml_config import Device, device_named
 
 __all__ = ['MODULE_TTL_S', 'config_file', 'configured_device', 'exit_on_config_error', 'load_sim',
-           'set_loop']
+           'read_sim_config', 'set_loop', 'sim_config_path']
 
 
 def config_file(manager: CommsManager, given: str | None, default_name: str) -> str:
@@ -72,5 +72,21 @@ def configured_device(manager: CommsManager, argv: list[str], file_name: str,
     path = config_file(manager, opts.user.get('c'), file_name)
     try:
         return device_named(load(path), manager.name, path=path)
+    except ConfigError as error:
+        raise SystemExit(exit_on_config_error(argv[0], error)) from None
+
+
+def sim_config_path(manager: CommsManager, argv: list[str], extra_help: str = '') -> str:
+    """Parse a dummy's options and return its sim-config path (``-c``, else the config directory's)."""
+    manager.set_help_string('  -c FILE  sim-config.xml (default: <config dir>/sim-config.xml)' + extra_help)
+    opts = manager.parse_options(argv, 'c:')
+    return config_file(manager, opts.user.get('c'), 'sim-config.xml')
+
+
+def read_sim_config(manager: CommsManager, argv: list[str]) -> SimConfig:
+    """Parse a dummy's options and read its sim-config; a bad one ends the program with status 2."""
+    path = sim_config_path(manager, argv)
+    try:
+        return load_sim_config(path)
     except ConfigError as error:
         raise SystemExit(exit_on_config_error(argv[0], error)) from None

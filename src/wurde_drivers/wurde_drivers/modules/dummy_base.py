@@ -23,7 +23,7 @@ from wurde_idl.errors import ConfigError
 from ..base_streams import BaseLimits, BaseStreams
 from ..sim.clock import SimClock, make_rng
 from ..sim.robot import SimRobot
-from .common import config_file, exit_on_config_error, load_sim, set_loop
+from .common import exit_on_config_error, load_sim, set_loop, sim_config_path
 
 #: Most simulation steps one loop may run before it gives up catching up (and says so).
 MAX_CATCH_UP = 200
@@ -38,9 +38,7 @@ def _every(rate: float, step: float) -> int:
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('PlutoBase')
-    manager.set_help_string('  -c FILE  sim-config.xml (default: <config dir>/sim-config.xml)')
-    opts = manager.parse_options(argv, 'c:')
-    path = config_file(manager, opts.user.get('c'), 'sim-config.xml')
+    path = sim_config_path(manager, argv)
     try:
         config, world, start = load_sim(path)
         robot = SimRobot(world, config.robot, make_rng(config.seed, 'base'), start=start)

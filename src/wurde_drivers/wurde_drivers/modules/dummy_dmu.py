@@ -12,25 +12,18 @@ import sys
 
 from wurde_core import CommsManager, Logger, RunState
 from wurde_core.interfaces import Egomotion
-from wurde_idl.errors import ConfigError
 
 from ..dmu_streams import DmuStreams
 from ..sim.clock import make_rng
-from ..sim.config import DmuConfig, load_sim_config
+from ..sim.config import DmuConfig
 from ..sim.inertial import DmuModel
-from .common import config_file, exit_on_config_error, set_loop
+from .common import read_sim_config, set_loop
 
 
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('PlutoDMU')
-    manager.set_help_string('  -c FILE  sim-config.xml (default: <config dir>/sim-config.xml)')
-    opts = manager.parse_options(argv, 'c:')
-    path = config_file(manager, opts.user.get('c'), 'sim-config.xml')
-    try:
-        config = load_sim_config(path)
-    except ConfigError as error:
-        return exit_on_config_error(argv[0], error)
+    config = read_sim_config(manager, argv)
     dc = config.dmu or DmuConfig()
     model = DmuModel(make_rng(config.seed, f'dmu:{manager.name}'), rate_bias=dc.rate_bias,
                      rate_noise=dc.rate_noise)

@@ -11,26 +11,19 @@ import sys
 
 from wurde_core import CommsManager, Logger, RunState
 from wurde_core.interfaces import Egomotion
-from wurde_idl.errors import ConfigError
 
 from ..geo import LocalFrame
 from ..gps_streams import GpsStreams
 from ..sim.clock import make_rng
-from ..sim.config import GpsConfig, load_sim_config
+from ..sim.config import GpsConfig
 from ..sim.inertial import GpsModel
-from .common import config_file, exit_on_config_error, set_loop
+from .common import read_sim_config, set_loop
 
 
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('PlutoGPS')
-    manager.set_help_string('  -c FILE  sim-config.xml (default: <config dir>/sim-config.xml)')
-    opts = manager.parse_options(argv, 'c:')
-    path = config_file(manager, opts.user.get('c'), 'sim-config.xml')
-    try:
-        config = load_sim_config(path)
-    except ConfigError as error:
-        return exit_on_config_error(argv[0], error)
+    config = read_sim_config(manager, argv)
     gc = config.gps or GpsConfig()
     frame = LocalFrame(gc.latitude, gc.longitude, gc.altitude)
     model = GpsModel(make_rng(config.seed, f'gps:{manager.name}'), lambda x, y: frame.from_xy(x, y),

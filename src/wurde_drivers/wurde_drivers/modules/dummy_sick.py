@@ -21,7 +21,7 @@ from wurde_idl.errors import ConfigError
 from ..laser_streams import LaserStreams
 from ..sim.clock import make_rng
 from ..sim.laser import LaserModel
-from .common import config_file, exit_on_config_error, load_sim, set_loop
+from .common import exit_on_config_error, load_sim, set_loop, sim_config_path
 
 #: Seconds of ground truth kept to find the pose at a scan's centre time.
 HISTORY_S = 2.0
@@ -59,10 +59,7 @@ class TruthHistory:
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('PlutoLaser')
-    manager.set_help_string('  -c FILE  sim-config.xml (default: <config dir>/sim-config.xml)\n'
-                            '  -n NAME  the <laser> of the config to simulate')
-    opts = manager.parse_options(argv, 'c:')
-    path = config_file(manager, opts.user.get('c'), 'sim-config.xml')
+    path = sim_config_path(manager, argv, '\n  -n NAME  the <laser> of the config to simulate')
     try:
         config, world, _ = load_sim(path)
         if manager.name not in config.lasers:

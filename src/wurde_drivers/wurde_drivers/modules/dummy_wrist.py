@@ -13,12 +13,11 @@ import time
 
 from wurde_core import CommsManager, Logger, RunState, Time
 from wurde_core.interfaces import ActuatorState
-from wurde_idl.errors import ConfigError
 
 from ..sim.axis import Axis
 from ..sim.clock import SimClock
-from ..sim.config import WristConfig, load_sim_config
-from .common import config_file, exit_on_config_error, set_loop
+from ..sim.config import WristConfig
+from .common import read_sim_config, set_loop
 
 STEP_S = 0.01
 
@@ -31,13 +30,7 @@ def _pair(values: object) -> list[float] | None:
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('PlutoWrist')
-    manager.set_help_string('  -c FILE  sim-config.xml (default: <config dir>/sim-config.xml)')
-    opts = manager.parse_options(argv, 'c:')
-    path = config_file(manager, opts.user.get('c'), 'sim-config.xml')
-    try:
-        config = load_sim_config(path)
-    except ConfigError as error:
-        return exit_on_config_error(argv[0], error)
+    config = read_sim_config(manager, argv)
     wc = config.wrist or WristConfig()
     axes = [Axis(wc.pan_min, wc.pan_max, wc.max_velocity, wc.max_acceleration),
             Axis(wc.tilt_min, wc.tilt_max, wc.max_velocity, wc.max_acceleration)]
