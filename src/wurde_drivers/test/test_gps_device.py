@@ -22,7 +22,7 @@ def walking_north(elapsed: float) -> GpsSample:
     return GpsSample(ORIGIN[0] + 2.0 * elapsed / 111_200.0, ORIGIN[1], 30.0, 2.0, 0.0)
 
 
-def collect(gps: GpsReceiver, count: int, timeout: float = 5.0) -> list[Fix]:
+def collect(gps: GpsReceiver, count: int, timeout: float = 20.0) -> list[Fix]:
     deadline = time.monotonic() + timeout
     fixes: list[Fix] = []
     while len(fixes) < count:
@@ -40,7 +40,7 @@ def polled(gps: GpsReceiver, condition: Callable[[], bool]) -> Callable[[], bool
     return check
 
 
-def wait_for(condition: Callable[[], bool], timeout: float = 5.0) -> None:
+def wait_for(condition: Callable[[], bool], timeout: float = 20.0) -> None:
     deadline = time.monotonic() + timeout
     while not condition():
         assert time.monotonic() < deadline, 'condition not met before the deadline'

@@ -18,7 +18,7 @@ from wurde_drivers.serial_link import SerialLink
 STEP = 185.1428 / 3600.0 * math.pi / 180.0     # rad per position
 
 
-def wait_for(condition: Callable[[], bool], timeout: float = 5.0) -> None:
+def wait_for(condition: Callable[[], bool], timeout: float = 20.0) -> None:
     deadline = time.monotonic() + timeout
     while not condition():
         assert time.monotonic() < deadline, 'condition not met before the deadline'
@@ -42,7 +42,7 @@ def ptu(unit: Ptu46Emulator) -> Iterator[Ptu46]:
         driver.close()
 
 
-def settle(ptu: Ptu46, timeout: float = 5.0) -> None:
+def settle(ptu: Ptu46, timeout: float = 20.0) -> None:
     wait_for(lambda: not ptu.query().moving, timeout)
 
 

@@ -43,7 +43,7 @@ def driver(emulator: RFlexEmulator) -> Iterator[RFlexDriver]:
         drv.close()
 
 
-def poll_until(drv: RFlexDriver, condition: Callable[[], bool], timeout: float = 3.0,
+def poll_until(drv: RFlexDriver, condition: Callable[[], bool], timeout: float = 20.0,
                sink: list | None = None) -> None:
     deadline = time.monotonic() + timeout
     while not condition():
@@ -93,7 +93,7 @@ def test_brake_command_when_allowed(emulator: RFlexEmulator, driver: RFlexDriver
 def timed_poses(drv: RFlexDriver, count: int) -> list[tuple[float, float, float, float]]:
     """(base time s, x, y, theta) at each bearing report, i.e. each completed odometry step."""
     poses: list[tuple[float, float, float, float]] = []
-    deadline = time.monotonic() + 5.0
+    deadline = time.monotonic() + 20.0
     while len(poses) < count:
         assert time.monotonic() < deadline
         for report in drv.poll(0.05):
