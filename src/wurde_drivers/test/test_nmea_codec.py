@@ -196,9 +196,10 @@ def test_fuzz_decode_of_checksummed_garbage_is_a_sentence_or_codec_error(body: b
     line = b'$GPGGA,' + body.replace(b'*', b'').replace(b'$', b'')
     line += f'*{checksum(line[1:]):02X}'.encode()
     try:
-        decode(line)
+        sentence = decode(line)
     except CodecError:
-        pass
+        return
+    assert isinstance(sentence, (GGA, RawSentence))
 
 
 @settings(max_examples=300, deadline=None)

@@ -233,6 +233,7 @@ def test_link_reopened_after_the_port_vanished(emulator: RFlexEmulator,
     poll_until(driver, lambda: emulator.commands().count(rflex.set_defaults()) == 2)
     before = driver.stats.telegrams
     poll_until(driver, lambda: driver.stats.telegrams > before + 4)
+    assert driver.stats.reconnects == 1 and driver.stats.telegrams > before + 4
 
 
 def test_command_timeout_stops_the_base(emulator: RFlexEmulator) -> None:
