@@ -95,16 +95,11 @@ def execute(manager: CommsManager, objects: dict, words: list[str]) -> object:
                 obj.data.ranges = [float(i)]
             sent += bool(obj.publish_data())
         return sent
-    if verb in ('wait_subscribers', 'wait_acked'):
-        channel = 'data' if obj.role == 'supplier' else 'request'
-        outbox = obj._outboxes[channel]
-        deadline = time.monotonic() + 20
-        if verb == 'wait_subscribers':
-            while outbox.subscribers() == 0 and time.monotonic() < deadline:
-                time.sleep(0.01)
-            return outbox.subscribers()
-        from rclpy.duration import Duration
-        return outbox.publisher.wait_for_all_acked(Duration(seconds=20))
+    if verb == 'wait_subscribers':
+        obj.wait_for_peers(20)
+        return obj.peers()
+    if verb == 'wait_acked':
+        return obj.wait_delivered(20)
     if verb == 'lock':
         member = '' if words[2] == '*' else words[2]
         obj.set_lock(member, LockMode[words[3]], words[4] if len(words) > 4 else '')

@@ -65,7 +65,7 @@ def test_latest_mode_keeps_only_the_newest(manager, peer) -> None:
     server.cmd('wait_subscribers latest')
     server.cmd('publish latest 50')
     server.cmd('wait_acked latest')
-    until(manager, lambda: foo.new_data() and foo.data_drops == 0 and foo._inboxes['data'].received
+    until(manager, lambda: foo.new_data() and foo.data_drops == 0 and foo.received('data')
           and foo._inboxes['data'].latest.ranges[0] == 49.0, what='newest event')
     assert foo.get_next_data() and foo.data.ranges[0] == 49.0
     assert not foo.new_data() and not foo.get_next_data()
@@ -87,7 +87,7 @@ def test_locks_are_held_by_the_supplier_and_enforced_in_both_processes(manager, 
         foo.requests.max_range.set_value(1.0)
     foo.requests.angle_min.set_value(0.5)  # locked to this very process: allowed
     foo.requests.angle_max.set_value(2.5)  # not locked
-    until(manager, lambda: foo._outboxes['request'].subscribers() > 0, what='request matched')
+    until(manager, lambda: foo.peers() > 0, what='request matched')
     assert foo.publish_request()
     assert eventually(server, 'requests locked', '-') == 'Tester:angle_max=2.5,angle_min=0.5'
 
@@ -98,7 +98,7 @@ def test_locks_are_held_by_the_supplier_and_enforced_in_both_processes(manager, 
         rogue_manager.set_no_sleep()
         rogue_manager.register_consumer(rogue)
         rogue.requests.angle_min.set_value(9.0)  # Rogue has not seen the locks yet
-        until(rogue_manager, lambda: rogue._outboxes['request'].subscribers() > 0,
+        until(rogue_manager, lambda: rogue.peers() > 0,
               what='rogue matched')
         rogue.publish_request()
         assert eventually(server, 'refused locked', '0') == '1'
@@ -122,7 +122,7 @@ def test_states_are_commanded_from_another_process(manager, peer) -> None:
     assert pid == worker.process.pid
 
     def command(state: RunState) -> None:
-        until(manager, lambda: heartbeat._outboxes['request'].subscribers() > 0, what='match')
+        until(manager, lambda: heartbeat.peers() > 0, what='match')
         heartbeat.requests.state.set_value(state)
         heartbeat.publish_request()
 
@@ -200,7 +200,8 @@ def test_and_trigger_waits_for_every_object_or_trigger_for_any(manager, peer) ->
     assert time.monotonic() - start < 19.0, 'AND trigger did not fire with both objects fed'
     assert b.new_data()
 
-    manager._triggers.clear()
+    for trigger in manager.triggers():
+        manager.unregister_trigger(trigger)
     manager.register_trigger(Trigger(a))
     manager.register_trigger(Trigger(b))
     server.cmd('publish trig_b 1')

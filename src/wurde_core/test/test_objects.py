@@ -73,7 +73,7 @@ def test_data_info_and_header_round_trip_in_one_process(manager: CommsManager) -
     consumer.set_queue_mode(True)
     manager.register_supplier(supplier)
     manager.register_consumer(consumer)
-    until(manager, lambda: supplier._outboxes['data'].subscribers() > 0, what='match')
+    until(manager, lambda: supplier.peers() > 0, what='match')
     supplier.data.location = Pose(1.0, 2.0, 0.5)
     supplier.data.location.theta(0.75)
     supplier.data.tv = 0.3
@@ -84,7 +84,7 @@ def test_data_info_and_header_round_trip_in_one_process(manager: CommsManager) -
     supplier.data.source = 'Mimic'
     supplier.data.timestamp = Time(12.5)
     assert supplier.publish_data()
-    until(manager, lambda: consumer._inboxes['data'].received == 2, what='two events')
+    until(manager, lambda: consumer.received('data') == 2, what='two events')
     assert consumer.get_next_data()
     assert consumer.data.location == Pose(1.0, 2.0, 0.75)
     assert consumer.data.tv == pytest.approx(0.3)

@@ -51,7 +51,7 @@ def test_obstacle_avoider_verbs_reach_the_supplier(manager: CommsManager) -> Non
     manager.register_supplier(transport)
     avoider = ObstacleAvoider('Avoider')
     manager.register_consumer(avoider)
-    until(manager, lambda: avoider._outboxes['request'].subscribers() > 0, what='match')
+    until(manager, lambda: avoider.peers() > 0, what='match')
     assert avoider.move_to_relative_point(Point(1.5, -0.5))
     assert avoider.rotate_to_relative_angle(-math.pi / 2)
     assert avoider.stop()
@@ -76,7 +76,7 @@ def test_vector_mover_moves_and_stops(manager: CommsManager) -> None:
     manager.register_supplier(transport)
     mover = VectorMover('Mover')
     manager.register_consumer(mover)
-    until(manager, lambda: mover._outboxes['request'].subscribers() > 0, what='match')
+    until(manager, lambda: mover.peers() > 0, what='match')
     assert mover.move_to(1.0, 1.0)
     assert mover.stop()
     got = []

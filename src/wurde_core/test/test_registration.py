@@ -70,7 +70,7 @@ def test_assigned_consumer_gets_its_stream_from_the_mcp(manager, strategy) -> No
         answer.success.set_value(True)
         mcp.publish_info()
         client.expect('CONNECTED assigned_stream')
-        until(manager, lambda: foo._outboxes['data'].subscribers() > 0, what='client subscribed')
+        until(manager, lambda: foo.peers() > 0, what='client subscribed')
         foo.data.ranges = [42.0]
         assert foo.publish_data()
         client.expect('VALUE 42.0')
@@ -99,7 +99,7 @@ def test_normal_strategy_connects_at_once_and_asks_the_mcp_to_start_the_supplier
         foo = Foo(ConnectionStrategy.NORMAL, 'Bar')
         other.register_consumer(foo)
         assert foo.is_connected() and foo.stream == 'Bar'
-        until(other, lambda: other._mcp.obj._outboxes['request'].subscribers() > 0,
+        until(other, lambda: other._mcp.obj.peers() > 0,
               what='MCP matched')
         other._mcp.request_start(foo)  # the first one may have gone before the match
         until(manager, mcp.new_request, what='start request')

@@ -73,6 +73,12 @@ class CommsManager:
         self._previous_handlers: dict[int, Any] = {}
         self._signals = 0
 
+    @property
+    def context(self) -> Context | None:
+        """The rclpy context of this module's node (``None`` before the first registration or
+        update), for code that adds its own executor or entities to the node."""
+        return self._context
+
     # -- options (guide 5.1.1) -----------------------------------------------------------------
     def set_help_string(self, text: str) -> None:
         """Extra text for ``-h``."""
@@ -170,6 +176,14 @@ class CommsManager:
         """``run_update`` will return only when this (or another registered) trigger fires."""
         if trigger not in self._triggers:
             self._triggers.append(trigger)
+
+    def triggers(self) -> list[Trigger]:
+        """The registered triggers."""
+        return list(self._triggers)
+
+    def unregister_trigger(self, trigger: Trigger) -> None:
+        """Stop ``run_update`` waiting for ``trigger``."""
+        self._triggers = [t for t in self._triggers if t is not trigger]
 
     def objects(self, user_only: bool = False) -> list[RobotObject]:
         """Registered objects (the program's; plus the manager's own unless ``user_only``)."""

@@ -8,6 +8,7 @@ sends ``requests``.  Classes for each interface are made by :mod:`wurde_core.int
 
 from __future__ import annotations
 
+import time
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from .channel import Inbox, Outbox
@@ -23,6 +24,8 @@ if TYPE_CHECKING:
     from .comms_manager import CommsManager
 
 SUPPLIER, CONSUMER = 'supplier', 'consumer'
+#: Poll interval of :meth:`RobotObject.wait_for_peers`.
+PEER_POLL_S = 0.01
 
 
 class RobotObject:
@@ -124,6 +127,43 @@ class RobotObject:
     def _drops(self, channel: str) -> int:
         inbox = self._inboxes.get(channel)
         return inbox.drops if inbox else 0
+
+    # -- peers -----------------------------------------------------------------------------------
+    def _outgoing(self) -> Outbox | None:
+        """The channel this object sends on most: a supplier's data, a consumer's requests."""
+        return self._outboxes.get('data' if self._role == SUPPLIER else 'request')
+
+    def peers(self) -> int:
+        """Matched peers right now: the consumers subscribed to a supplier's data, or the
+        suppliers listening to a consumer's requests (0 before the stream is connected)."""
+        outbox = self._outgoing()
+        return outbox.subscribers() if outbox is not None else 0
+
+    def wait_for_peers(self, timeout: float, count: int = 1) -> bool:
+        """Wait until at least ``count`` peers are matched (see :meth:`peers`) or ``timeout``
+        seconds pass; returns whether they are.  Discovery runs in DDS's own threads, so this
+        needs no ``run_update``."""
+        deadline = time.monotonic() + timeout
+        while self.peers() < count:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                return False
+            time.sleep(min(PEER_POLL_S, remaining))
+        return True
+
+    def received(self, channel: str = 'data') -> int:
+        """Events taken in on ``channel`` (``data``, ``info`` or ``request``) since connection."""
+        inbox = self._inboxes.get(channel)
+        return inbox.received if inbox is not None else 0
+
+    def wait_delivered(self, timeout: float, channel: str | None = None) -> bool:
+        """Wait until every matched reader acknowledged what this object sent on ``channel``
+        (default: its outgoing channel, see :meth:`peers`); returns whether they did."""
+        outbox = self._outboxes.get(channel) if channel else self._outgoing()
+        if outbox is None:
+            return False
+        from rclpy.duration import Duration
+        return bool(outbox.publisher.wait_for_all_acked(Duration(seconds=max(0.0, timeout))))
 
     # -- receiving -----------------------------------------------------------------------------
     def new_data(self) -> bool:

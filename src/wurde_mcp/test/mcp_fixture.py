@@ -71,7 +71,7 @@ class Table:
 
     def command(self, command: int, module: str = '', state: RunState = RunState.RUN) -> None:
         deadline = time.monotonic() + 20
-        while not self.control._outboxes['request'].subscribers():
+        while not self.control.peers():
             assert time.monotonic() < deadline, 'MCP control channel not matched'
             self.manager.step()
             self.manager.wait(0.05)

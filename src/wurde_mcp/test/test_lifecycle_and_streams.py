@@ -27,7 +27,7 @@ def call(table: Table, client, request, timeout: float = 30.0):
         table.manager.wait(0.05)
     future = client.call_async(request)
     from rclpy.executors import SingleThreadedExecutor
-    executor = SingleThreadedExecutor(context=table.manager._context)
+    executor = SingleThreadedExecutor(context=table.manager.context)
     executor.add_node(table.manager.node)
     try:
         while not future.done():

@@ -30,10 +30,10 @@ def _connect(name: str) -> tuple[CommsManager, object]:
     control = robot_object_class('SimpleControl')('mcp_control')
     manager.register_consumer(control)
     deadline = time.monotonic() + WAIT_S
-    while not control._outboxes['request'].subscribers() and time.monotonic() < deadline:
+    while not control.peers() and time.monotonic() < deadline:
         manager.step()
         manager.wait(0.05)
-    if not control._outboxes['request'].subscribers():
+    if not control.peers():
         manager.clean_up()
         raise SystemExit(f'{name}: no MCP answers on mcp_control within {WAIT_S:.0f} s')
     return manager, control
@@ -49,9 +49,7 @@ def _send(control: object, command: int, module: str = '', state: RunState = Run
 
 def _delivered(control: object) -> None:
     """Wait until the MCP acknowledged the request (it is sent at once; this only waits)."""
-    from rclpy.duration import Duration
-    control._outboxes['request'].publisher.wait_for_all_acked(  # type: ignore[attr-defined]
-        Duration(seconds=WAIT_S))
+    control.wait_delivered(WAIT_S)  # type: ignore[attr-defined]
 
 
 def _table(manager: CommsManager, control: object) -> list[dict[str, object]]:

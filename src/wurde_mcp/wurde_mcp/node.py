@@ -67,8 +67,8 @@ class Mcp:
         self.config_file = config_file
         self.mappings_file = mappings_file
         self.supervisor: Supervisor | None = None
-        self.node = _McpNode(self, context=manager._context)
-        self.executor = SingleThreadedExecutor(context=manager._context)
+        self.node = _McpNode(self, context=manager.context)
+        self.executor = SingleThreadedExecutor(context=manager.context)
         self.executor.add_node(self.node)
 
     def load(self) -> McpConfig:
