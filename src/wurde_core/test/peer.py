@@ -13,12 +13,18 @@ Commands (``S`` is a stream name):
   requests S                    print each pending request's set members
   data S                        print pending data events (ranges[0] of Foo)
   quit                          leave the loop
-Reset and Restart are acknowledged and followed by set_run(), as a real module would.
+  stream S                      from now on publish one event per loop, ranges=[loop number]
+
+Every run state the module enters is printed from a state callback (``manager.on_state``); the
+callbacks for Reset and Restart replace the defaults, so the peer returns to Run at once.  With
+``WURDE_PEER_PLAIN=1`` in its environment the peer registers no callbacks and gets the manager's
+default behaviours; it prints ``STARTED <pid>`` when it (re)starts.
 """
 
 from __future__ import annotations
 
 import ast
+import os
 import queue
 import sys
 import threading
@@ -41,22 +47,30 @@ def main() -> int:
         commands.put('quit')
 
     threading.Thread(target=read_stdin, daemon=True).start()
-    state = None
-    running = True
+    if os.environ.get('WURDE_PEER_PLAIN') != '1':
+        for state in (RunState.IDLE, RunState.RESET, RunState.RESTART, RunState.RUN):
+            manager.on_state(state, lambda state=state: print(f'STATE {state.name}', flush=True))
+    running, loops, streaming = True, 0, []
     while running:
-        new_state = manager.run_update()
-        if new_state != state:
-            print(f'STATE {new_state.name}', flush=True)
-            state = new_state
-        if new_state == RunState.QUIT:
+        if manager.run_update() == RunState.QUIT:
+            print('STATE QUIT', flush=True)
             break
-        if new_state in (RunState.RESET, RunState.RESTART):
-            manager.set_run()
+        if loops == 0:
+            print(f'STARTED {os.getpid()}', flush=True)
+            print('STATE RUN', flush=True)
+        for obj in streaming:
+            obj.data.ranges = [float(loops)]
+            obj.publish_data()
+        loops += 1
         while not commands.empty():
             line = commands.get()
             if not line:
                 continue
             words = line.split()
+            if words[0] == 'stream' and len(words) == 2 and words[1] in objects:
+                streaming.append(objects[words[1]])
+                print(f'OK {line}', flush=True)
+                continue
             try:
                 result = execute(manager, objects, words)
             except Exception as exc:  # report every failure to the test, keep running

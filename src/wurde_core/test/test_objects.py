@@ -9,8 +9,9 @@ import pytest
 
 from conftest import HERE, until
 from wurde_core import (CommsManager, DirectionError, LockedError, LockMode, NotRegisteredError,
-                        Pose, RegistrationError, RunState, Time, UnknownInterfaceError,
+                        Pose, RegistrationError, RunState, Time, UnknownInterfaceError, WurdeError,
                         global_configuration)
+from wurde_core.errors import InvalidTypeError, InvalidValueError, MemberError
 from wurde_core.interfaces import Egomotion, Foo, robot_object_class
 
 
@@ -56,8 +57,50 @@ def test_supplier_may_not_write_a_member_locked_to_consumers(manager: CommsManag
 def test_unknown_interface_names_the_installed_ones() -> None:
     with pytest.raises(UnknownInterfaceError, match='unknown interface "Fooo"; installed: .*Foo'):
         robot_object_class('Fooo')
-    with pytest.raises(UnknownInterfaceError):
+    with pytest.raises(ImportError):
         from wurde_core.interfaces import NoSuchInterface  # noqa: F401
+
+
+def test_an_unknown_interface_is_not_an_attribute_of_the_interfaces_module() -> None:
+    import wurde_core.interfaces as interfaces
+    assert hasattr(interfaces, 'Foo')
+    assert not hasattr(interfaces, 'NoSuchInterface')
+    with pytest.raises(WurdeError, match='unknown interface "NoSuchInterface"; installed: .*Foo'):
+        interfaces.NoSuchInterface  # noqa: B018
+
+
+def test_a_typo_on_a_member_raises_instead_of_passing_silently() -> None:
+    foo = Foo('typo')
+    with pytest.raises(AttributeError, match="FooData has no member 'rangs'; members: ranges"):
+        foo.data.rangs = [1.0]
+    with pytest.raises(AttributeError, match="has no member 'rangs'"):
+        foo.data.rangs  # noqa: B018
+    with pytest.raises(AttributeError, match="FooInfo has no member 'max_rang'"):
+        foo.info.max_rang = 1.0
+    with pytest.raises(MemberError, match="use info.max_range.set_value"):
+        foo.info.max_range = 1.0
+    foo.data.ranges = [1.0]
+    foo.data.timestamp = Time(5.0)
+    assert foo.data.ranges[0] == 1.0 and foo.data.timestamp == 5.0
+
+
+def test_argument_errors_are_wurde_errors_of_the_usual_python_kind(ros_domain: int) -> None:
+    with pytest.raises(InvalidValueError):
+        CommsManager('')
+    with pytest.raises(InvalidTypeError):
+        Foo('')
+    manager = CommsManager('Arguments')
+    try:
+        with pytest.raises(InvalidTypeError):
+            manager.register_supplier(object())  # type: ignore[arg-type]
+        supplier = Foo('arguments')
+        with pytest.raises(InvalidValueError):
+            supplier.set_lock('', LockMode.PROCESS)
+    finally:
+        manager.clean_up()
+    for error in (InvalidValueError, InvalidTypeError, MemberError):
+        assert issubclass(error, WurdeError)
+    assert issubclass(InvalidValueError, ValueError) and issubclass(InvalidTypeError, TypeError)
 
 
 def test_unknown_member_names_the_members() -> None:

@@ -17,6 +17,7 @@ from collections.abc import Callable
 from typing import Any
 
 from .qos import QUEUE_CAPACITY
+from .ros_adaptor import publish, take
 
 
 class Outbox:
@@ -33,8 +34,7 @@ class Outbox:
         """Publish ``message`` with the next sequence number."""
         self.sequence += 1
         message.header.sequence = self.sequence
-        with self._handle:
-            self._handle.publish(message)
+        publish(self._handle, message)
 
     def subscribers(self) -> int:
         """Matched subscriptions right now."""
@@ -71,6 +71,29 @@ class Inbox:
                 self.latest, self.fresh = self.queue[-1], True
             self.queue = None
 
+    def adopt(self, old: 'Inbox') -> None:
+        """Take over what ``old`` (the same channel before a reconnection) held and counted."""
+        if old.queue is not None:
+            self.queue = collections.deque(old.queue) if self.queue is not None else None
+            if self.queue is None and old.queue:
+                self.latest, self.fresh = old.queue[-1], True
+        if old.fresh and old.latest is not None:
+            if self.queue is not None:
+                self.queue.append(old.latest)
+            else:
+                self.latest, self.fresh = old.latest, True
+        self.drops += old.drops
+        self.received += old.received
+        self._last_seq.update(old._last_seq)
+
+    def discard(self) -> int:
+        """Forget what was taken in and not yet read (a Reset); return how many events."""
+        count = len(self.queue) if self.queue is not None else int(self.fresh)
+        if self.queue is not None:
+            self.queue.clear()
+        self.fresh = False
+        return count
+
     def drain(self) -> int:
         """Take in what DDS holds for this subscription; return how many events.
 
@@ -80,39 +103,31 @@ class Inbox:
         losses show up as sequence gaps.
         """
         taken = 0
-        take = self._handle.take_message
-        msg_type = self._type
         queue = self.queue
         room = QUEUE_CAPACITY - len(queue) if queue is not None else -1
         first_gaps = 0
         last_seq = self._last_seq
         accept = self.accept
-        with self._handle:
-            while room:
-                room -= 1
-                result = take(msg_type, False)
-                if result is None:
-                    break
-                message = result[0]
-                if queue is not None:
-                    # Sequence gaps (inlined: this is the hot path of every queue-mode stream).
-                    header = message.header
-                    sequence = header.sequence
-                    if sequence:
-                        last = last_seq.get(header.source)
-                        last_seq[header.source] = sequence
-                        if last is None:
-                            first_gaps += sequence - 1
-                        elif sequence > last + 1:
-                            self.drops += sequence - last - 1
-                if accept is not None and not accept(message):
-                    continue
-                taken += 1
-                if queue is not None:
-                    queue.append(message)
-                else:
-                    self.latest = message
-                    self.fresh = True
+        for message in take(self._handle, self._type, room):
+            if queue is not None:
+                # Sequence gaps (inlined: this is the hot path of every queue-mode stream).
+                header = message.header
+                sequence = header.sequence
+                if sequence:
+                    last = last_seq.get(header.source)
+                    last_seq[header.source] = sequence
+                    if last is None:
+                        first_gaps += sequence - 1
+                    elif sequence > last + 1:
+                        self.drops += sequence - last - 1
+            if accept is not None and not accept(message):
+                continue
+            taken += 1
+            if queue is not None:
+                queue.append(message)
+            else:
+                self.latest = message
+                self.fresh = True
         if first_gaps and taken >= QUEUE_CAPACITY:
             self.drops += first_gaps
         self.received += taken

@@ -10,6 +10,22 @@ and sleeps per the rate settings, then returns the run state::
 
 Nothing blocks longer than asked: waits are sliced so that signals and state commands are seen
 within :data:`WAIT_SLICE_S`.  ``step()`` is the deterministic single step for tests.
+
+Run states (guide 5.2.1).  ``run_update()`` returns only RUN or QUIT, so the guide's loop is
+correct as printed: the module lives through the MCP's other states.
+
+- **Idle**: ``run_update`` does not return; it carries only heartbeat and MCP traffic (no data in
+  or out, no busy wait: it sleeps on those channels) until the state is Run again or Quit.
+- **Reset**: by default the module forgets every event it has taken in and not yet read (they
+  were meant for the state before the reset) and returns to Run.
+- **Restart**: by default the module starts itself again: it announces a long heartbeat TTL,
+  closes its node and re-executes its own command line in the same process (same PID, fresh
+  state), so neither the MCP nor a program without one has anything to do.
+
+A module that wants to act on a state asks for it with :meth:`CommsManager.on_state`: its
+callback runs in the loop's thread when the module enters that state (for Run: when it returns to
+Run from another state).  A callback for Reset or Restart replaces the default; the module then
+returns to Run by itself unless the callback chose another state.
 """
 
 from __future__ import annotations
@@ -18,21 +34,22 @@ import atexit
 import os
 import signal
 import sys
+import threading
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
-import rclpy
 from rclpy.context import Context
-from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
-from rclpy.signals import SignalHandlerOptions
 
 from . import options as _options
 from .enums import ConnectionStrategy, RunState
-from .errors import ConfigError, OptionError, RegistrationError
+from .errors import ConfigError, InvalidTypeError, InvalidValueError, OptionError, RegistrationError
+from .heartbeat import ModuleHeartbeat
+from .mcp_client import McpClient
 from .naming import stream_segment_path
 from .robot_object import CONSUMER, SUPPLIER, RobotObject
 from .role_config import DEFAULT_ROLE_CONFIG, RoleConfiguration, set_global_configuration
+from .ros_adaptor import SubscriptionWaiter, open_node
 from .trigger import Trigger
 
 #: Longest single wait inside run_update, so that signals and commands are seen promptly.
@@ -40,6 +57,13 @@ WAIT_SLICE_S = 0.05
 #: How long registration mode (-r) waits for an MCP to listen (discovery on a loaded machine can
 #: take seconds).
 REGISTRATION_WAIT_S = 10.0
+#: Heartbeat TTL announced just before a Restart re-executes the program: long enough for the new
+#: process to start and beat, so that the MCP does not take the gap for a hang.
+RESTART_TTL_S = 30.0
+#: Bound on waiting for the goodbye heartbeat to be acknowledged at clean-up.
+GOODBYE_WAIT_S = 1.0
+
+StateCallback = Callable[[], None]
 
 
 class CommsManager:
@@ -47,7 +71,7 @@ class CommsManager:
 
     def __init__(self, name: str) -> None:
         if not name:
-            raise ValueError('a CommsManager needs the module name')
+            raise InvalidValueError('a CommsManager needs the module name')
         self.name = name
         self.state = RunState.RUN
         self.options = _options.Options()
@@ -64,14 +88,15 @@ class CommsManager:
         self._objects: list[RobotObject] = []
         self._system_objects: list[RobotObject] = []
         self._triggers: list[Trigger] = []
-        self._heartbeat: Any = None
-        self._mcp: Any = None
+        self._heartbeat: ModuleHeartbeat | None = None
+        self._mcp: McpClient | None = None
         self._closed = False
         self._started = False
-        self._wait_set: Any = None
-        self._wait_subs: list[Any] = []
+        self._waiters: dict[bool, SubscriptionWaiter] = {}
         self._previous_handlers: dict[int, Any] = {}
         self._signals = 0
+        self._hooks: dict[RunState, list[StateCallback]] = {}
+        self._entered: list[RunState] = []
 
     @property
     def context(self) -> Context | None:
@@ -191,7 +216,7 @@ class CommsManager:
 
     def _register(self, obj: RobotObject, role: str) -> None:
         if not isinstance(obj, RobotObject):
-            raise TypeError(f'{obj!r} is not a RobotObject')
+            raise InvalidTypeError(f'{obj!r} is not a RobotObject')
         if obj.role is not None:
             where = 'this' if obj._manager is self else 'another'
             raise RegistrationError(f'{obj._label()} is already registered as a {obj.role} with '
@@ -206,31 +231,37 @@ class CommsManager:
             obj._connect(obj.stream or obj.object_name)
             if obj.strategy == ConnectionStrategy.NORMAL and role == CONSUMER:
                 self._mcp_client().request_start(obj)
-        self._wait_set = None
-        if self._heartbeat is not None and self._started:
-            self._heartbeat.describe()
+        self.entities_changed()
+
+    def entities_changed(self) -> None:
+        """An object's publishers or subscriptions changed (registration, assignment, a queue
+        mode switched after connection): wait anew, and tell the MCP if it cares."""
+        self._waiters.clear()
+        if self._started:
+            self._describe()
 
     def _connect_assigned(self, obj: RobotObject, stream: str) -> None:
         """The MCP assigned ``stream`` to a waiting object."""
         if obj.is_connected():
             obj._disconnect()
         obj._connect(stream)
-        self._wait_set = None
-        if self._heartbeat is not None:
-            self._heartbeat.describe()
+        self.entities_changed()
 
     def _register_system(self, obj: RobotObject, role: str) -> None:
         obj._register(self, role)
         obj._connect(obj.stream or obj.object_name)
         self._system_objects.append(obj)
-        self._wait_set = None
+        self._waiters.clear()
 
-    def _mcp_client(self) -> Any:
+    def _mcp_client(self) -> McpClient:
         if self._mcp is None:
-            from .mcp_client import McpClient
-            self._mcp = McpClient(self)
+            self._mcp = McpClient(self.name, self.log_warning)
             self._register_system(self._mcp.obj, CONSUMER)
         return self._mcp
+
+    def _describe(self) -> None:
+        if self._heartbeat is not None and self.node is not None:
+            self._heartbeat.describe(self.state, self._objects)
 
     # -- life cycle ----------------------------------------------------------------------------
     def _open(self) -> None:
@@ -240,22 +271,15 @@ class CommsManager:
         if self._closed:
             raise RegistrationError(f'CommsManager "{self.name}" was cleaned up')
         stream_segment_path(self.name)  # refuses names that can not be a stream segment
-        context = Context()
-        rclpy.init(args=['wurde', *self.options.ros_arguments], context=context,
-                   signal_handler_options=SignalHandlerOptions.NO)
         node_name = stream_segment_path(self.name).replace('/', '_')
-        self.node = rclpy.create_node(node_name, context=context,
-                                      start_parameter_services=False)
-        self._context = context
+        self._context, self.node = open_node(node_name, self.options.ros_arguments)
         self._install_signal_handlers()
         atexit.register(self.clean_up)
         if self._heartbeat_enabled:
-            from .heartbeat import ModuleHeartbeat
-            self._heartbeat = ModuleHeartbeat(self)
+            self._heartbeat = ModuleHeartbeat(self.name)
             self._register_system(self._heartbeat.obj, SUPPLIER)
 
     def _install_signal_handlers(self) -> None:
-        import threading
         if threading.current_thread() is not threading.main_thread():
             return
         for signum in (signal.SIGINT, signal.SIGTERM):
@@ -271,8 +295,8 @@ class CommsManager:
         """First update: registration and capability listing (-r, -l), process description."""
         self._started = True
         if self.options.registration or self.options.list_capabilities:
-            reached = self._mcp_client().report_capabilities(REGISTRATION_WAIT_S)
-            caps = self._mcp.capabilities()
+            reached = self._mcp_client().report_capabilities(self._objects, REGISTRATION_WAIT_S)
+            caps = McpClient.capabilities(self._objects)
             for interface, stream in caps['supplies']:
                 print(f'supplies {interface} {stream}')
             for interface, alias in caps['consumes']:
@@ -281,8 +305,16 @@ class CommsManager:
                   'the MCP', flush=True)
             if self.options.registration:
                 self.state = RunState.QUIT
-        if self._heartbeat is not None:
-            self._heartbeat.describe()
+        self._describe()
+
+    # -- run states (guide 5.2.1) ----------------------------------------------------------------
+    def on_state(self, state: RunState, callback: StateCallback) -> None:
+        """Call ``callback()`` when this module enters ``state`` (IDLE, RESET, RESTART, or RUN on
+        returning from another state); see the module docstring for the defaults it replaces."""
+        state = RunState(state)
+        if state == RunState.QUIT:
+            raise InvalidValueError('Quit ends the loop; act on it after run_update returns QUIT')
+        self._hooks.setdefault(state, []).append(callback)
 
     def set_run(self) -> None:
         """Return to Run after handling Idle, Reset or Restart."""
@@ -296,9 +328,60 @@ class CommsManager:
         if state == self.state:
             return
         self.state = state
+        self._entered.append(state)
         if self._heartbeat is not None and self.node is not None:
-            self._heartbeat.describe()
-            self._heartbeat.beat(force=True)
+            self._describe()
+            self._heartbeat.beat(self._ttl_s, force=True)
+
+    def _dispatch(self) -> None:
+        """Run the callbacks of the states entered since the last dispatch, in order."""
+        while self._entered:
+            state = self._entered.pop(0)
+            for callback in self._hooks.get(state, ()):
+                callback()
+
+    def _settle(self, *, block: bool = True) -> None:
+        """Handle Idle, Reset and Restart until the state is Run or Quit (``block=False``: one
+        turn of Idle at most, for :meth:`step`)."""
+        while True:
+            self._dispatch()
+            state = self.state
+            if state in (RunState.RUN, RunState.QUIT):
+                return
+            if state == RunState.IDLE:
+                self._idle_turn()
+                if not block:
+                    return
+            elif state in (RunState.RESET, RunState.RESTART):
+                if not self._hooks.get(state):
+                    (self._default_reset if state == RunState.RESET else self._default_restart)()
+                if self.state == state:
+                    self._change_state(RunState.RUN)
+
+    def _idle_turn(self) -> None:
+        """One turn of Idle: sleep on the heartbeat and MCP channels, take their traffic in,
+        beat.  No data in or out."""
+        slice_s = WAIT_SLICE_S
+        if self._heartbeat is not None and self._heartbeat_enabled:
+            slice_s = min(slice_s, max(self._heartbeat.next_beat_in(self._ttl_s), 0.001))
+        self._wait_once(slice_s, system_only=True)
+        self._exchange()
+        self._beat()
+
+    def _default_reset(self) -> None:
+        """Forget what was taken in and not yet read: it belonged to the state before."""
+        for obj in self._objects:
+            obj._discard_pending()
+
+    def _default_restart(self) -> None:
+        """Start this program again in the same process (same PID, fresh state)."""
+        if self._heartbeat is not None and self.node is not None:
+            self._heartbeat.beat(RESTART_TTL_S, force=True)
+            self._heartbeat.obj.wait_delivered(GOODBYE_WAIT_S, channel='data')
+        self.clean_up(goodbye=False)
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os.execv(sys.executable, [sys.executable, *sys.orig_argv[1:]])
 
     def run_update(self, timeout: float | None = None) -> RunState:
         """One turn of the module's loop; returns the run state.
@@ -309,6 +392,7 @@ class CommsManager:
         self._open()
         if not self._started:
             self._start()
+        self._settle()
         if self.state == RunState.QUIT:
             return self.state
         if self._sleep_enabled and self._pre_sleep:
@@ -319,15 +403,18 @@ class CommsManager:
         self._beat()
         if self._sleep_enabled and not self._pre_sleep:
             self._nap(self._sleep_s)
+        self._settle()
         return self.state
 
     def step(self) -> RunState:
-        """Deterministic single step: exchange and heartbeat, no sleeping and no waiting."""
+        """Deterministic single step: exchange and heartbeat, no sleeping and no waiting beyond
+        one Idle turn; returns the state, which may be IDLE."""
         self._open()
         if not self._started:
             self._start()
         self._exchange()
         self._beat()
+        self._settle(block=False)
         return self.state
 
     def wait(self, timeout: float) -> bool:
@@ -352,7 +439,7 @@ class CommsManager:
                 return
             slice_s = WAIT_SLICE_S
             if self._heartbeat is not None and self._heartbeat_enabled:
-                slice_s = min(slice_s, max(self._heartbeat.next_beat_in(), 0.001))
+                slice_s = min(slice_s, max(self._heartbeat.next_beat_in(self._ttl_s), 0.001))
             if deadline is not None:
                 remaining = deadline - time.monotonic()
                 if remaining <= 0:
@@ -362,23 +449,14 @@ class CommsManager:
             self._exchange()
             self._beat()
 
-    def _wait_once(self, seconds: float) -> bool:
-        if self._wait_set is None:
-            self._wait_subs = [s for o in self._objects + self._system_objects
-                               for s in o._subscriptions()]
-            if self._wait_subs:
-                self._wait_set = _rclpy.WaitSet(len(self._wait_subs), 0, 0, 0, 0, 0,
-                                                self._context.handle)
-        subs = self._wait_subs
-        if not subs:
-            time.sleep(seconds)
-            return False
-        wait_set = self._wait_set
-        wait_set.clear_entities()
-        for sub in subs:
-            wait_set.add_subscription(sub.handle)
-        wait_set.wait(int(seconds * 1e9))
-        return bool(wait_set.get_ready_entities('subscription'))
+    def _wait_once(self, seconds: float, *, system_only: bool = False) -> bool:
+        waiter = self._waiters.get(system_only)
+        if waiter is None:
+            objects = self._system_objects if system_only else self._objects + self._system_objects
+            waiter = SubscriptionWaiter(self._context,
+                                        [s for o in objects for s in o._subscriptions()])
+            self._waiters[system_only] = waiter
+        return waiter.wait(seconds)
 
     def _exchange(self) -> None:
         """Take in what arrived: the manager's own channels always, the program's only in Run."""
@@ -388,14 +466,15 @@ class CommsManager:
             for state in self._heartbeat.commands():
                 self._change_state(state)
         if self._mcp is not None:
-            self._mcp.poll()
+            for obj, stream in self._mcp.poll():
+                self._connect_assigned(obj, stream)
         if self.state == RunState.RUN:
             for obj in self._objects:
                 obj._drain()
 
     def _beat(self) -> None:
-        if self._heartbeat is not None:
-            self._heartbeat.beat()
+        if self._heartbeat is not None and self._heartbeat_enabled:
+            self._heartbeat.beat(self._ttl_s)
 
     def _nap(self, seconds: float) -> None:
         deadline = time.monotonic() + seconds
@@ -405,21 +484,19 @@ class CommsManager:
                 return
             time.sleep(min(remaining, WAIT_SLICE_S))
 
-    def clean_up(self) -> None:
-        """Say goodbye to the MCP and release everything; idempotent, also run at exit."""
+    def clean_up(self, *, goodbye: bool = True) -> None:
+        """Say goodbye to the MCP (the Quit state, unless ``goodbye`` is False) and release
+        everything; idempotent, also run at exit."""
         if self._closed:
             return
         self._closed = True
         if self.node is not None:
             try:
-                if self._heartbeat is not None:
+                if self._heartbeat is not None and goodbye:
                     self.state = RunState.QUIT
-                    self._heartbeat.describe()
+                    self._describe()
                     # Let the goodbye reach the MCP before the writer disappears (bounded).
-                    from rclpy.duration import Duration
-                    info = self._heartbeat.obj._outboxes.get('info')
-                    if info is not None and info.subscribers():
-                        info.publisher.wait_for_all_acked(Duration(seconds=1.0))
+                    self._heartbeat.obj.wait_delivered(GOODBYE_WAIT_S, channel='info')
                 for obj in self._objects + self._system_objects:
                     obj._disconnect()
                 self.node.destroy_node()

@@ -7,11 +7,24 @@ Accessors follow the C++ overloads: ``p.x()`` reads, ``p.x(2.0)`` writes; ``valu
 
 from __future__ import annotations
 
+import importlib
 from typing import Any, ClassVar
 
-from wurde_interfaces import msg as _msg
-
 _UNSET = object()
+
+
+class _MessageType:
+    """The ``wurde_interfaces`` message a view wraps, imported on first use (so that importing
+    wurde_core needs no built workspace)."""
+
+    def __init__(self, name: str) -> None:
+        self._name = name
+        self._type: type | None = None
+
+    def __get__(self, _obj: Any, _owner: Any = None) -> type:
+        if self._type is None:
+            self._type = getattr(importlib.import_module('wurde_interfaces.msg'), self._name)
+        return self._type
 
 
 class _View:
@@ -94,7 +107,7 @@ class Point(_XY):
     """``Point()``, ``Point(x, y)``, ``Point(x, y, w)``."""
 
     __slots__ = ()
-    _msg_type = _msg.Point
+    _msg_type = _MessageType('Point')  # type: ignore[assignment]
     _fields = ('x', 'y', 'weight')
 
 
@@ -102,7 +115,7 @@ class Point3D(_Z, _XY):
     """``Point3D()``, ``Point3D(x, y, z)``, ``Point3D(x, y, z, w)``."""
 
     __slots__ = ()
-    _msg_type = _msg.Point3D
+    _msg_type = _MessageType('Point3D')  # type: ignore[assignment]
     _fields = ('x', 'y', 'z', 'weight')
 
     @classmethod
@@ -116,7 +129,7 @@ class Pose(_Theta, _XY):
     """``Pose()``, ``Pose(x, y)``, ``Pose(x, y, t)``, ``Pose(x, y, t, w)``."""
 
     __slots__ = ()
-    _msg_type = _msg.Pose
+    _msg_type = _MessageType('Pose')  # type: ignore[assignment]
     _fields = ('x', 'y', 'theta', 'weight')
 
 
@@ -127,7 +140,7 @@ class Pose3D(_Theta, _Z, _XY):
     """
 
     __slots__ = ()
-    _msg_type = _msg.Pose3D
+    _msg_type = _MessageType('Pose3D')  # type: ignore[assignment]
     _fields = ('x', 'y', 'z', 'theta', 'phi', 'psi', 'weight')
 
     @classmethod
@@ -149,7 +162,7 @@ class CVector(_View):
     """A Cartesian 2-D vector: ``CVector(x, y)``."""
 
     __slots__ = ()
-    _msg_type = _msg.CVector
+    _msg_type = _MessageType('CVector')  # type: ignore[assignment]
     _fields = ('x', 'y')
 
     def x(self, value: Any = _UNSET) -> Any:
@@ -165,7 +178,7 @@ class PVector(_View):
     """A polar 2-D vector: ``PVector(magnitude, angle)``."""
 
     __slots__ = ()
-    _msg_type = _msg.PVector
+    _msg_type = _MessageType('PVector')  # type: ignore[assignment]
     _fields = ('magnitude', 'angle')
 
     def magnitude(self, value: Any = _UNSET) -> Any:

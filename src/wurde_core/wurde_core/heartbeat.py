@@ -5,6 +5,9 @@ stream ``heartbeat/<module name>``: data carries the TTL (how long to wait for t
 info describes the process (run state, pid, host, managed state, locale, what it supplies and
 consumes), and requests that set ``state`` change the module's run state — from the MCP or any
 controller (``Heartbeat("heartbeat/FooServer")`` as a consumer, ``requests.state.set_value``).
+
+The heartbeat knows nothing of the manager: the manager tells it what to describe and when to
+beat, and applies the state commands it returns.
 """
 
 from __future__ import annotations
@@ -12,14 +15,11 @@ from __future__ import annotations
 import os
 import socket
 import time
-from typing import TYPE_CHECKING
+from collections.abc import Sequence
 
 from .enums import ProcessLocale, ProcessType, RunState
 from .interfaces import robot_object_class
-
-if TYPE_CHECKING:
-    from .comms_manager import CommsManager
-    from .robot_object import RobotObject
+from .robot_object import SUPPLIER, RobotObject
 
 STREAM_PREFIX = 'heartbeat/'
 #: Longest gap between beats whatever the TTL, so that a beat lost before the MCP had discovered
@@ -35,24 +35,24 @@ def heartbeat_stream(module: str) -> str:
 class ModuleHeartbeat:
     """Sends the beats and the process description, takes in state commands."""
 
-    def __init__(self, manager: 'CommsManager') -> None:
-        self.manager = manager
-        self.obj: RobotObject = robot_object_class('Heartbeat')(heartbeat_stream(manager.name))
+    def __init__(self, module: str) -> None:
+        self.obj: RobotObject = robot_object_class('Heartbeat')(heartbeat_stream(module))
         self.obj._system = True
         self.obj.set_queue_mode(True)  # never lose a state command
         self._last_beat: float | None = None
         self.beats = 0
 
-    def describe(self) -> None:
-        """Publish the process description (info); called at start and on every change."""
+    def describe(self, state: RunState, objects: Sequence[RobotObject]) -> None:
+        """Publish the process description (info) for the program's ``objects`` in ``state``;
+        called at start and on every change."""
         info = self.obj.info
         info.managed.set_value(ProcessType.MANAGED)
         info.locale.set_value(ProcessLocale.INTERNAL)
-        info.state.set_value(self.manager.state)
+        info.state.set_value(state)
         info.pid.set_value(os.getpid())
         info.host.set_value(socket.gethostname())
-        supplied = [o for o in self.manager.objects(user_only=True) if o.role == 'supplier']
-        consumed = [o for o in self.manager.objects(user_only=True) if o.role == 'consumer']
+        supplied = [o for o in objects if o.role == SUPPLIER]
+        consumed = [o for o in objects if o.role != SUPPLIER]
         info.interfaces.set_value([o.interface_name for o in supplied])
         info.streams.set_value([o.stream or '' for o in supplied])
         info.consumed_interfaces.set_value([o.interface_name for o in consumed])
@@ -60,15 +60,15 @@ class ModuleHeartbeat:
         info.consumed_objects.set_value([o.object_name for o in consumed])
         self.obj.publish_info()
 
-    def beat(self, *, force: bool = False) -> bool:
-        """Send a beat if half the TTL (at most a second) has passed since the last one."""
-        manager = self.manager
-        if not manager.heartbeat_enabled():
-            return False
+    @staticmethod
+    def interval(ttl: float) -> float:
+        """Seconds between beats: half the TTL, at most :data:`MAX_BEAT_INTERVAL_S`."""
+        return min(ttl / 2, MAX_BEAT_INTERVAL_S)
+
+    def beat(self, ttl: float, *, force: bool = False) -> bool:
+        """Send a beat announcing ``ttl`` if :meth:`interval` has passed since the last one."""
         now = time.monotonic()
-        ttl = manager.ttl()
-        interval = min(ttl / 2, MAX_BEAT_INTERVAL_S)
-        if not force and self._last_beat is not None and now - self._last_beat < interval:
+        if not force and self._last_beat is not None and now - self._last_beat < self.interval(ttl):
             return False
         self.obj.data.ttl = ttl
         self.obj.publish_data()
@@ -76,12 +76,11 @@ class ModuleHeartbeat:
         self.beats += 1
         return True
 
-    def next_beat_in(self) -> float:
+    def next_beat_in(self, ttl: float) -> float:
         """Seconds until the next beat is due."""
         if self._last_beat is None:
             return 0.0
-        interval = min(self.manager.ttl() / 2, MAX_BEAT_INTERVAL_S)
-        return max(0.0, self._last_beat + interval - time.monotonic())
+        return max(0.0, self._last_beat + self.interval(ttl) - time.monotonic())
 
     def commands(self) -> list[RunState]:
         """State commands that arrived (requests setting ``state``), oldest first."""

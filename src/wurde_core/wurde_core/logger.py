@@ -17,7 +17,8 @@ import syslog
 import time
 from typing import Any, TextIO
 
-from .interfaces import robot_object_class
+from .errors import InvalidValueError
+from .robot_object import RobotObject
 from .role_config import LOG_LEVELS, global_configuration
 
 DEBUG, INFO, NOTICE, WARN, ERROR, FATAL = range(6)
@@ -30,13 +31,15 @@ _global: 'Logger | None' = None
 
 def _level_number(level: int | str) -> int:
     if isinstance(level, str):
+        if level not in LOG_LEVELS:
+            raise InvalidValueError(f'log level {level!r} is not one of {", ".join(LOG_LEVELS)}')
         return LOG_LEVELS.index(level)
     if not 0 <= level < len(LOG_LEVELS):
-        raise ValueError(f'log level {level} is not 0..{len(LOG_LEVELS) - 1}')
+        raise InvalidValueError(f'log level {level} is not 0..{len(LOG_LEVELS) - 1}')
     return int(level)
 
 
-class Logger(robot_object_class('LoggerTransport')):  # type: ignore[misc]
+class Logger(RobotObject, interface='LoggerTransport'):
     """A named logger; also a LoggerTransport supplier once registered."""
 
     def __init__(self, name: str, *, stderr: bool = True, use_syslog: bool = True) -> None:

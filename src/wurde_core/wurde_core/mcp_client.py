@@ -9,6 +9,9 @@ each module is a consumer that sends requests and reads the answers from the MCP
   the MCP answers with the same ``module`` and ``request_id``, ``success`` and ``stream``;
   the request is repeated every :data:`RETRY_S` until answered;
 - kind 1, start a module: ``strategy`` NORMAL, ``object`` the stream name wanted.
+
+The client knows nothing of the manager: :meth:`McpClient.poll` returns the assignments it
+found, and the manager connects the objects.
 """
 
 from __future__ import annotations
@@ -16,14 +19,12 @@ from __future__ import annotations
 import itertools
 import os
 import time
-from typing import TYPE_CHECKING, Any
+from collections.abc import Callable, Sequence
+from typing import Any
 
 from .enums import ConnectionStrategy
 from .interfaces import robot_object_class
-
-if TYPE_CHECKING:
-    from .comms_manager import CommsManager
-    from .robot_object import RobotObject
+from .robot_object import SUPPLIER, RobotObject
 
 STREAM = 'mcp'
 KIND_ASSIGN, KIND_START, KIND_CAPABILITIES = 0, 1, 2
@@ -33,8 +34,9 @@ RETRY_S = 1.0
 class McpClient:
     """Sends requests to the MCP and applies its answers."""
 
-    def __init__(self, manager: 'CommsManager') -> None:
-        self.manager = manager
+    def __init__(self, module: str, warn: Callable[[str], None]) -> None:
+        self.module = module
+        self._warn = warn
         self.obj: RobotObject = robot_object_class('McpRequest')(STREAM)
         self.obj._system = True
         self.obj.set_queue_mode(True)
@@ -48,66 +50,64 @@ class McpClient:
         requests = self.obj.requests
         requests.request_id.set_value(request_id)
         requests.kind.set_value(kind)
-        requests.module.set_value(self.manager.name)
+        requests.module.set_value(self.module)
         for name, value in values.items():
             getattr(requests, name).set_value(value)
         self.obj.publish_request()
         return request_id
 
-    def capabilities(self) -> dict[str, list[tuple[str, str]]]:
-        """``{'supplies': [(interface, stream)], 'consumes': [(interface, object)]}``."""
-        objects = self.manager.objects(user_only=True)
+    @staticmethod
+    def capabilities(objects: Sequence[RobotObject]) -> dict[str, list[tuple[str, str]]]:
+        """``{'supplies': [(interface, stream)], 'consumes': [(interface, object)]}`` of the
+        program's ``objects``."""
         return {
-            'supplies': [(o.interface_name, o.stream or '') for o in objects if o.role == 'supplier'],
-            'consumes': [(o.interface_name, o.object_name) for o in objects if o.role == 'consumer'],
+            'supplies': [(o.interface_name, o.stream or '') for o in objects if o.role == SUPPLIER],
+            'consumes': [(o.interface_name, o.object_name) for o in objects if o.role != SUPPLIER],
         }
 
-    def report_capabilities(self, wait_s: float) -> bool:
-        """Send the capability report; wait up to ``wait_s`` for an MCP to be listening.
-
-        Returns whether an MCP received it (its subscription acknowledged the report).
+    def report_capabilities(self, objects: Sequence[RobotObject], wait_s: float) -> bool:
+        """Send the capability report of ``objects``; wait up to ``wait_s`` for an MCP to be
+        listening.  Returns whether an MCP received it (its subscription acknowledged it).
         """
-        outbox = self.obj._outboxes['request']
         deadline = time.monotonic() + wait_s
-        while outbox.subscribers() == 0 and time.monotonic() < deadline:
-            time.sleep(0.02)
-        caps = self.capabilities()
+        self.obj.wait_for_peers(wait_s)
+        caps = self.capabilities(objects)
         self._request(KIND_CAPABILITIES,
                       provided_interfaces=[i for i, _ in caps['supplies']],
                       provided_streams=[s for _, s in caps['supplies']],
                       consumed_interfaces=[i for i, _ in caps['consumes']],
                       consumed_objects=[o for _, o in caps['consumes']])
-        if outbox.subscribers() == 0:
+        if self.obj.peers() == 0:
             return False
-        from rclpy.duration import Duration
-        return bool(outbox.publisher.wait_for_all_acked(
-            Duration(seconds=max(0.0, deadline - time.monotonic()) + 0.5)))
+        return self.obj.wait_delivered(max(0.0, deadline - time.monotonic()) + 0.5)
 
-    def request_stream(self, obj: 'RobotObject') -> None:
+    def request_stream(self, obj: RobotObject) -> None:
         """Ask for the stream of an ASSIGNED or AUTO object; the answer connects it."""
         request_id = self._request(KIND_ASSIGN, strategy=obj.strategy,
                                    interface=obj.interface_name, object=obj.object_name)
         self._pending[request_id] = (obj, time.monotonic())
 
-    def request_start(self, obj: 'RobotObject') -> None:
+    def request_start(self, obj: RobotObject) -> None:
         """Ask the MCP to start the module that provides a NORMAL object's stream."""
         self._request(KIND_START, strategy=ConnectionStrategy.NORMAL,
                       interface=obj.interface_name, object=obj.object_name)
 
-    def poll(self) -> None:
-        """Apply answers; repeat unanswered assignment requests."""
+    def poll(self) -> list[tuple[RobotObject, str]]:
+        """Take in the MCP's answers and repeat unanswered assignment requests; return the
+        assignments that arrived, as ``(object, stream)``, for the manager to connect."""
+        assigned: list[tuple[RobotObject, str]] = []
         while self.obj.get_next_info():
             info = self.obj.info
-            if info.module.get_value() != self.manager.name:
+            if info.module.get_value() != self.module:
                 continue
             entry = self._pending.pop(info.request_id.get_value(), None)
             if entry is None:
                 continue
             obj = entry[0]
             if info.success.get_value() and info.stream.get_value():
-                self.manager._connect_assigned(obj, info.stream.get_value())
+                assigned.append((obj, info.stream.get_value()))
             else:
-                self.manager.log_warning(
+                self._warn(
                     f'MCP could not assign a stream to {obj._label()}: '
                     f'{info.detail.get_value() or "no reason given"}; asking again')
                 self._pending[info.request_id.get_value()] = (obj, time.monotonic())
@@ -116,7 +116,8 @@ class McpClient:
             if now - sent >= RETRY_S:
                 del self._pending[request_id]
                 self.request_stream(obj)
+        return assigned
 
-    def waiting(self) -> list['RobotObject']:
+    def waiting(self) -> list[RobotObject]:
         """Objects still waiting for their stream."""
         return [obj for obj, _ in self._pending.values()]

@@ -11,17 +11,20 @@ from __future__ import annotations
 import time
 from typing import TYPE_CHECKING, Any, ClassVar
 
+from .binding import bind
 from .channel import Inbox, Outbox
 from .enums import ConnectionStrategy, LockMode, RunState
-from .errors import DirectionError, LockedError, NotRegisteredError
+from .errors import (DirectionError, InvalidTypeError, InvalidValueError, LockedError,
+                     NotRegisteredError)
 from .naming import topic
 from .qos import info_qos, stream_qos
+from .ros_adaptor import wait_acked
 from .structs import DataStruct, InfoStruct
 from .timestamp import Time
 from .writable import DEVICE, describe_lock, lock_refusal
 
 if TYPE_CHECKING:
-    from .comms_manager import CommsManager
+    from .manager_view import ManagerView
 
 SUPPLIER, CONSUMER = 'supplier', 'consumer'
 #: Poll interval of :meth:`RobotObject.wait_for_peers`.
@@ -33,6 +36,10 @@ class RobotObject:
 
     ``Foo("Bar")`` names the stream directly; ``Foo(ConnectionStrategy.ASSIGNED, "EgoClient")``
     gives an alias whose stream the MCP assigns (guide 6.3).
+
+    A class of one's own names its interface when it is defined —
+    ``class Logger(RobotObject, interface='LoggerTransport')`` — and is bound to the installed
+    messages when its first object is made, so defining it needs no sourced workspace.
     """
 
     interface_name: ClassVar[str] = ''
@@ -43,17 +50,39 @@ class RobotObject:
     _info_struct: ClassVar[type[InfoStruct]]
     #: Objects the manager itself uses (heartbeat, MCP requests) keep flowing in Idle.
     _system: bool = False
+    #: The interface this class is bound to (set by :func:`~wurde_core.binding.bind`).
+    _bound_interface: ClassVar[str] = ''
+
+    def __init_subclass__(cls, interface: str | None = None, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        if interface:
+            cls.interface_name = interface
+
+    @classmethod
+    def bind_interface(cls) -> None:
+        """Load this class's messages and structures (once; done by the first object).
+
+        :raises UnknownInterfaceError: when no installed package defines the interface.
+        """
+        if cls._bound_interface != cls.interface_name or not cls.interface_name:
+            if not cls.interface_name:
+                raise InvalidTypeError(f'{cls.__name__} names no interface; use a class from '
+                                       'wurde_core.interfaces')
+            bind(cls, cls.interface_name)
 
     def __init__(self, stream: str | ConnectionStrategy, name: str | None = None) -> None:
+        type(self).bind_interface()
         if isinstance(stream, ConnectionStrategy):
             if not name:
-                raise TypeError(f'{type(self).__name__}({stream.name}, name): a name is needed')
+                raise InvalidTypeError(f'{type(self).__name__}({stream.name}, name): a name is '
+                                       'needed')
             self.strategy: ConnectionStrategy | None = stream
             self.object_name = name
             self.stream: str | None = name if stream == ConnectionStrategy.NORMAL else None
         else:
             if not isinstance(stream, str) or not stream:
-                raise TypeError(f'{type(self).__name__} needs a stream name or a ConnectionStrategy')
+                raise InvalidTypeError(f'{type(self).__name__} needs a stream name or a '
+                                       'ConnectionStrategy')
             self.strategy = None
             self.object_name = stream
             self.stream = stream
@@ -64,7 +93,7 @@ class RobotObject:
         self._auto_tag = True
         self._auto_timestamp = True
         self._role: str | None = None
-        self._manager: CommsManager | None = None
+        self._manager: ManagerView | None = None
         self._inboxes: dict[str, Inbox] = {}
         self._outboxes: dict[str, Outbox] = {}
         self._locks: dict[str, tuple[LockMode, str]] = {}
@@ -76,9 +105,24 @@ class RobotObject:
     def set_queue_mode(self, value: bool) -> None:
         """Queue every event (True) or keep only the newest (False, the default).
 
-        Set it before registering: the DDS history depth is chosen when the stream connects.
+        Queue mode holds for every channel the object receives (a consumer's data and info, a
+        supplier's requests) and deepens the histories of what it sends, so that a burst of up
+        to :data:`~wurde_core.qos.QUEUE_CAPACITY` events reaches a queue-mode peer whole.  The
+        DDS history depth is fixed when a stream connects, so a change after connection
+        reconnects the stream (events already taken in stay available); it always takes effect.
         """
-        self._queue_mode = bool(value)
+        value = bool(value)
+        if value == self._queue_mode:
+            return
+        self._queue_mode = value
+        if self.is_connected() and self.stream:
+            pending = {channel: inbox for channel, inbox in self._inboxes.items()}
+            self._disconnect()
+            self._connect(self.stream)
+            for channel, old in pending.items():
+                self._inboxes[channel].adopt(old)
+            if self._manager is not None:
+                self._manager.entities_changed()
         for inbox in self._inboxes.values():
             inbox.set_queue_mode(self._queue_mode)
 
@@ -133,18 +177,26 @@ class RobotObject:
         """The channel this object sends on most: a supplier's data, a consumer's requests."""
         return self._outboxes.get('data' if self._role == SUPPLIER else 'request')
 
-    def peers(self) -> int:
-        """Matched peers right now: the consumers subscribed to a supplier's data, or the
-        suppliers listening to a consumer's requests (0 before the stream is connected)."""
-        outbox = self._outgoing()
-        return outbox.subscribers() if outbox is not None else 0
+    def peers(self, channel: str | None = None) -> int:
+        """Matched peers right now on ``channel`` (``data``, ``info`` or ``request``; default:
+        the one this object sends on most, a supplier's data or a consumer's requests): the
+        readers of a channel this object sends, the writers of one it receives.  0 before the
+        stream is connected."""
+        if channel is None:
+            outbox = self._outgoing()
+            return outbox.subscribers() if outbox is not None else 0
+        outbox = self._outboxes.get(channel)
+        if outbox is not None:
+            return outbox.subscribers()
+        inbox = self._inboxes.get(channel)
+        return inbox.subscription.get_publisher_count() if inbox is not None else 0
 
-    def wait_for_peers(self, timeout: float, count: int = 1) -> bool:
-        """Wait until at least ``count`` peers are matched (see :meth:`peers`) or ``timeout``
-        seconds pass; returns whether they are.  Discovery runs in DDS's own threads, so this
-        needs no ``run_update``."""
+    def wait_for_peers(self, timeout: float, count: int = 1, channel: str | None = None) -> bool:
+        """Wait until at least ``count`` peers are matched on ``channel`` (see :meth:`peers`) or
+        ``timeout`` seconds pass; returns whether they are.  Discovery runs in DDS's own
+        threads, so this needs no ``run_update``."""
         deadline = time.monotonic() + timeout
-        while self.peers() < count:
+        while self.peers(channel) < count:
             remaining = deadline - time.monotonic()
             if remaining <= 0:
                 return False
@@ -162,8 +214,7 @@ class RobotObject:
         outbox = self._outboxes.get(channel) if channel else self._outgoing()
         if outbox is None:
             return False
-        from rclpy.duration import Duration
-        return bool(outbox.publisher.wait_for_all_acked(Duration(seconds=max(0.0, timeout))))
+        return wait_acked(outbox.publisher, timeout)
 
     # -- receiving -----------------------------------------------------------------------------
     def new_data(self) -> bool:
@@ -273,7 +324,7 @@ class RobotObject:
             raise DirectionError(f'{self._label()}: only the supplier holds locks')
         mode = LockMode(mode)
         if mode == LockMode.PROCESS and not owner:
-            raise ValueError('a PROCESS lock needs the owning process name')
+            raise InvalidValueError('a PROCESS lock needs the owning process name')
         if mode == LockMode.NONE:
             self._locks.pop(field, None)
         else:
@@ -326,7 +377,7 @@ class RobotObject:
         return True
 
     # -- connection (called by the CommsManager) -----------------------------------------------
-    def _register(self, manager: 'CommsManager', role: str) -> None:
+    def _register(self, manager: 'ManagerView', role: str) -> None:
         self._manager = manager
         self._role = role
 
@@ -341,7 +392,7 @@ class RobotObject:
             self._outboxes['data'] = Outbox(node.create_publisher(
                 self.data_type, topic(stream, 'data'), queue_qos))
             self._outboxes['info'] = Outbox(node.create_publisher(
-                self.info_type, topic(stream, 'info'), info_qos()))
+                self.info_type, topic(stream, 'info'), info_qos(self._queue_mode)))
             self._inboxes['request'] = Inbox(node.create_subscription(
                 self.info_type, topic(stream, 'request'), _ignore, queue_qos),
                 self._queue_mode, accept=self._accept_request)
@@ -349,7 +400,8 @@ class RobotObject:
             self._inboxes['data'] = Inbox(node.create_subscription(
                 self.data_type, topic(stream, 'data'), _ignore, queue_qos), self._queue_mode)
             self._inboxes['info'] = Inbox(node.create_subscription(
-                self.info_type, topic(stream, 'info'), _ignore, info_qos()), self._queue_mode)
+                self.info_type, topic(stream, 'info'), _ignore, info_qos(self._queue_mode)),
+                self._queue_mode)
             self._outboxes['request'] = Outbox(node.create_publisher(
                 self.info_type, topic(stream, 'request'), queue_qos))
 
@@ -371,6 +423,10 @@ class RobotObject:
         if taken:
             self._arrivals += taken
         return taken
+
+    def _discard_pending(self) -> int:
+        """Forget events taken in and not yet read (a Reset); return how many."""
+        return sum(inbox.discard() for inbox in self._inboxes.values())
 
     def _subscriptions(self) -> list[Any]:
         return [inbox.subscription for inbox in self._inboxes.values()]

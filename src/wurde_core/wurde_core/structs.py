@@ -9,13 +9,12 @@ guide.  Both also have ``timestamp`` (a :class:`~wurde_core.timestamp.Time`) and
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
+from .errors import MemberError
 from .fields import FieldSpec
 from .timestamp import Time
-
-if TYPE_CHECKING:
-    from .writable import Writable
+from .writable import Writable
 
 
 class _Struct:
@@ -64,13 +63,14 @@ class DataStruct(_Struct):
     def __getattr__(self, name: str) -> Any:
         spec = type(self)._fields.get(name)
         if spec is None:
-            raise AttributeError(f'{type(self).__name__} has no member {name!r}; members: '
-                                 f'{", ".join(self._fields) or "none"}')
+            raise _no_member(self, name)
         return spec.get(self._msg)
 
     def __setattr__(self, name: str, value: Any) -> None:
         spec = type(self)._fields.get(name)
         if spec is None:
+            if not isinstance(getattr(type(self), name, None), property):
+                raise _no_member(self, name)  # a typo must not pass silently
             object.__setattr__(self, name, value)  # properties (timestamp, source)
             return
         spec.set(self._msg, value)
@@ -96,17 +96,17 @@ class InfoStruct(_Struct):
             return writables[name]
         spec = type(self)._fields.get(name)
         if spec is None:
-            raise AttributeError(f'{type(self).__name__} has no member {name!r}; members: '
-                                 f'{", ".join(self._fields) or "none"}')
-        from .writable import Writable
+            raise _no_member(self, name)
         writable = Writable(self, spec)
         writables[name] = writable
         return writable
 
     def __setattr__(self, name: str, value: Any) -> None:
         if name in type(self)._fields:
-            raise AttributeError(f'use {self._channel}.{name}.set_value(...) to change {name!r} '
-                                 '(info and request members are Writable)')
+            raise MemberError(f'use {self._channel}.{name}.set_value(...) to change {name!r} '
+                              '(info and request members are Writable)')
+        if not isinstance(getattr(type(self), name, None), property):
+            raise _no_member(self, name)
         object.__setattr__(self, name, value)
 
     def _written(self) -> set[str]:
@@ -116,6 +116,11 @@ class InfoStruct(_Struct):
     def __repr__(self) -> str:
         values = ', '.join(f'{n}={self._fields[n].get(self._msg)!r}' for n in self._fields)
         return f'{type(self).__name__}({values})'
+
+
+def _no_member(struct: _Struct, name: str) -> MemberError:
+    return MemberError(f'{type(struct).__name__} has no member {name!r}; members: '
+                       f'{", ".join(struct._fields) or "none"}')
 
 
 def struct_class(base: type[_Struct], name: str, message_type: type,

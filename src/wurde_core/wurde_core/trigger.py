@@ -7,10 +7,13 @@ does not say which trigger fired, as in the guide.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Protocol
 
-if TYPE_CHECKING:
-    from .robot_object import RobotObject
+
+class RobotObject(Protocol):
+    """What a trigger reads of an object: how many events it has taken in so far."""
+
+    _arrivals: int
 
 
 class Trigger:

@@ -11,13 +11,13 @@ from __future__ import annotations
 import math
 
 from .geometry import Point, PVector
-from .interfaces import robot_object_class
+from .robot_object import RobotObject
 
 #: ObstacleAvoiderTransport ``mode`` values (see its interface description).
 MODE_STOP, MODE_POINT, MODE_ANGLE = 0, 1, 2
 
 
-class ObstacleAvoider(robot_object_class('ObstacleAvoiderTransport')):  # type: ignore[misc]
+class ObstacleAvoider(RobotObject, interface='ObstacleAvoiderTransport'):
     """Move around obstacles: ``stop()``, ``move_to_relative_point(p)``, ``rotate_to_relative_angle(a)``."""
 
     def stop(self) -> bool:
@@ -43,7 +43,7 @@ class ObstacleAvoider(robot_object_class('ObstacleAvoiderTransport')):  # type: 
         return self.publish_request()
 
 
-class VectorMover(robot_object_class('VectorMoverTransport')):  # type: ignore[misc]
+class VectorMover(RobotObject, interface='VectorMoverTransport'):
     """Drive along a vector relative to the robot: ``move(vector)``, ``stop()``."""
 
     def move(self, vector: PVector) -> bool:

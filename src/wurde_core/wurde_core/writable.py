@@ -15,7 +15,6 @@ from .errors import LockedError
 
 if TYPE_CHECKING:
     from .fields import FieldSpec
-    from .structs import InfoStruct
 
 #: Key of a device-wide lock in a lock table.
 DEVICE = ''
@@ -50,7 +49,8 @@ class Writable:
 
     __slots__ = ('_struct', '_spec')
 
-    def __init__(self, struct: 'InfoStruct', spec: 'FieldSpec') -> None:
+    def __init__(self, struct: Any, spec: 'FieldSpec') -> None:
+        # ``struct`` is the InfoStruct holding this member (not imported: structs imports us).
         self._struct = struct
         self._spec = spec
 

@@ -8,6 +8,7 @@ themselves in the ament index under the resource type :data:`RESOURCE_TYPE`, so 
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import pathlib
@@ -51,7 +52,16 @@ def _prefixes() -> list[pathlib.Path]:
 
 
 def load_all() -> dict[str, dict[str, Any]]:
-    """Every installed interface description, by interface name (first prefix wins)."""
+    """Every installed interface description, by interface name (first prefix wins).
+
+    Read once per value of ``AMENT_PREFIX_PATH`` and process (a sourced workspace changes the
+    value, and with it what is found); treat the result as read-only.
+    """
+    return _load_all(os.environ.get('AMENT_PREFIX_PATH', ''))
+
+
+@functools.lru_cache(maxsize=8)
+def _load_all(_prefix_path: str) -> dict[str, dict[str, Any]]:
     found: dict[str, dict[str, Any]] = {}
     for prefix in _prefixes():
         index = prefix / 'share' / 'ament_index' / 'resource_index' / RESOURCE_TYPE

@@ -1,0 +1,181 @@
+"""Run states across processes (guide 5.2.1): a module lives through Idle, Reset and Restart.
+
+Events are ordered by their DDS source timestamps (the writer's clock when it wrote), so "nothing
+was published while Idle" is checked exactly: no data event of the module was written between the
+heartbeat description that said Idle and the one that said Run again.  No time window is guessed.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import pytest
+
+from conftest import until
+from wurde_core import CommsManager, RunState
+from wurde_core.interfaces import Foo, robot_object_class
+from wurde_core.naming import topic
+from wurde_core.qos import info_qos, stream_qos
+from wurde_core.ros_adaptor import take_stamped
+
+
+class Recorder:
+    """Raw subscriptions on the test's node that keep every event with its source timestamp."""
+
+    def __init__(self, manager: CommsManager) -> None:
+        self.node = manager.node
+        self.subscriptions: dict[str, Any] = {}
+        self.events: dict[str, list[tuple[Any, int]]] = {}
+
+    def add(self, key: str, msg_type: type, topic_name: str, qos: Any) -> None:
+        self.subscriptions[key] = self.node.create_subscription(msg_type, topic_name,
+                                                                lambda _m: None, qos)
+        self.events[key] = []
+
+    def take(self) -> None:
+        for key, subscription in self.subscriptions.items():
+            self.events[key].extend(take_stamped(subscription))
+
+
+def _heartbeat(manager: CommsManager, module: str) -> Any:
+    heartbeat = robot_object_class('Heartbeat')(f'heartbeat/{module}')
+    heartbeat.set_queue_mode(True)
+    manager.register_consumer(heartbeat)
+    return heartbeat
+
+
+def _command(manager: CommsManager, heartbeat: Any, state: RunState) -> None:
+    until(manager, lambda: heartbeat.peers() > 0, what='heartbeat request matched')
+    heartbeat.requests.state.set_value(state)
+    heartbeat.publish_request()
+
+
+def _state_stamp(recorder: Recorder, state: RunState, after: int = 0) -> int | None:
+    for message, stamp in recorder.events['info']:
+        if message.state.value == int(state) and stamp > after:
+            return stamp
+    return None
+
+
+def test_idle_keeps_the_module_alive_and_silent_then_data_flows_again(manager, peer) -> None:
+    worker = peer('Idler')
+    worker.cmd('supply Foo idling queue')
+    heartbeat = _heartbeat(manager, 'Idler')
+    recorder = Recorder(manager)
+    recorder.add('data', Foo.data_type, topic('idling', 'data'), stream_qos(True))
+    recorder.add('info', heartbeat.info_type, topic('heartbeat/Idler', 'info'), info_qos(True))
+    recorder.add('beats', heartbeat.data_type, topic('heartbeat/Idler', 'data'), stream_qos(True))
+    worker.cmd('wait_subscribers idling')
+    worker.cmd('stream idling')
+    pid = worker.process.pid
+
+    def data_count() -> int:
+        recorder.take()
+        return len(recorder.events['data'])
+
+    until(manager, lambda: data_count() >= 5, what='data flowing')
+    _command(manager, heartbeat, RunState.IDLE)
+    worker.expect('STATE IDLE')
+
+    def idle_beats() -> int:
+        recorder.take()
+        idle = _state_stamp(recorder, RunState.IDLE)
+        return 0 if idle is None else sum(stamp > idle for _, stamp in recorder.events['beats'])
+
+    # Heartbeats go on while Idle (the peer's TTL is 20 ms: a beat at least every 10 ms).
+    until(manager, lambda: idle_beats() >= 3, what='heartbeats while idle')
+    assert worker.process.poll() is None and worker.process.pid == pid
+    _command(manager, heartbeat, RunState.RUN)
+    worker.expect('STATE RUN')
+    idle_at = _state_stamp(recorder, RunState.IDLE)
+    assert idle_at is not None
+
+    def resumed() -> bool:
+        recorder.take()
+        run_at = _state_stamp(recorder, RunState.RUN, after=idle_at)
+        return run_at is not None and any(s > run_at for _, s in recorder.events['data'])
+
+    until(manager, resumed, what='data after returning to Run')
+    run_at = _state_stamp(recorder, RunState.RUN, after=idle_at)
+    written_while_idle = [s for _, s in recorder.events['data'] if idle_at < s < run_at]
+    assert written_while_idle == []
+    # The loop body did not run in Idle: the loop numbers go on without a gap.
+    loops = [int(message.ranges[0]) for message, _ in recorder.events['data']]
+    assert loops == list(range(loops[0], loops[0] + len(loops)))
+    assert worker.process.poll() is None and worker.process.pid == pid
+
+
+def test_reset_by_default_forgets_unread_events_and_returns_to_run(manager: CommsManager) -> None:
+    other = CommsManager('Controller')
+    other.set_no_sleep()
+    other.set_no_heartbeat()
+    try:
+        consumer = Foo('into_reset')
+        consumer.set_queue_mode(True)
+        manager.register_consumer(consumer)
+        supplier = Foo('into_reset')
+        supplier.set_queue_mode(True)
+        other.register_supplier(supplier)
+        heartbeat = robot_object_class('Heartbeat')('heartbeat/Tester')
+        other.register_consumer(heartbeat)
+        manager.step()
+        assert supplier.wait_for_peers(20) and heartbeat.wait_for_peers(20)
+        for value in range(3):
+            supplier.data.ranges = [float(value)]
+            supplier.publish_data()
+        assert supplier.wait_delivered(20)
+        manager.step()  # takes the three events in; the program has not read them
+        assert consumer.new_data()
+        heartbeat.requests.state.set_value(RunState.RESET)
+        heartbeat.publish_request()
+        assert heartbeat.wait_delivered(20)
+        until(manager, lambda: manager.state == RunState.RUN and not consumer.new_data(),
+              what='Reset handled')
+        assert not consumer.get_next_data()
+        assert consumer.received('data') == 3
+    finally:
+        other.clean_up()
+
+
+def test_restart_by_default_runs_the_program_again_in_the_same_process(manager, peer,
+                                                                       monkeypatch) -> None:
+    monkeypatch.setenv('WURDE_PEER_PLAIN', '1')
+    worker = peer('Restarter')
+    first = next(line for line in worker.stdout.splitlines() if line.startswith('STARTED'))
+    heartbeat = _heartbeat(manager, 'Restarter')
+    _command(manager, heartbeat, RunState.RESTART)
+    again = worker.expect('STARTED')
+    assert first == again == f'STARTED {worker.process.pid}'
+    assert worker.process.poll() is None
+
+    def beat_announces_restart_ttl() -> bool:
+        while heartbeat.get_next_data():
+            if heartbeat.data.ttl >= 30.0:
+                return True
+        return False
+    until(manager, beat_announces_restart_ttl, what='long TTL announced before the restart')
+
+
+def test_state_callbacks_run_in_order_in_the_loop(manager: CommsManager) -> None:
+    other = CommsManager('Controller')
+    other.set_no_sleep()
+    other.set_no_heartbeat()
+    try:
+        heartbeat = robot_object_class('Heartbeat')('heartbeat/Tester')
+        other.register_consumer(heartbeat)
+        entered: list[str] = []
+        for state in (RunState.IDLE, RunState.RESET, RunState.RUN):
+            manager.on_state(state, lambda state=state: entered.append(state.name))
+        manager.step()
+        assert heartbeat.wait_for_peers(20)
+        for state in (RunState.IDLE, RunState.RESET):
+            heartbeat.requests.state.set_value(state)
+            heartbeat.publish_request()
+            assert heartbeat.wait_delivered(20)
+        until(manager, lambda: entered[-1:] == ['RUN'], what='callbacks')
+        assert entered == ['IDLE', 'RESET', 'RUN']
+        assert manager.state == RunState.RUN
+        with pytest.raises(ValueError, match='Quit ends the loop'):
+            manager.on_state(RunState.QUIT, lambda: None)
+    finally:
+        other.clean_up()
