@@ -1,0 +1,51 @@
+"""The supervision clock: the time the MCP was actually watching, against which TTLs are judged.
+
+A module is a zombie when it stays silent longer than its TTL (guide 5.2.1).  Measured on the
+wall clock, that judgement also blames the module for time the MCP itself was not running — when
+the kernel descheduled the MCP on a loaded machine, the heartbeats that arrived meanwhile sit
+unread in its queue, and the first look after the gap sees every module "late".  That is where
+false zombies under load came from.
+
+So the MCP judges silence on this clock instead.  It advances with the monotonic clock while the
+supervision loop runs at its pace, but one gap between two looks counts at most ``max_gap_s``:
+the rest of a longer gap is the MCP's own lag, and no module's TTL is charged for it.  With the
+loop running every 10 ms, a gap past ``max_gap_s`` (50 ms) means the MCP did not run; a module
+that really hangs is still caught, late only by the MCP's own lag (which the clock reports).
+"""
+
+from __future__ import annotations
+
+import time
+
+#: Longest gap between two looks that counts fully as watched time (s).
+MAX_GAP_S = 0.05
+
+
+class SupervisionClock:
+    """Watched time: monotonic time minus the MCP's own stalls."""
+
+    def __init__(self, max_gap_s: float = MAX_GAP_S) -> None:
+        self.max_gap_s = max_gap_s
+        self._last = time.monotonic()
+        self._watched = 0.0
+        #: Seconds not counted (the MCP's own lag), gaps longer than ``max_gap_s``, longest gap.
+        self.discounted_s = 0.0
+        self.stalls = 0
+        self.longest_gap_s = 0.0
+
+    def tick(self, now: float | None = None) -> float:
+        """Take a look at monotonic time ``now``; return the watched time."""
+        now = time.monotonic() if now is None else now
+        gap = max(0.0, now - self._last)
+        self._last = now
+        counted = min(gap, self.max_gap_s)
+        if gap > counted:
+            self.stalls += 1
+            self.discounted_s += gap - counted
+        self.longest_gap_s = max(self.longest_gap_s, gap)
+        self._watched += counted
+        return self._watched
+
+    def now(self) -> float:
+        """Watched time at the last look."""
+        return self._watched
