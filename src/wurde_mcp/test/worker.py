@@ -20,9 +20,15 @@ if config.have_option('t'):
 stubborn = config.have_option('s') and not manager.options.registration
 foo = Foo(f'{manager.name}_out')
 manager.register_supplier(foo)
+
+
+def _ignore(signum: int, _frame: object) -> None:
+    print(f'stubborn: ignoring {signal.Signals(signum).name}', flush=True)
+
+
 if stubborn:
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    signal.signal(signal.SIGINT, _ignore)
+    signal.signal(signal.SIGTERM, _ignore)
 while True:
     state = manager.run_update()
     if state == RunState.QUIT and not stubborn:

@@ -24,9 +24,9 @@ MAX_GAP_S = 0.05
 class SupervisionClock:
     """Watched time: monotonic time minus the MCP's own stalls."""
 
-    def __init__(self, max_gap_s: float = MAX_GAP_S) -> None:
+    def __init__(self, max_gap_s: float = MAX_GAP_S, *, start: float | None = None) -> None:
         self.max_gap_s = max_gap_s
-        self._last = time.monotonic()
+        self._last = time.monotonic() if start is None else start
         self._watched = 0.0
         #: Seconds not counted (the MCP's own lag), gaps longer than ``max_gap_s``, longest gap.
         self.discounted_s = 0.0

@@ -210,6 +210,8 @@ def main(argv: list[str] | None = None) -> int:
                 manager.set_run()  # the MCP itself is not idled by anyone
             mcp.spin_once()
     finally:
+        if mcp.supervisor is not None:
+            g_info(mcp.supervisor.summary())
         mcp.quit_all()
         mcp.node.destroy_node()
         manager.clean_up()

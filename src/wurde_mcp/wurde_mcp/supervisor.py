@@ -71,6 +71,8 @@ class Module:
     #: while a stop was under way).
     start_on_exit: bool = False
     ever_active: bool = False
+    #: Silent past its TTL by the wall clock since its last beat (what the old rule judged).
+    wall_late: bool = False
 
     @property
     def name(self) -> str:
@@ -104,6 +106,8 @@ class Supervisor:
         #: Watched time (TTLs are judged on it) and zombies declared so far.
         self.clock = SupervisionClock()
         self.zombies = 0
+        #: Times a module was silent past its TTL by the wall clock (zombies under the old rule).
+        self.wall_late = 0
         for spec in config.modules.values():
             self._watch(spec)
         self.streams = StreamDesk(self.mcp, config, self.modules, self.start)
@@ -165,7 +169,9 @@ class Supervisor:
         module.start_on_exit = False
         module.restart_at = None
         self.command_state(name, RunState.QUIT)
-        if module.process is not None:
+        if module.process is not None and module.process.running():
+            g_info(f'MCP: stopping {name}: Quit, then SIGINT after {STOP_GRACE_S:.1f} s, SIGTERM '
+                   f'and SIGKILL {STOP_STEP_S:.1f} s apart')
             module.process.stop(step_s=STOP_STEP_S, grace_s=STOP_GRACE_S)
         self._changed = True
 
@@ -230,6 +236,11 @@ class Supervisor:
         for module in self.modules.values():
             self._take_heartbeats(module, now)
             self._check_exit(module, now)
+            if (module.status == StatusMode.ACTIVE and module.last_beat_at is not None
+                    and now - module.last_beat_at > module.ttl + TTL_GRACE_S
+                    and not module.wall_late):
+                module.wall_late = True
+                self.wall_late += 1
         if any(self._overdue(m, watched) for m in self.modules.values()):
             # Before condemning anyone, take in what arrived since the last exchange.
             self.manager.step()
@@ -273,6 +284,7 @@ class Supervisor:
         if beats:
             module.last_beat = self.clock.now()
             module.last_beat_at = now
+            module.wall_late = False
             if module.status != StatusMode.ACTIVE:
                 module.status = StatusMode.ACTIVE
                 module.ever_active = True
@@ -354,6 +366,14 @@ class Supervisor:
             g_info(f'MCP: critical module {self.idled_for} is back: every module goes to Run')
             self.idled_for = None
             self.set_all(RunState.RUN)
+
+    def summary(self) -> str:
+        """One line on how supervision went: zombies, wall-clock lateness, the MCP's stalls."""
+        clock = self.clock
+        return (f'MCP: supervision summary: {self.zombies} zombies; {self.wall_late} times a '
+                f'module was silent past its TTL by the wall clock; {clock.stalls} MCP stalls '
+                f'past {1000 * clock.max_gap_s:.0f} ms, {clock.discounted_s:.3f} s discounted, '
+                f'longest gap {1000 * clock.longest_gap_s:.0f} ms')
 
     # -- control and the module table ----------------------------------------------------------
     def _control(self) -> None:
