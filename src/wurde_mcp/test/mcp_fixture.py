@@ -95,8 +95,10 @@ def alive(pid: int) -> bool:
         return False
 
 
-def wait_output(child: ChildProcess, pattern: str, timeout: float = 30.0) -> re.Match[str]:
-    """Wait (up to ``timeout`` s) for a line of the child's output matching ``pattern``.
+def wait_output(child: ChildProcess, pattern: str, timeout: float = 30.0,
+                since: float | None = None) -> re.Match[str]:
+    """Wait (up to ``timeout`` s) for a line of the child's output matching ``pattern`` (with
+    ``since``: one whose group ``at``, a monotonic time, is later than ``since``).
 
     :raises AssertionError: with the child's output when none comes in time.
     """
@@ -105,7 +107,7 @@ def wait_output(child: ChildProcess, pattern: str, timeout: float = 30.0) -> re.
     while True:
         for line in (child.stderr + child.stdout).splitlines():
             match = regex.search(line)
-            if match:
+            if match and (since is None or float(match['at']) > since):
                 return match
         if time.monotonic() > deadline:
             raise AssertionError(f'no line matching {pattern!r} within {timeout} s\n'

@@ -43,7 +43,7 @@ def test_load_makes_no_false_zombie_and_a_sigstop_is_caught_in_time(tmp_path, ta
             hung = rows['L0']['pid']
             stopped_at = time.monotonic()
             os.kill(hung, signal.SIGSTOP)
-            seen = wait_output(mcp, NOTICED.format(name='L0'), timeout=30)
+            seen = wait_output(mcp, NOTICED.format(name='L0'), timeout=30, since=stopped_at)
             caught = float(seen['at']) - stopped_at
             assert seen['code'] is None  # a zombie, not an exit
             assert caught <= TTL_S + 0.3, f'SIGSTOP caught after {caught:.3f} s'

@@ -30,8 +30,8 @@ def test_kill9_is_noticed_within_100ms_while_another_module_is_escalated(tmp_pat
         wait_file(tmp_path / 'mcp-modules' / 'Stubborn.log', 'ignoring SIGTERM')
         killed_at = time.monotonic()
         os.kill(victim, signal.SIGKILL)
-        victim_seen = wait_output(mcp, NOTICED.format(name='Victim'))
-        stubborn_seen = wait_output(mcp, NOTICED.format(name='Stubborn'))
+        victim_seen = wait_output(mcp, NOTICED.format(name='Victim'), since=killed_at)
+        stubborn_seen = wait_output(mcp, NOTICED.format(name='Stubborn'), since=killed_at)
         assert victim_seen['code'] == '-9' and stubborn_seen['code'] == '-9'
         noticed = float(victim_seen['at']) - killed_at
         assert 0 <= noticed <= NOTICE_BOUND_S, f'kill -9 noticed after {noticed * 1000:.0f} ms'

@@ -407,8 +407,8 @@ class Supervisor:
         data.module_state = [m.run_state for m in modules]
         data.module_pid = [m.pid for m in modules]
         data.module_host = [m.host for m in modules]
-        data.module_heartbeat_age = [now - m.last_beat if m.last_beat is not None else -1.0
-                                     for m in modules]
+        data.module_heartbeat_age = [now - m.last_beat_at if m.last_beat_at is not None
+                                     else -1.0 for m in modules]
         data.module_restarts = [m.restarts for m in modules]
         self.control.publish_data()
         self._table_at = now
