@@ -45,3 +45,6 @@ def test_supervision_clock_discounts_the_mcps_own_stalls() -> None:
     assert abs(clock.now() - 0.07) < 1e-9
     assert clock.stalls == 1 and abs(clock.discounted_s - 1.45) < 1e-9
     assert abs(clock.longest_gap_s - 1.5) < 1e-9
+    assert clock.steady_for(101.52) == 0.0  # the look that ends a stall starts a steady run
+    clock.tick(101.53)
+    assert abs(clock.steady_for(101.53) - 0.01) < 1e-9

@@ -22,7 +22,7 @@ from wurde_core import (CommsManager, ProcessLocale, ProcessType, RunState,
 from wurde_core.interfaces import robot_object_class
 
 from .binaries import find_binary
-from .clock import SupervisionClock
+from .clock import REVIEW_S, SupervisionClock
 from .config import McpConfig, ModuleSpec
 from .process import ModuleProcess
 from .streams import KIND_ASSIGN, KIND_CAPABILITIES, KIND_START, StreamDesk
@@ -241,7 +241,7 @@ class Supervisor:
                     and not module.wall_late):
                 module.wall_late = True
                 self.wall_late += 1
-        if any(self._overdue(m, watched) for m in self.modules.values()):
+        if any(self._overdue(m, now, watched) for m in self.modules.values()):
             # Before condemning anyone, take in what arrived since the last exchange.
             self.manager.step()
             for module in self.modules.values():
@@ -315,10 +315,15 @@ class Supervisor:
         else:
             g_info(text)
 
-    @staticmethod
-    def _overdue(module: Module, watched: float) -> bool:
-        return (module.status == StatusMode.ACTIVE and module.last_beat is not None
-                and watched - module.last_beat > module.ttl + TTL_GRACE_S)
+    def _overdue(self, module: Module, now: float, watched: float) -> bool:
+        """Silent past the TTL, judged against the MCP's own lag (see :mod:`wurde_mcp.clock`)."""
+        if module.status != StatusMode.ACTIVE or module.last_beat_at is None \
+                or module.last_beat is None:
+            return False
+        limit = module.ttl + TTL_GRACE_S
+        if now - module.last_beat_at <= limit:
+            return False
+        return watched - module.last_beat > limit or self.clock.steady_for(now) >= REVIEW_S
 
     def _check_ttl(self, module: Module, now: float, watched: float) -> None:
         if module.status == StatusMode.STARTING and module.process is not None:
@@ -326,7 +331,7 @@ class Supervisor:
                 return
             g_warn(f'MCP: {module.name} sent no heartbeat within {START_TIMEOUT_S:.0f} s of its '
                    'start: zombie')
-        elif not self._overdue(module, watched):
+        elif not self._overdue(module, now, watched):
             return
         else:
             assert module.last_beat is not None and module.last_beat_at is not None
