@@ -49,5 +49,6 @@ distclean: clean
 bench: build
 	$(IN_ENV) python bench/rangefinder.py
 	$(IN_ENV) python bench/mcp_supervision.py
+	$(IN_ENV) python bench/mcp_load.py
 	$(IN_ENV) python bench/raycast.py
 	$(IN_ENV) python bench/sick_driver.py

@@ -20,7 +20,7 @@ setup(
     tests_require=['pytest'],
     entry_points={'console_scripts': [
         'mcp = wurde_mcp.node:main',
-        'turn_off = wurde_mcp.control:turn_off',
+        'turn_off = wurde_mcp.turn_off:turn_off',
         'mcp_controller = wurde_mcp.control:mcp_controller',
     ]},
 )

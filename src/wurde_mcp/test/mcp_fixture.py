@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import pathlib
+import re
 import time
 from collections.abc import Callable
 from typing import Any
@@ -92,3 +93,37 @@ def alive(pid: int) -> bool:
             return handle.read().rsplit(')', 1)[1].split()[0] != 'Z'
     except (FileNotFoundError, ProcessLookupError):
         return False
+
+
+def wait_output(child: ChildProcess, pattern: str, timeout: float = 30.0,
+                since: float | None = None) -> re.Match[str]:
+    """Wait (up to ``timeout`` s) for a line of the child's output matching ``pattern`` (with
+    ``since``: one whose group ``at``, a monotonic time, is later than ``since``).
+
+    :raises AssertionError: with the child's output when none comes in time.
+    """
+    regex = re.compile(pattern)
+    deadline = time.monotonic() + timeout
+    while True:
+        for line in (child.stderr + child.stdout).splitlines():
+            match = regex.search(line)
+            if match and (since is None or float(match['at']) > since):
+                return match
+        if time.monotonic() > deadline:
+            raise AssertionError(f'no line matching {pattern!r} within {timeout} s\n'
+                                 f'stdout:\n{child.stdout}\nstderr:\n{child.stderr}')
+        time.sleep(0.02)  # polls the reader threads' buffers; the deadline bounds it
+
+
+def wait_file(path: pathlib.Path, text: str, timeout: float = 30.0) -> None:
+    """Wait (up to ``timeout`` s) for ``text`` to appear in the file at ``path``."""
+    deadline = time.monotonic() + timeout
+    while not (path.exists() and text in path.read_text()):
+        if time.monotonic() > deadline:
+            raise AssertionError(f'{text!r} not in {path} within {timeout} s:\n'
+                                 f'{path.read_text() if path.exists() else "(no file)"}')
+        time.sleep(0.02)
+
+
+#: What the MCP logs when it sees an exit or a zombie, with its monotonic time of noticing.
+NOTICED = r'MCP: {name} (?:exited with code (?P<code>-?\d+)|missed its TTL).*noticed at monotonic (?P<at>[0-9.]+)'

@@ -74,7 +74,7 @@ def test_appendix_combined_form(tmp_path: pathlib.Path) -> None:
     validate(config, load_all())
 
 
-@pytest.mark.parametrize('name', ['foo', 'blind-teleop'])
+@pytest.mark.parametrize('name', ['foo', 'blind-teleop', 'guide-ch1'])
 def test_shipped_configs_load(name: str) -> None:
     config = read_mcp_config(ROOT / 'config' / name / 'mcp-config.xml')
     read_mcp_mappings(ROOT / 'config' / name / 'mcp-mappings.xml', config)
@@ -116,8 +116,9 @@ def test_huge_config_is_refused(tmp_path: pathlib.Path) -> None:
 
 
 @pytest.mark.parametrize('mapping, line, reason', [
-    ('<connect module="Nobody">\n<input interface="Foo" source="Bar"/>\n</connect>', 3,
-     'unknown module "Nobody"'),
+    ('<connect module="A">\n<input interface="Foo" source="Bar"/>\n'
+     '<input interface="Egomotion" source="Bar"/>\n</connect>', 4,
+     'mapping connects Egomotion object "*" of module "A" to stream "Bar", which the mapping at '),
     ('<connect module="A">\n<input interface="Fooo" source="Bar"/>\n</connect>', 3,
      'unknown interface "Fooo"'),
     ('<connect module="A">\n<input interface="Foo"/>\n</connect>', 3, 'needs a non-empty "source"'),
@@ -145,3 +146,36 @@ def test_mapping_for_a_listed_module_and_known_interface_is_accepted(tmp_path) -
     assert [(m.interface, m.source, m.object) for m in config.mappings_for('A')] == \
         [('Foo', 'Bar', '')]
     assert McpConfig().mappings_for('A') == []
+
+
+def test_guide_chapter1_files_as_printed_are_accepted() -> None:
+    """Chapter 1 maps BlindTeleop without listing it: it becomes an external module, and the
+    warning names the mappings file and the line."""
+    directory = ROOT / 'config' / 'guide-ch1'
+    config = read_mcp_config(directory / 'mcp-config.xml')
+    mappings = directory / 'mcp-mappings.xml'
+    read_mcp_mappings(mappings, config)
+    warnings = validate(config, load_all())
+    assert list(config.modules)[:5] == ['VectorMover', 'laserAvoider', 'HollowayLMS',
+                                        'safePTUserver', 'HollowayRFlex']
+    assert config.modules['BlindTeleop'].locale == ProcessLocale.EXTERNAL
+    line = next(n for n, text in enumerate(mappings.read_text().splitlines(), 1)
+                if 'SimpleAvoider' in text)
+    assert warnings == [f'{mappings}:{line}: module "BlindTeleop" is named only in the mappings, '
+                        'not in the MCP configuration: watched as an external module (the MCP '
+                        'cannot start it)']
+    assert config.warnings == warnings
+    assert [m.object for m in config.mappings_for('laserAvoider')] == \
+        ['LaserClient', 'EgoClient', 'NavClient']
+
+
+def test_wiring_names_both_types() -> None:
+    from wurde_mcp.config import Mapping
+    from wurde_mcp.wiring import consumer_conflict, supplier_conflict
+    mapping = Mapping('Teleop', 'Egomotion', 'RFlexMotion', 'EgoClient', 'm.xml', 7)
+    assert supplier_conflict(mapping, 'RFlex', [('Egomotion', 'RFlexMotion')]) is None
+    assert supplier_conflict(mapping, 'RFlex', [('RangeFinder', 'RFlexMotion')]) == (
+        'mapping connects Egomotion object "EgoClient" of module "Teleop" to stream '
+        '"RFlexMotion", but module "RFlex" supplies that stream as RangeFinder')
+    assert consumer_conflict(mapping, [('Egomotion', 'EgoClient')]) is None
+    assert 'declares "EgoClient" as PTUnit' in consumer_conflict(mapping, [('PTUnit', 'EgoClient')])

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import os
+import pathlib
+import re
 import signal
 import subprocess
 import sys
@@ -191,3 +193,18 @@ def test_turn_off_stops_everyone(tmp_path, table) -> None:
         rows = table.until(lambda r: all(x['status'] == DEAD for x in r.values()), 'all quit')
         assert all(x['restarts'] == 0 for x in rows.values())
         assert mcp.process.poll() is None
+
+
+def test_guide_chapter1_files_as_printed_configure_and_run(tmp_path, table) -> None:
+    """config/guide-ch1 (the guide's files as printed) is accepted by the running MCP: BlindTeleop,
+    named only in the mappings, is watched as an external module and the warning says where."""
+    from mcp_fixture import wait_output
+    root = pathlib.Path(__file__).resolve().parents[3] / 'config' / 'guide-ch1'
+    mappings = str(root / 'mcp-mappings.xml')
+    with start_mcp(tmp_path, str(root / 'mcp-config.xml'), mappings, '-a') as mcp:
+        warning = wait_output(mcp, rf'{re.escape(mappings)}:(\d+): module "BlindTeleop" is named '
+                              'only in the mappings')
+        assert 'SimpleAvoider' in pathlib.Path(mappings).read_text().splitlines()[
+            int(warning[1]) - 1]
+        rows = table.until(lambda r: 'BlindTeleop' in r and 'VectorMover' in r, 'module table')
+        assert len(rows) == 6 and mcp.process.poll() is None

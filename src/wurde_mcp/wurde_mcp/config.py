@@ -11,9 +11,11 @@ Per module, optional attributes ``locale`` (internal | external) and ``managed``
 unmanaged | critical) set the guide's locale and managed state (6.1).  A module with no binary and
 no explicit locale is external (the MCP watches it but cannot start it, like the appendix's
 BlindTeleop); an internal module must name its binary.  The mapping file is
-``<mcp-mappings><connect module="M"><input interface="I" source="S" object="O"/>``.  Everything
-else — unknown tags or attributes, unknown modules or interfaces in mappings, hostile XML — is
-refused with file, line and reason before anything starts.
+``<mcp-mappings><connect module="M"><input interface="I" source="S" object="O"/>``; a module
+named only there is external, with a warning naming file and line (chapter 1's files, as
+printed, map BlindTeleop without listing it).  Everything else — unknown tags or attributes,
+unknown interfaces in mappings, one stream mapped as two interfaces, hostile XML — is refused
+with file, line and reason before anything starts.
 """
 
 from __future__ import annotations
@@ -61,6 +63,8 @@ class McpConfig:
 
     modules: dict[str, ModuleSpec] = field(default_factory=dict)
     mappings: list[Mapping] = field(default_factory=list)
+    #: Warnings from :func:`validate`, each starting with ``file:line:``.
+    warnings: list[str] = field(default_factory=list)
 
     def mappings_for(self, module: str) -> list[Mapping]:
         return [m for m in self.mappings if m.module == module]
@@ -207,18 +211,34 @@ def read_mcp_mappings(path: str | os.PathLike[str], config: McpConfig) -> McpCon
     return config
 
 
-def validate(config: McpConfig, interfaces: Iterable[str]) -> None:
-    """Refuse mappings that name an unknown module or interface.
+def validate(config: McpConfig, interfaces: Iterable[str]) -> list[str]:
+    """Check the mappings against the modules and the installed interfaces; return warnings.
 
-    Every module a mapping names must be in the MCP configuration; a program the user starts by
-    hand (the guide's BlindTeleop) is listed there as ``locale="external"``.
+    A module that only the mappings name (the guide's chapter 1 maps BlindTeleop, a program the
+    user starts by hand, without listing it in mcp-config) becomes an external module: the MCP
+    watches it and answers its requests but cannot start it, and a warning names the mapping's
+    file and line.  Refused with file and line: a mapping naming an unknown interface, and two
+    mappings that use one stream as two different interfaces (see :mod:`wurde_mcp.wiring`).
+
+    :raises ConfigError: naming the file, the line and the reason.
     """
+    from .wiring import static_conflict
     known = set(interfaces)
+    warnings = []
     for mapping in config.mappings:
-        if mapping.module not in config.modules:
-            raise ConfigError(mapping.path, mapping.line,
-                              f'mapping names unknown module "{mapping.module}" (not in the MCP '
-                              'configuration)')
         if mapping.interface not in known:
             raise ConfigError(mapping.path, mapping.line,
                               f'mapping names unknown interface "{mapping.interface}"')
+        if mapping.module not in config.modules:
+            config.modules[mapping.module] = ModuleSpec(
+                name=mapping.module, locale=ProcessLocale.EXTERNAL, path=mapping.path,
+                line=mapping.line)
+            warnings.append(f'{mapping.path}:{mapping.line}: module "{mapping.module}" is named '
+                            'only in the mappings, not in the MCP configuration: watched as an '
+                            'external module (the MCP cannot start it)')
+    conflict = static_conflict(config.mappings)
+    if conflict is not None:
+        mapping, reason = conflict
+        raise ConfigError(mapping.path, mapping.line, reason)
+    config.warnings.extend(warnings)
+    return warnings

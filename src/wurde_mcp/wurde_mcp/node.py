@@ -24,7 +24,7 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
 
 from wurde_core import (CommsManager, ConfigError, RunState, StatusMode, g_error, g_info,
-                        global_configuration)
+                        g_warn, global_configuration)
 from wurde_idl import load_all
 
 from .config import McpConfig, read_mcp_config, read_mcp_mappings, validate
@@ -96,15 +96,26 @@ class Mcp:
             return TransitionCallbackReturn.FAILURE
         role = global_configuration()
         log_directory = os.path.join(role.get_log_directory(), 'mcp-modules')
+        for warning in config.warnings:
+            g_warn(f'MCP: {warning}')
         self.supervisor = Supervisor(self.manager, config, log_directory=log_directory,
                                      bin_directory=role.get_bin_directory(),
                                      max_restarts=self.max_restarts)
-        self.registration_pass()
+        try:
+            self.registration_pass()
+        except ConfigError as exc:
+            g_error(f'MCP: {exc}')
+            self.supervisor.quit_all(wait_s=2.0)
+            self.supervisor = None
+            return TransitionCallbackReturn.FAILURE
         g_info(f'MCP: configured with {len(config.modules)} modules from {self.config_file}')
         return TransitionCallbackReturn.SUCCESS
 
     def registration_pass(self) -> None:
-        """Start every internal binary with -r and take in the capability reports."""
+        """Start every internal binary with -r and take in the capability reports.
+
+        :raises ConfigError: when a report contradicts a mapping (file, line, both types).
+        """
         supervisor = self.supervisor
         assert supervisor is not None
         started = []
@@ -114,21 +125,26 @@ class Mcp:
                 started.append(module)
         deadline = time.monotonic() + REGISTRATION_TIMEOUT_S
         while time.monotonic() < deadline and any(
-                m.process is not None and m.process.poll() is None for m in started):
+                m.process is not None and m.process.running() for m in started):
             self.manager.step()
             supervisor.tick()
             self.manager.wait(0.02)
         for module in supervisor.modules.values():
             if module.process is not None:
-                if module.process.poll() is None:
+                if module.process.running():
                     g_error(f'MCP: {module.name} did not finish its registration (-r) in time')
-                module.process.stop(step_s=1.0)
+                module.process.stop_and_wait(step_s=1.0)
                 module.process = None
             module.restarts = 0
             module.restart_at = None
             module.status = StatusMode.UNKNOWN
         self.manager.step()
         supervisor.tick()
+        conflicts = [reason for module in supervisor.modules.values()
+                     for reason in supervisor.streams.check(module)]
+        if conflicts:
+            mapping, reason = conflicts[0]
+            raise ConfigError(mapping.path, mapping.line, reason)
 
     def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
         assert self.supervisor is not None
@@ -194,6 +210,8 @@ def main(argv: list[str] | None = None) -> int:
                 manager.set_run()  # the MCP itself is not idled by anyone
             mcp.spin_once()
     finally:
+        if mcp.supervisor is not None:
+            g_info(mcp.supervisor.summary())
         mcp.quit_all()
         mcp.node.destroy_node()
         manager.clean_up()

@@ -2,24 +2,30 @@
 
 Seed: WURDE Programming Guide 5.2.1 (heartbeat, states), 6.1 (locale, managed / unmanaged /
 critical), 6.3 (stream selection).  :meth:`Supervisor.tick` is called from the MCP's WURDE loop;
-nothing in it blocks (stopping a process escalates in a background thread).
+nothing in it blocks: every slow action on a process (stop escalation, reaping, closing its log)
+belongs to that process's owner thread (:mod:`wurde_mcp.process`), and the loop only reads what
+the owner recorded.  Silence is judged on the supervision clock (:mod:`wurde_mcp.clock`), so the
+MCP's own lag on a loaded machine never makes a module a zombie.  Exits and zombies are logged
+with the monotonic time at which supervision saw them, so reaction times can be measured with
+the MCP's own timestamps.
 """
 
 from __future__ import annotations
 
 import math
-import threading
 import time
 from dataclasses import dataclass, field
 from typing import Any
 
-from wurde_core import (CommsManager, ConnectionStrategy, ProcessLocale, ProcessType, RunState,
+from wurde_core import (CommsManager, ProcessLocale, ProcessType, RunState,
                         StatusMode, g_error, g_info, g_warn)
 from wurde_core.interfaces import robot_object_class
 
 from .binaries import find_binary
+from .clock import REVIEW_S, SupervisionClock
 from .config import McpConfig, ModuleSpec
 from .process import ModuleProcess
+from .streams import KIND_ASSIGN, KIND_CAPABILITIES, KIND_START, StreamDesk
 
 #: Restart delays by restart count (s); the last repeats until the cap.
 BACKOFF_S = (0.0, 0.5, 1.0, 2.0, 4.0)
@@ -34,7 +40,10 @@ TTL_GRACE_S = 0.05
 START_TIMEOUT_S = 30.0
 #: How often the module table is published (s), besides on every change.
 TABLE_PERIOD_S = 0.5
-KIND_ASSIGN, KIND_START, KIND_CAPABILITIES = 0, 1, 2
+#: Stopping a module: wait this long for it to obey Quit, then SIGINT, SIGTERM, SIGKILL this far
+#: apart.
+STOP_GRACE_S, STOP_STEP_S = 2.0, 1.0
+__all__ = ['KIND_ASSIGN', 'KIND_CAPABILITIES', 'KIND_START', 'Module', 'Supervisor']
 CMD_QUIT_ALL, CMD_START, CMD_STOP, CMD_RESTART, CMD_STATE = 1, 2, 3, 4, 5
 
 
@@ -47,7 +56,9 @@ class Module:
     status: StatusMode = StatusMode.UNKNOWN
     process: ModuleProcess | None = None
     wanted: bool = False
+    #: Supervision-clock time of the last beat (TTLs are judged on it), and monotonic time.
     last_beat: float | None = None
+    last_beat_at: float | None = None
     ttl: float = 1.0
     run_state: RunState = RunState.RUN
     pid: int = 0
@@ -56,8 +67,12 @@ class Module:
     restart_at: float | None = None
     supplies: list[tuple[str, str]] = field(default_factory=list)
     consumes: list[tuple[str, str]] = field(default_factory=list)
-    stopping: bool = False
+    #: Start again as soon as the current process has ended (a restart or a start asked for
+    #: while a stop was under way).
+    start_on_exit: bool = False
     ever_active: bool = False
+    #: Silent past its TTL by the wall clock since its last beat (what the old rule judged).
+    wall_late: bool = False
 
     @property
     def name(self) -> str:
@@ -88,8 +103,14 @@ class Supervisor:
         self.control = robot_object_class('SimpleControl')('mcp_control')
         self.control.set_queue_mode(True)
         manager.register_supplier(self.control)
+        #: Watched time (TTLs are judged on it) and zombies declared so far.
+        self.clock = SupervisionClock()
+        self.zombies = 0
+        #: Times a module was silent past its TTL by the wall clock (zombies under the old rule).
+        self.wall_late = 0
         for spec in config.modules.values():
             self._watch(spec)
+        self.streams = StreamDesk(self.mcp, config, self.modules, self.start)
 
     # -- modules -------------------------------------------------------------------------------
     def _watch(self, spec: ModuleSpec) -> Module:
@@ -106,11 +127,16 @@ class Supervisor:
         if not module.internal:
             g_warn(f'MCP: {name} is external; the MCP watches it but cannot start it')
             return False
-        if module.process is not None and module.process.poll() is None:
-            module.wanted = True
-            return True
         module.wanted = True
         module.restart_at = None
+        process = module.process
+        if process is not None and process.running():
+            if process.stopping():
+                module.start_on_exit = True  # started again once the stop has ended it
+            return True
+        if process is not None:  # ended, and the loop has not looked yet: started anew here
+            g_info(f'MCP: {name} exited with code {process.exit_code}')
+        module.start_on_exit = False
         binary = find_binary(module.spec.binary, self.bin_directory)
         if binary is None:
             g_error(f'MCP: binary "{module.spec.binary}" of {name} not found (absolute path, '
@@ -126,8 +152,7 @@ class Supervisor:
             return False
         module.pid = module.process.pid
         module.status = StatusMode.STARTING
-        module.last_beat = None
-        module.stopping = False
+        module.last_beat = module.last_beat_at = None
         self._changed = True
         g_info(f'MCP: started {name} (pid {module.pid})')
         return True
@@ -137,28 +162,31 @@ class Supervisor:
         self._schedule_restart(module, time.monotonic())
 
     def stop(self, name: str) -> None:
-        """Quit a module and keep it down (escalating to signals for internal ones)."""
+        """Quit a module and keep it down; an internal one that does not obey is escalated to
+        SIGINT, SIGTERM and SIGKILL by its owner thread (this returns at once)."""
         module = self.modules[name]
         module.wanted = False
+        module.start_on_exit = False
         module.restart_at = None
         self.command_state(name, RunState.QUIT)
-        process = module.process
-        if process is not None and process.poll() is None and not module.stopping:
-            module.stopping = True
-            threading.Thread(target=process.stop, kwargs={'grace_s': 2.0}, name=f'stop-{name}',
-                             daemon=True).start()
+        if module.process is not None and module.process.running():
+            g_info(f'MCP: stopping {name}: Quit, then SIGINT after {STOP_GRACE_S:.1f} s, SIGTERM '
+                   f'and SIGKILL {STOP_STEP_S:.1f} s apart')
+            module.process.stop(step_s=STOP_STEP_S, grace_s=STOP_GRACE_S)
         self._changed = True
 
     def restart(self, name: str) -> None:
-        """Stop a module and start it again (internal modules)."""
+        """Stop a module and start it again once it has ended (internal modules; returns at
+        once — the loop starts the new process when it sees the old one gone)."""
         module = self.modules[name]
-        process = module.process
+        running = module.process is not None and module.process.running()
         self.stop(name)
-        if process is not None:
-            process.stop(step_s=1.0, grace_s=2.0)
-            module.process = None
         module.restarts += 1
-        self.start(name)
+        if running:
+            module.wanted = True
+            module.start_on_exit = True
+        else:
+            self.start(name)
 
     def command_state(self, name: str, state: RunState) -> None:
         """Send a run-state command to a module (through its heartbeat channel)."""
@@ -179,16 +207,22 @@ class Supervisor:
                 self.command_state(name, state)
 
     def quit_all(self, wait_s: float = 10.0) -> None:
-        """Quit every module and reap the internal ones (escalating after ``wait_s``)."""
+        """Quit every module and reap the internal ones: all are escalated at once, and this
+        waits (at shutdown, never in the loop) up to ``wait_s`` for them to end."""
+        step_s = min(STOP_STEP_S, wait_s / 4)
         for module in self.modules.values():
             module.wanted = False
+            module.start_on_exit = False
             module.restart_at = None
             self.command_state(module.name, RunState.QUIT)
+            if module.process is not None:
+                module.process.stop(step_s=step_s, grace_s=step_s)
         deadline = time.monotonic() + wait_s
         for module in self.modules.values():
-            if module.process is not None:
-                remaining = max(0.1, deadline - time.monotonic())
-                module.process.stop(step_s=min(remaining, 3.0), grace_s=min(remaining, 2.0))
+            process = module.process
+            if process is not None:
+                if process.wait(max(0.0, deadline - time.monotonic())) is None:
+                    g_error(f'MCP: {module.name} (pid {process.pid}) did not end after SIGKILL')
                 module.process = None
                 module.pid = 0
                 module.status = StatusMode.DEAD
@@ -198,28 +232,44 @@ class Supervisor:
     def tick(self) -> None:
         """Take in heartbeats, requests and exits; restart, idle and publish as needed."""
         now = time.monotonic()
+        watched = self.clock.tick(now)
         for module in self.modules.values():
             self._take_heartbeats(module, now)
             self._check_exit(module, now)
-            self._check_ttl(module, now)
+            if (module.status == StatusMode.ACTIVE and module.last_beat_at is not None
+                    and now - module.last_beat_at > module.ttl + TTL_GRACE_S
+                    and not module.wall_late):
+                module.wall_late = True
+                self.wall_late += 1
+        if any(self._overdue(m, now, watched) for m in self.modules.values()):
+            # Before condemning anyone, take in what arrived since the last exchange.
+            self.manager.step()
+            for module in self.modules.values():
+                self._take_heartbeats(module, now)
+        for module in self.modules.values():
+            self._check_ttl(module, now, watched)
             if module.restart_at is not None and now >= module.restart_at and module.wanted:
                 module.restart_at = None
                 self.start(module.name)
         self._critical()
-        self._requests()
+        self.streams.serve()
         self._control()
         if self._changed or now - self._table_at >= TABLE_PERIOD_S:
             self._publish_table(now)
 
     def _take_heartbeats(self, module: Module, now: float) -> None:
         heartbeat = module.heartbeat
+        described = False
         while heartbeat.get_next_info():
             info = heartbeat.info
             module.run_state = RunState(info.state.get_value())
             module.pid = info.pid.get_value()
             module.host = info.host.get_value()
             module.supplies = list(zip(info.interfaces.get_value(), info.streams.get_value()))
+            described = True
             self._changed = True
+        if described:
+            self.streams.check(module)
         beats = 0
         while heartbeat.get_next_data():
             beats += 1
@@ -232,7 +282,9 @@ class Supervisor:
                 ttl = clamped
             module.ttl = ttl
         if beats:
-            module.last_beat = now
+            module.last_beat = self.clock.now()
+            module.last_beat_at = now
+            module.wall_late = False
             if module.status != StatusMode.ACTIVE:
                 module.status = StatusMode.ACTIVE
                 module.ever_active = True
@@ -241,35 +293,53 @@ class Supervisor:
 
     def _check_exit(self, module: Module, now: float) -> None:
         process = module.process
-        if process is None:
-            return
-        code = process.poll()
-        if code is None:
-            return
-        process.reap(0.0)
+        if process is not None and not process.running():
+            self._ended(module, process, now)
+
+    def _ended(self, module: Module, process: ModuleProcess, now: float) -> None:
+        """The owner has reaped ``process``: record it, restart when wanted."""
+        code = process.exit_code
         module.process = None
         module.pid = 0
         module.status = StatusMode.DEAD
         self._changed = True
-        if module.wanted and module.spec.managed != ProcessType.UNMANAGED:
-            g_warn(f'MCP: {module.name} exited with code {code}')
+        late = f'{1000 * (now - process.ended):.0f} ms after the exit' if process.ended else ''
+        text = f'MCP: {module.name} exited with code {code} (noticed at monotonic {now:.3f}, {late})'
+        if module.start_on_exit:
+            g_info(text)
+            module.start_on_exit = False
+            self.start(module.name)
+        elif module.wanted and module.spec.managed != ProcessType.UNMANAGED:
+            g_warn(text)
             self._schedule_restart(module, now)
         else:
-            g_info(f'MCP: {module.name} exited with code {code}')
+            g_info(text)
 
-    def _check_ttl(self, module: Module, now: float) -> None:
+    def _overdue(self, module: Module, now: float, watched: float) -> bool:
+        """Silent past the TTL, judged against the MCP's own lag (see :mod:`wurde_mcp.clock`)."""
+        if module.status != StatusMode.ACTIVE or module.last_beat_at is None \
+                or module.last_beat is None:
+            return False
+        limit = module.ttl + TTL_GRACE_S
+        if now - module.last_beat_at <= limit:
+            return False
+        return watched - module.last_beat > limit or self.clock.steady_for(now) >= REVIEW_S
+
+    def _check_ttl(self, module: Module, now: float, watched: float) -> None:
         if module.status == StatusMode.STARTING and module.process is not None:
             if now - module.process.started <= START_TIMEOUT_S:
                 return
             g_warn(f'MCP: {module.name} sent no heartbeat within {START_TIMEOUT_S:.0f} s of its '
                    'start: zombie')
-        elif module.status != StatusMode.ACTIVE or module.last_beat is None:
-            return
-        elif now - module.last_beat <= module.ttl + TTL_GRACE_S:
+        elif not self._overdue(module, now, watched):
             return
         else:
-            g_warn(f'MCP: {module.name} missed its TTL ({module.ttl:.3f} s): zombie')
+            assert module.last_beat is not None and module.last_beat_at is not None
+            g_warn(f'MCP: {module.name} missed its TTL ({module.ttl:.3f} s): zombie (noticed at '
+                   f'monotonic {now:.3f}; silent {watched - module.last_beat:.3f} s watched, '
+                   f'{now - module.last_beat_at:.3f} s by the clock)')
         module.status = StatusMode.ZOMBIE
+        self.zombies += 1
         self._changed = True
         if (module.internal and module.wanted and module.process is not None
                 and module.spec.managed != ProcessType.UNMANAGED):
@@ -302,67 +372,13 @@ class Supervisor:
             self.idled_for = None
             self.set_all(RunState.RUN)
 
-    # -- stream assignment (guide 6.3) ---------------------------------------------------------
-    def _supplier_of(self, stream: str) -> Module | None:
-        return next((m for m in self.modules.values()
-                     if any(s == stream for _, s in m.supplies)), None)
-
-    def _requests(self) -> None:
-        while self.mcp.get_next_request():
-            request = self.mcp.requests
-            kind = request.kind.get_value()
-            module = request.module.get_value()
-            if kind == KIND_CAPABILITIES:
-                target = self.modules.get(module)
-                if target is not None:
-                    target.supplies = list(zip(request.provided_interfaces.get_value(),
-                                               request.provided_streams.get_value()))
-                    target.consumes = list(zip(request.consumed_interfaces.get_value(),
-                                               request.consumed_objects.get_value()))
-                continue
-            if kind == KIND_ASSIGN:
-                self._answer(request, *self._assign(module, request.interface.get_value(),
-                                                    request.object.get_value(),
-                                                    ConnectionStrategy(request.strategy.get_value())))
-            elif kind == KIND_START:
-                supplier = self._supplier_of(request.object.get_value())
-                ok = supplier is not None and self.start(supplier.name)
-                self._answer(request, ok, request.object.get_value(),
-                             '' if ok else f'no startable module supplies {request.object.get_value()}')
-
-    def _assign(self, module: str, interface: str, obj: str,
-                strategy: ConnectionStrategy) -> tuple[bool, str, str]:
-        mappings = [m for m in self.config.mappings_for(module) if m.interface == interface]
-        stream = ''
-        if strategy == ConnectionStrategy.ASSIGNED:
-            stream = next((m.source for m in mappings if m.object == obj), '')
-        elif strategy == ConnectionStrategy.AUTO:
-            stream = next((m.source for m in mappings if m.object in ('', obj)), '')
-            if not stream:
-                stream = next((s for m in self.modules.values() for i, s in m.supplies
-                               if i == interface), '')
-        if not stream:
-            return False, '', (f'no mapping for {interface} object "{obj}" of module "{module}"'
-                               if strategy == ConnectionStrategy.ASSIGNED
-                               else f'no supplier of {interface} known')
-        supplier = self._supplier_of(stream)
-        if supplier is not None and supplier.internal and not supplier.wanted \
-                and supplier.status != StatusMode.FAILED:
-            self.start(supplier.name)
-        return True, stream, ''
-
-    def _answer(self, request: Any, success: bool, stream: str, detail: str) -> None:
-        info = self.mcp.info
-        info.request_id.set_value(request.request_id.get_value())
-        info.kind.set_value(request.kind.get_value())
-        info.strategy.set_value(request.strategy.get_value())
-        info.module.set_value(request.module.get_value())
-        info.interface.set_value(request.interface.get_value())
-        info.object.set_value(request.object.get_value())
-        info.stream.set_value(stream)
-        info.success.set_value(success)
-        info.detail.set_value(detail)
-        self.mcp.publish_info()
+    def summary(self) -> str:
+        """One line on how supervision went: zombies, wall-clock lateness, the MCP's stalls."""
+        clock = self.clock
+        return (f'MCP: supervision summary: {self.zombies} zombies; {self.wall_late} times a '
+                f'module was silent past its TTL by the wall clock; {clock.stalls} MCP stalls '
+                f'past {1000 * clock.max_gap_s:.0f} ms, {clock.discounted_s:.3f} s discounted, '
+                f'longest gap {1000 * clock.longest_gap_s:.0f} ms')
 
     # -- control and the module table ----------------------------------------------------------
     def _control(self) -> None:
@@ -396,8 +412,8 @@ class Supervisor:
         data.module_state = [m.run_state for m in modules]
         data.module_pid = [m.pid for m in modules]
         data.module_host = [m.host for m in modules]
-        data.module_heartbeat_age = [now - m.last_beat if m.last_beat is not None else -1.0
-                                     for m in modules]
+        data.module_heartbeat_age = [now - m.last_beat_at if m.last_beat_at is not None
+                                     else -1.0 for m in modules]
         data.module_restarts = [m.restarts for m in modules]
         self.control.publish_data()
         self._table_at = now

@@ -1,0 +1,122 @@
+"""``turn_off [NAME]``: send Quit to a running module, with or without an MCP (guide 7.1).
+
+Every module's heartbeat is a supplier on stream ``heartbeat/<name>`` (see
+:mod:`wurde_core.heartbeat`), and a request that sets ``state`` changes the module's run state.
+So ``turn_off NAME`` reaches any running module by its CommsManager name:
+
+- when an MCP answers on ``mcp_control`` and its table lists NAME, the MCP is asked to stop it
+  (so that it keeps a managed module down instead of restarting it, and escalates to signals
+  if the module does not obey);
+- otherwise — no MCP, or one that does not supervise NAME — Quit goes to NAME's heartbeat
+  directly.
+
+``turn_off`` alone quits every module but the MCP: through the MCP's quit-all when one answers,
+else directly to every heartbeat stream in the ROS graph.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from typing import Any
+
+from wurde_core import CommsManager, RunState, WurdeError, stream_name
+from wurde_core.interfaces import robot_object_class
+
+from .control import WAIT_S, connect, read_table, send
+from .supervisor import CMD_QUIT_ALL, CMD_STOP
+
+#: After the module has been found: how much longer an MCP may take to be discovered.
+MCP_GRACE_S = 1.0
+HEARTBEAT_PREFIX = 'heartbeat/'
+MCP_NAME = 'MCP'
+
+
+def _quit_directly(manager: CommsManager, heartbeat: Any) -> bool:
+    """Send Quit on a heartbeat stream; whether the module acknowledged it."""
+    heartbeat.requests.state.set_value(RunState.QUIT)
+    heartbeat.publish_request()
+    return bool(heartbeat.wait_delivered(WAIT_S))
+
+
+def _heartbeat(manager: CommsManager, name: str) -> Any:
+    heartbeat = robot_object_class('Heartbeat')(HEARTBEAT_PREFIX + name)
+    manager.register_consumer(heartbeat)
+    return heartbeat
+
+
+def _wait(manager: CommsManager, done: Any, seconds: float) -> None:
+    deadline = time.monotonic() + seconds
+    while not done() and time.monotonic() < deadline:
+        manager.step()
+        manager.wait(0.02)
+
+
+def _one(manager: CommsManager, control: Any, name: str) -> int:
+    heartbeat = _heartbeat(manager, name)
+    _wait(manager, lambda: heartbeat.peers() or control.peers(), WAIT_S)
+    if heartbeat.peers() and not control.peers():
+        _wait(manager, control.peers, MCP_GRACE_S)
+    if control.peers():
+        rows = read_table(manager, control, WAIT_S)
+        if rows is not None and any(row['name'] == name for row in rows):
+            send(control, CMD_STOP, name)
+            control.wait_delivered(WAIT_S)
+            print(f'turn_off: asked the MCP to quit {name}')
+            return 0
+        _wait(manager, heartbeat.peers, WAIT_S)
+    if not heartbeat.peers():
+        print(f'turn_off: no module {name} answers on {HEARTBEAT_PREFIX}{name}, and no MCP '
+              'lists it', file=sys.stderr)
+        return 1
+    if not _quit_directly(manager, heartbeat):
+        print(f'turn_off: {name} did not acknowledge Quit within {WAIT_S:.0f} s', file=sys.stderr)
+        return 1
+    print(f'turn_off: sent Quit to {name} directly (no MCP supervises it)')
+    return 0
+
+
+def _heartbeat_modules(manager: CommsManager) -> list[str]:
+    """Modules with a heartbeat supplier in the ROS graph (the MCP excepted)."""
+    names = set()
+    for topic_name, _types in manager.node.get_topic_names_and_types():
+        try:
+            stream, channel = stream_name(topic_name)
+        except WurdeError:
+            continue
+        if channel == 'request' and stream.startswith(HEARTBEAT_PREFIX):
+            name = stream[len(HEARTBEAT_PREFIX):]
+            if name != MCP_NAME and manager.node.count_subscribers(topic_name) > 0:
+                names.add(name)
+    return sorted(names)
+
+
+def _all(manager: CommsManager, control: Any) -> int:
+    _wait(manager, control.peers, WAIT_S)
+    if control.peers():
+        send(control, CMD_QUIT_ALL)
+        control.wait_delivered(WAIT_S)
+        print('turn_off: asked the MCP to quit every module')
+        return 0
+    names = _heartbeat_modules(manager)
+    heartbeats = [_heartbeat(manager, name) for name in names]
+    for name, heartbeat in zip(names, heartbeats):
+        if heartbeat.wait_for_peers(WAIT_S) and _quit_directly(manager, heartbeat):
+            print(f'turn_off: sent Quit to {name} directly (no MCP answers)')
+    if not names:
+        print('turn_off: no MCP and no module answers', file=sys.stderr)
+        return 1
+    return 0
+
+
+def turn_off(argv: list[str] | None = None) -> int:
+    """``turn_off [MODULE]``."""
+    args = list(sys.argv[1:] if argv is None else argv)
+    if len(args) > 1:
+        print('usage: turn_off [MODULE]', file=sys.stderr)
+        return 2
+    manager, control = connect('turnOff', wait_s=0.0)
+    try:
+        return _one(manager, control, args[0]) if args else _all(manager, control)
+    finally:
+        manager.clean_up()

@@ -1,0 +1,63 @@
+"""Whether the mappings agree with what the suppliers and consumers really are (guide 6.2).
+
+A mapping connects a consumer of interface ``I`` to stream ``S``.  If the module that supplies
+``S`` supplies it as another interface ``J``, the consumer subscribes to ``S`` with ``I``'s message
+types, DDS never matches the two, and the consumer silently never gets data.  So every such
+disagreement is refused, naming the mapping's file and line and both types:
+
+- at configure time from the files alone (two mappings that use one stream as two interfaces)
+  and from the registration pass (each internal binary's ``-r`` report of what it supplies and
+  what its consumers are);
+- at run time, when a module's capability report or heartbeat shows a supplier that the files
+  could not know: the MCP logs the error and refuses to assign that stream.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+from .config import Mapping
+
+
+def where(mapping: Mapping) -> str:
+    """``file:line`` of a mapping."""
+    return f'{mapping.path}:{mapping.line}'
+
+
+def static_conflict(mappings: Iterable[Mapping]) -> tuple[Mapping, str] | None:
+    """The first mapping that uses a stream as another interface than an earlier mapping does,
+    with the reason; ``None`` when they agree."""
+    first: dict[str, Mapping] = {}
+    for mapping in mappings:
+        earlier = first.setdefault(mapping.source, mapping)
+        if earlier.interface != mapping.interface:
+            return mapping, (f'mapping connects {mapping.interface} object '
+                             f'"{mapping.object or "*"}" of module "{mapping.module}" to stream '
+                             f'"{mapping.source}", which the mapping at {where(earlier)} uses as '
+                             f'{earlier.interface}')
+    return None
+
+
+def supplier_conflict(mapping: Mapping, supplier: str,
+                      supplies: Iterable[tuple[str, str]]) -> str | None:
+    """Why ``mapping`` disagrees with module ``supplier``'s ``(interface, stream)`` list, or
+    ``None`` when it does not supply the mapping's stream as another interface."""
+    for interface, stream in supplies:
+        if stream == mapping.source and interface != mapping.interface:
+            return (f'mapping connects {mapping.interface} object "{mapping.object or "*"}" of '
+                    f'module "{mapping.module}" to stream "{mapping.source}", but module '
+                    f'"{supplier}" supplies that stream as {interface}')
+    return None
+
+
+def consumer_conflict(mapping: Mapping, consumes: Iterable[tuple[str, str]]) -> str | None:
+    """Why ``mapping`` disagrees with its module's ``(interface, object)`` consumers, or ``None``
+    (a mapping without an object, or for an object the module does not declare, agrees)."""
+    if not mapping.object:
+        return None
+    for interface, obj in consumes:
+        if obj == mapping.object and interface != mapping.interface:
+            return (f'mapping gives {mapping.interface} object "{mapping.object}" of module '
+                    f'"{mapping.module}" stream "{mapping.source}", but that module declares '
+                    f'"{mapping.object}" as {interface}')
+    return None
