@@ -1,0 +1,200 @@
+"""The shipped modules of the simulated Pluto live through Idle under the MCP (guide 5.2.1, 6.1).
+
+With ``config/sim`` under the MCP: a lifecycle deactivate → activate keeps every module's PID,
+nothing is published while a module is Idle and data flows again after; a SIGKILL of the critical
+PlutoBase leaves every other module's PID unchanged, and they stay Idle until the base is back in
+Run.  Events are ordered by their DDS source timestamps (the writer's clock when it wrote; every
+process here shares the machine's clock), so "nothing while Idle" is checked exactly, with no
+guessed time window.
+"""
+
+from __future__ import annotations
+
+import os
+import pathlib
+import signal
+import time
+from collections.abc import Callable
+from typing import Any
+
+import pytest
+from lifecycle_msgs.msg import Transition
+from lifecycle_msgs.srv import ChangeState
+from rclpy.executors import SingleThreadedExecutor
+from sim_fixture import sim_config
+from wurde_core import CommsManager, RunState, StatusMode
+from wurde_core.interfaces import robot_object_class
+from wurde_core.naming import topic
+from wurde_core.qos import info_qos, stream_qos
+from wurde_core.ros_adaptor import take_stamped
+from wurde_testing import ChildProcess, find_executable
+
+#: Module → one data stream it publishes continuously, and that stream's interface.
+STREAMS = {'PlutoBase': ('PlutoBaseMotion', 'Egomotion'), 'PlutoLaser': ('PlutoLaser', 'RangeFinder'),
+           'PlutoWrist': ('PlutoWrist', 'ActuatorState'), 'PlutoDMU': ('PlutoDMU', 'DMUState'),
+           'PlutoGPS': ('PlutoGPS', 'GPS')}
+WAIT_S = 90.0
+
+
+class Watcher:
+    """Records every module's heartbeat descriptions and one data stream each, with source stamps."""
+
+    def __init__(self) -> None:
+        self.manager = CommsManager('IdleWatcher')
+        self.manager.set_no_sleep()
+        self.manager.set_no_heartbeat()
+        self.table = robot_object_class('SimpleControl')('mcp_control')
+        self.manager.register_consumer(self.table)
+        node = self.manager.node
+        heartbeat = robot_object_class('Heartbeat')
+        self.subscriptions: dict[tuple[str, str], Any] = {}
+        self.events: dict[tuple[str, str], list[tuple[Any, int]]] = {}
+        for module, (stream, interface) in STREAMS.items():
+            kind = robot_object_class(interface)
+            self._add((module, 'info'), heartbeat.info_type, topic(f'heartbeat/{module}', 'info'),
+                      info_qos(True))
+            self._add((module, 'beat'), heartbeat.data_type, topic(f'heartbeat/{module}', 'data'),
+                      stream_qos(True))
+            self._add((module, 'data'), kind.data_type, topic(stream, 'data'), stream_qos(True))
+        self.change = node.create_client(ChangeState, '/mcp/change_state')
+        self.executor = SingleThreadedExecutor(context=self.manager.context)
+        self.executor.add_node(node)
+
+    def _add(self, key: tuple[str, str], msg_type: type, name: str, qos: Any) -> None:
+        self.subscriptions[key] = self.manager.node.create_subscription(msg_type, name,
+                                                                        lambda _m: None, qos)
+        self.events[key] = []
+
+    def take(self) -> None:
+        self.manager.step()
+        for key, subscription in self.subscriptions.items():
+            self.events[key].extend(take_stamped(subscription))
+
+    def until(self, predicate: Callable[[], bool], what: str) -> None:
+        deadline = time.monotonic() + WAIT_S
+        while True:
+            self.take()
+            if predicate():
+                return
+            if time.monotonic() > deadline:
+                raise AssertionError(f'{what}: not within {WAIT_S} s')
+            self.manager.wait(0.02)
+
+    def states(self, module: str, after: int = 0) -> list[tuple[int, int, int]]:
+        """(state, pid, source stamp) of the module's descriptions written after ``after``."""
+        return [(m.state.value, m.pid, s) for m, s in self.events[(module, 'info')] if s > after]
+
+    def first(self, module: str, state: RunState, after: int = 0, pid: int | None = None) -> int | None:
+        for value, described_pid, stamp in self.states(module, after):
+            if value == state and (pid is None or described_pid == pid):
+                return stamp
+        return None
+
+    def data_after(self, module: str, after: int) -> int:
+        return sum(s > after for _, s in self.events[(module, 'data')])
+
+    def beats_after(self, module: str, after: int) -> int:
+        return sum(s > after for _, s in self.events[(module, 'beat')])
+
+    def written_between(self, module: str, start: int, end: int) -> list[int]:
+        return [s for _, s in self.events[(module, 'data')] if start < s < end]
+
+    def transition(self, transition_id: int) -> None:
+        deadline = time.monotonic() + WAIT_S
+        while not self.change.service_is_ready():
+            assert time.monotonic() < deadline, 'the MCP\'s lifecycle service is not there'
+            self.manager.wait(0.05)
+        future = self.change.call_async(ChangeState.Request(transition=Transition(id=transition_id)))
+        while not future.done():
+            assert time.monotonic() < deadline, 'the MCP did not answer the transition'
+            self.executor.spin_once(timeout_sec=0.05)
+            self.take()
+        assert future.result().success
+
+    def all_active(self) -> bool:
+        """Whether the MCP's module table shows every module ACTIVE and in Run."""
+        while self.table.get_next_data():
+            data = self.table.data
+            self.rows = {n: (StatusMode(s), RunState(r)) for n, s, r in zip(
+                data.module_names, data.module_status, data.module_state)}
+        rows = getattr(self, 'rows', {})
+        return all(rows.get(m) == (StatusMode.ACTIVE, RunState.RUN) for m in STREAMS)
+
+    def pids(self) -> dict[str, int]:
+        """Each module's pid, from its newest description."""
+        return {module: self.states(module)[-1][1] for module in STREAMS}
+
+    def close(self) -> None:
+        self.executor.remove_node(self.manager.node)
+        self.manager.clean_up()
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    return True
+
+
+@pytest.fixture
+def robot(ros_domain: int, tmp_path: pathlib.Path):  # type: ignore[no-untyped-def]
+    sim_config(tmp_path)
+    env = dict(os.environ, WURDE_CONFIG_DIR=str(tmp_path), WURDE_LOG_DIRECTORY=str(tmp_path))
+    watcher = Watcher()
+    try:
+        with ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', str(tmp_path / 'mcp-config.xml'),
+                           '-m', str(tmp_path / 'mcp-mappings.xml'), '-a'], env=env) as mcp:
+            mcp.expect('MCP ready', timeout=WAIT_S)
+            watcher.until(lambda: watcher.all_active() and all(
+                watcher.first(m, RunState.RUN) and watcher.data_after(m, 0) >= 2 for m in STREAMS),
+                'every module active in Run in the MCP\'s table, with data flowing')
+            yield watcher, mcp
+    finally:
+        watcher.close()
+
+
+def test_deactivate_then_activate_keeps_every_pid_and_silences_data_while_idle(robot) -> None:
+    watcher, _mcp = robot
+    pids = watcher.pids()
+    watcher.transition(Transition.TRANSITION_DEACTIVATE)
+    watcher.until(lambda: all(watcher.first(m, RunState.IDLE) for m in STREAMS), 'every module Idle')
+    idle = {m: watcher.first(m, RunState.IDLE) for m in STREAMS}
+    # Alive while Idle: every module goes on beating.
+    watcher.until(lambda: all(watcher.beats_after(m, idle[m]) >= 2 for m in STREAMS),
+                  'heartbeats from every idle module')
+    watcher.transition(Transition.TRANSITION_ACTIVATE)
+    watcher.until(lambda: all(watcher.first(m, RunState.RUN, idle[m]) for m in STREAMS),
+                  'every module in Run again')
+    run = {m: watcher.first(m, RunState.RUN, idle[m]) for m in STREAMS}
+    watcher.until(lambda: all(watcher.data_after(m, run[m]) >= 1 for m in STREAMS),
+                  'data flowing again from every module')
+    for module in STREAMS:
+        assert watcher.written_between(module, idle[module], run[module]) == [], module
+        assert watcher.pids()[module] == pids[module] and _alive(pids[module]), module
+
+
+def test_killing_the_critical_base_idles_the_others_until_it_runs_again(robot) -> None:
+    watcher, mcp = robot
+    pids = watcher.pids()
+    killed_at = time.time_ns()
+    os.kill(pids['PlutoBase'], signal.SIGKILL)
+    others = [m for m in STREAMS if m != 'PlutoBase']
+    watcher.until(lambda: all(watcher.first(m, RunState.IDLE, killed_at) for m in others),
+                  'every other module Idle')
+
+    def base_back() -> int | None:
+        return next((stamp for state, pid, stamp in watcher.states('PlutoBase', killed_at)
+                     if state == RunState.RUN and pid != pids['PlutoBase']), None)
+    watcher.until(lambda: base_back() is not None, 'PlutoBase restarted and in Run')
+    back = base_back()
+    assert back is not None
+    idle = {m: watcher.first(m, RunState.IDLE, killed_at) for m in others}
+    watcher.until(lambda: all(watcher.first(m, RunState.RUN, idle[m]) for m in others),
+                  'the others in Run again')
+    for module in others:
+        run = watcher.first(module, RunState.RUN, idle[module])
+        assert run is not None and run > back, f'{module} ran again before the base was back'
+        assert watcher.written_between(module, idle[module], run) == [], module
+        assert watcher.pids()[module] == pids[module] and _alive(pids[module]), module
+    assert mcp.process.poll() is None
