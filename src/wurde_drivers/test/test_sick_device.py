@@ -9,11 +9,11 @@ from collections.abc import Iterator
 import pytest
 import serial
 
-from wurde_drivers.codecs import sick
-from wurde_drivers.devices.sick import LaserState, SickLaser
-from wurde_drivers.emulators.pty import PtyDevice
-from wurde_drivers.emulators.sick import SickEmulator
 from wurde_drivers.errors import DeviceError, DeviceTimeout
+from wurde_drivers.ports.pty import PtyDevice
+from wurde_drivers.sick import codec as sick
+from wurde_drivers.sick.device import LaserState, SickLaser
+from wurde_drivers.sick.emulator import SickEmulator
 
 INF_BEAM, NAN_BEAM = 5, 7
 

@@ -18,11 +18,11 @@ import serial
 from sim_fixture import Observer
 from wurde_testing import ChildProcess, find_executable
 
-from wurde_drivers.codecs import sick
-from wurde_drivers.emulators.sick import SickEmulator
-from wurde_drivers.modules.sick_emulator import DEFAULT_ROOM, room_source
-from wurde_drivers.laser_config import LaserDevice
-from wurde_drivers.modules.sick_server import LOG_NAME, log_line, make_laser, scan_period
+from wurde_drivers.sick import codec as sick
+from wurde_drivers.sick.config import LaserDevice
+from wurde_drivers.sick.emulator import SickEmulator
+from wurde_drivers.sick.emulator_module import DEFAULT_ROOM, room_source
+from wurde_drivers.sick.module import LOG_NAME, log_line, make_laser, scan_period
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
 SHIPPED = ROOT / 'config' / 'sick'
