@@ -270,7 +270,8 @@ def test_close_is_idempotent_and_switches_reports_off(emulator: RFlexEmulator) -
     drv.close()
     drv.close()
     deadline = time.monotonic() + 2.0
-    while emulator.report_period_s or emulator.sonar_on:
+    while (emulator.report_period_s or emulator.sonar_on
+           or rflex.dio_reports_req(0) not in emulator.commands()):   # the last of close's writes
         assert time.monotonic() < deadline
         time.sleep(0.01)
     assert rflex.dio_reports_req(0) in emulator.commands()
