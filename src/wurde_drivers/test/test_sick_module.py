@@ -125,7 +125,7 @@ def test_scans_carry_the_emulators_values_on_every_stream_and_are_logged(
     assert [list(m.element) for _, m in observer.events['laser/Timing']] == [[361]] * len(
         observer.events['laser/Timing'])
     assert {s for s, _ in observer.events['laser/Timing']} >= {s for s, _ in main[1:]}
-    assert observer.infos['laser'].max_range == pytest.approx(81.91)
+    assert observer.infos['laser'].max_range == pytest.approx(81.82)
     # LaserLog.txt: "stamp : ranges", stamp with 6 decimals, metres with 3, one line per scan.
     lines = (data / LOG_NAME).read_text().splitlines()
     number = r'(?:\d+\.\d{3}|inf|nan)'

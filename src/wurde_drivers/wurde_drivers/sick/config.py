@@ -9,7 +9,7 @@ Optional attributes of ours, with their defaults (Pluto 8.1's: cm, 361 values, 3
 
 - ``baud``: 9600, 19200, 38400 or 500000 (default 38400; 500000 needs RS-422);
 - ``resolution``: degrees between beams over 180°, ``1.0`` (181 values) or ``0.5`` (361, default);
-- ``units``: ``cm`` (81.91 m max, default) or ``mm`` (8.191 m max).  A PLS runs at 0.5° in cm only;
+- ``units``: ``cm`` (81.82 m max, default) or ``mm`` (8.182 m max).  A PLS runs at 0.5° in cm only;
 - ``parity``: ``none`` or ``even``, default the device's own: ``even`` for a PLS (8E1), ``none``
   for an LMS (8N1).  Say ``none`` for a PLS on a pseudo-terminal, e.g. ``sick_emulator``'s link:
   a pty cannot carry parity (PROTOCOLS.md 6: reconfiguring it with PARENB fails with EINVAL).
@@ -30,6 +30,7 @@ import os
 from lxml import etree
 
 from ..xml_config import Attributes, device_named, read_devices
+from . import facts
 
 __all__ = ['DEFAULT_PARITY', 'LaserDevice', 'device_named', 'load_laser_config']
 
@@ -65,7 +66,7 @@ class LaserDevice:
     @property
     def values(self) -> int:
         """Values per scan: 181 at 1°, 361 at 0.5°."""
-        return 181 if self.resolution == 1.0 else 361
+        return facts.VALUES_AT[self.resolution]
 
 
 def _device(path: str, node: etree._Element) -> LaserDevice:
@@ -84,7 +85,7 @@ def _device(path: str, node: etree._Element) -> LaserDevice:
         units=attributes.choice('units', ('cm', 'mm'), 'cm'),
         parity=attributes.choice('parity', ('none', 'even'), DEFAULT_PARITY[kind]),
         path=path, line=node.sourceline)
-    if kind == 'PLS' and (device.resolution != 0.5 or device.units != 'cm'):
+    if kind == 'PLS' and facts.variant_error(kind, device.values, device.units) is not None:
         raise attributes.error('a PLS runs at resolution 0.5 in cm only')
     return device
 

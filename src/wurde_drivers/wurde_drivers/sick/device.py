@@ -43,12 +43,10 @@ import serial
 from ..errors import CodecError, DeviceError, DeviceTimeout
 from ..ports.serial_link import LinkStats, SerialLink
 from . import codec as sick
+from . import facts
 
 #: Speeds tried when looking for the device, in CARMEN's order (PROTOCOLS.md 1.7).
 SEARCH_BAUDS = (9600, 19200, 38400, 500000)
-#: Largest valid range in metres (Pluto 8.1: "cm mode (80 m max)"; PROTOCOLS.md 1.7: PLS 50 m).
-MAX_RANGE_M = {('LMS', 'cm'): 81.91, ('LMS', 'mm'): 8.191, ('PLS', 'cm'): 50.0}
-MIRROR_HZ = 75.0
 
 
 class LaserState(enum.Enum):
@@ -63,7 +61,7 @@ class LaserState(enum.Enum):
 class Scan:
     """One scan: ``ranges`` in metres in beam order (reversed when the laser is inverted).
 
-    ``math.inf`` marks "value > maximum" (8183) and ranges beyond :data:`MAX_RANGE_M`; ``math.nan``
+    ``math.inf`` marks "value > maximum" (8183) and ranges beyond :func:`.facts.max_range_m`; ``math.nan``
     marks the other error codes (invalid, dazzling, ...).  ``raw`` are the 13-bit values as sent, in
     the same order as ``ranges``.  Beam 0 is at ``angle_min`` (right-hand end when upright).
     """
@@ -91,7 +89,7 @@ class SickLaser:
     :param kind: ``'LMS'`` or ``'PLS'`` (a PLS line is 8E1, PROTOCOLS.md 1.1).
     :param baudrate: target speed, one of 9600, 19200, 38400, 500000.
     :param resolution: degrees between beams over 180°: 1.0 (181 values) or 0.5 (361).
-    :param units: ``'cm'`` (81.91 m max) or ``'mm'`` (8.191 m max); a PLS supports cm only.
+    :param units: ``'cm'`` (81.82 m max) or ``'mm'`` (8.182 m max); a PLS supports cm only.
     :param invert: reverse the beam order (laser mounted upside down, WURDE guide 7.5).
     :param reply_timeout: seconds to wait for the reply to a request (plus, while a frame is
         half received, the time the longest telegram takes on the wire at the current speed).
@@ -108,10 +106,11 @@ class SickLaser:
             raise ValueError(f'kind must be LMS or PLS, not {kind!r}')
         if baudrate not in sick.BAUD_CODES:
             raise ValueError(f'baudrate must be one of {sorted(sick.BAUD_CODES)}')
-        if resolution not in (1.0, 0.5) or units not in ('cm', 'mm'):
-            raise ValueError('resolution must be 1.0 or 0.5 and units cm or mm')
-        if kind == 'PLS' and (resolution != 0.5 or units != 'cm'):
-            raise ValueError('a PLS runs at 0.5° in cm only')
+        if resolution not in facts.VALUES_AT:
+            raise ValueError('resolution must be 1.0 or 0.5')
+        problem = facts.variant_error(kind, facts.VALUES_AT[resolution], units)
+        if problem is not None:
+            raise ValueError(problem)
         self.kind = kind
         self.target_baud = baudrate
         self.resolution = resolution
@@ -136,11 +135,11 @@ class SickLaser:
     @property
     def count(self) -> int:
         """Values per scan: 181 or 361."""
-        return 181 if self.resolution == 1.0 else 361
+        return facts.VALUES_AT[self.resolution]
 
     @property
     def max_range(self) -> float:
-        return MAX_RANGE_M[(self.kind, self.units)]
+        return facts.max_range_m(self.kind, self.units)
 
     @property
     def baudrate(self) -> int:
@@ -408,7 +407,7 @@ class SickLaser:
             ranges.reverse()
             raw = raw[::-1]
         size = 6 + 1 + len(telegram.data) + 1
-        centre = arrival - self._wire_time(size) - 0.5 / MIRROR_HZ
+        centre = arrival - self._wire_time(size) - 0.5 / facts.MIRROR_HZ
         self._last_scan = time.monotonic()
         self.scans += 1
         return Scan(tuple(ranges), raw, decoded.units, decoded.count, arrival, centre)

@@ -49,13 +49,13 @@ from collections.abc import Callable, Sequence
 
 from ..ports.pty import PtyDevice
 from . import codec as sick
+from . import facts
 
 ScanSource = Callable[[int, float], Sequence[float]]
 
 #: Angles and resolutions (1/100°) the variant request accepts; 0.25° only at 100° (1.6).
 _VARIANTS = {(180, 100), (180, 50), (100, 100), (100, 50), (100, 25)}
 _TYPES = {'LMS': 'LMS200;30106', 'PLS': 'PLS101-312'}
-_MAX_RANGE_M = {'LMS': math.inf, 'PLS': 50.0}
 
 
 def constant_source(metres: float = 4.0) -> ScanSource:
@@ -116,7 +116,7 @@ class SickEmulator(PtyDevice):
     @property
     def scan_period(self) -> float:
         """Seconds between two B0 telegrams in continuous mode at the device's baud rate."""
-        mirror = sick.interlace(self.resolution) / 75.0
+        mirror = sick.interlace(self.resolution) / facts.MIRROR_HZ
         wire = sick.telegram_size(self.count) * 10.0 / self.device_baud
         return max(mirror, wire)
 
@@ -175,7 +175,8 @@ class SickEmulator(PtyDevice):
     def _scan_data(self) -> bytes:
         units = self.config.units
         scale = sick.UNIT_SCALE[units]
-        limit = _MAX_RANGE_M[self.kind]
+        # An LMS's limit is its encoding (past 8182 units is 8183); a PLS's is its 50 m.
+        limit = facts.max_range_m('PLS', 'cm') if self.kind == 'PLS' else math.inf
         values = []
         for metres in self.scan_source(self.count, float(self.angle)):
             if math.isnan(metres) or metres < 0:

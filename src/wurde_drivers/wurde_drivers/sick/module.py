@@ -42,9 +42,9 @@ from wurde_core import CommsManager, Logger, RunState
 from ..errors import DriverError
 from ..module_setup import configured_device, set_loop
 from ..streams.laser import LaserStreams
-from . import codec as sick
+from . import facts
 from .config import LaserDevice, load_laser_config
-from .device import MAX_RANGE_M, LaserState, Scan, SickLaser
+from .device import LaserState, Scan, SickLaser
 
 __all__ = ['LOG_NAME', 'SickRunner', 'log_line', 'main', 'make_laser', 'scan_period']
 
@@ -65,8 +65,7 @@ LOG_NAME = 'LaserLog.txt'
 
 def scan_period(device: LaserDevice) -> float:
     """Seconds between two scans: the mirror's sweeps (0.5° interlaced over 2) or the wire time."""
-    step = 100 if device.resolution == 1.0 else 50
-    return max(sick.interlace(step) / 75.0, sick.telegram_size(device.values) * 10.0 / device.baud)
+    return facts.scan_period_s(device.values, device.baud)
 
 
 def silent_after(device: LaserDevice) -> float:
@@ -273,7 +272,7 @@ def main(argv: list[str] | None = None) -> int:
     streams.register(manager)
     manager.register_supplier(logger)
     set_loop(manager, SLEEP_S)
-    streams.publish_info(count=device.values, max_range=MAX_RANGE_M[(device.type, device.units)],
+    streams.publish_info(count=device.values, max_range=facts.max_range_m(device.type, device.units),
                          scan_time=scan_period(device))
     log_file = open_log(manager, logger) if device.log else None
     runner = SickRunner(device, streams, logger, log_file)

@@ -29,6 +29,7 @@ from wurde_core import CommsManager, Time
 from wurde_core.interfaces import FVectorState, RangeFinder
 
 from ..ros_std import ScanPublisher
+from ..sick import facts
 
 __all__ = ['LaserStreams']
 
@@ -63,8 +64,9 @@ class LaserStreams:
         """
         self.count, self.max_range, self.scan_time = count, max_range, scan_time
         if self._node is not None and self._ros is None and '/' not in self.name:
-            self._ros = ScanPublisher(self._node, self.name, max_range=max_range)
-        for obj, beams in ((self.scan, count), (self.rwi, 181)):
+            self._ros = ScanPublisher(self._node, self.name, max_range=max_range,
+                                      time_increment=1.0 / facts.MIRROR_HZ / 360.0)  # a turn per 360°
+        for obj, beams in ((self.scan, count), (self.rwi, facts.RWI_VALUES)):
             step = math.pi / (beams - 1)
             info = obj.info
             info.max_range.set_value(max_range)
@@ -83,7 +85,7 @@ class LaserStreams:
         self.scan.data.ranges = values
         self.scan.data.timestamp = Time(centre_stamp)
         self.scan.publish_data()
-        self.rwi.data.ranges = values[::2] if len(values) == 361 else values
+        self.rwi.data.ranges = values[::2] if len(values) == facts.VALUES_AT[0.5] else values
         self.rwi.data.timestamp = Time(arrival_stamp)
         self.rwi.publish_data()
         self.timing.data.element = [len(values)]
@@ -96,5 +98,5 @@ class LaserStreams:
 
     def publish_fatal(self, stamp: float) -> None:
         """Pluto 8.1: during a fatal error (the sensor reboots) every range is −1."""
-        count = self.count or 361
+        count = self.count or facts.VALUES_AT[0.5]
         self.publish_scan([-1.0] * count, centre_stamp=stamp, arrival_stamp=stamp)

@@ -84,7 +84,7 @@ def main(argv: list[str] | None = None) -> int:
                          mount_y=geometry.mount_y, mount_z=geometry.mount_z,
                          scan_time=geometry.scan_period_s)
     history = TruthHistory()
-    delay = geometry.sweep_s / 2 + geometry.transmit_s   # centre of the sweep → last byte read
+    delay = geometry.centre_offset_s   # centre of the scan → last byte read, as the driver stamps
     next_centre: float | None = None
     logger.notice(f'{manager.name}: dummy {geometry.model} with {geometry.count} beams, '
                   f'{geometry.units}, one scan every {geometry.scan_period_s * 1000:.0f} ms')
