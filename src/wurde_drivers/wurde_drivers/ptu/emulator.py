@@ -22,12 +22,12 @@ Faults: :attr:`silent` (reads, never answers), :meth:`inject_garbage`, :meth:`in
 from __future__ import annotations
 
 import dataclasses
-import math
 import os
 import threading
 import time
 
 from ..errors import CodecError
+from ..motion import ramp_step
 from ..ports.pty import PtyDevice
 from .codec import Error, LimitHit, Ok, Reply, ResetDone, decode_command, encode_reply
 
@@ -68,23 +68,16 @@ class _Axis:
         return self.velocity != 0.0 or self.current != self.target
 
     def step(self, dt: float, velocity_mode: bool, enforce: bool) -> None:
-        """Advance by ``dt`` seconds along a trapezoidal profile."""
+        """Advance by ``dt`` seconds: toward the target along the shared trapezoidal profile
+        (:func:`~wurde_drivers.motion.ramp_step`), or toward the speed in pure velocity mode."""
         accel = float(max(self.accel, 1))
         if velocity_mode:
-            wanted = float(self.speed)
+            change = max(-accel * dt, min(accel * dt, float(self.speed) - self.velocity))
+            self.velocity += change
+            self.position += self.velocity * dt
         else:
-            distance = self.target - self.position
-            if abs(distance) < 0.5 and abs(self.velocity) <= accel * dt:
-                self.position, self.velocity = float(self.target), 0.0
-                return
-            wanted = math.copysign(min(abs(self.speed), math.sqrt(2.0 * accel * abs(distance))),
-                                   distance)
-        change = max(-accel * dt, min(accel * dt, wanted - self.velocity))
-        self.velocity += change
-        before = self.position
-        self.position += self.velocity * dt
-        if not velocity_mode and (self.target - before) * (self.target - self.position) < 0:
-            self.position, self.velocity = float(self.target), 0.0
+            self.position, self.velocity = ramp_step(self.position, self.velocity, float(self.target),
+                                                     float(abs(self.speed)), accel, dt)
         if enforce and not self.minimum <= self.position <= self.maximum:
             self.position = float(min(max(self.position, self.minimum), self.maximum))
             self.velocity = 0.0

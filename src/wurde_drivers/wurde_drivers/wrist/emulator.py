@@ -6,8 +6,8 @@ runs in the same process). It answers the frames of :mod:`wurde_drivers.wrist.co
 Reset, Home, Halt, SetExtended / GetExtended of the parameters listed there, and ramp moves.
 
 Motion (a thread advancing both axes every ``tick_s``): each axis ramps toward its target with
-the commanded TargetVel and TargetAcc (capped by MaxVel and MaxAcc): the velocity changes by at
-most acc * dt per step toward ``sign(d) * min(vel, sqrt(2 acc |d|))`` so it stops on the target.
+the commanded TargetVel and TargetAcc (capped by MaxVel and MaxAcc) along the profile the PTU
+emulator and the dummy wrist share (:mod:`wurde_drivers.motion`), so it stops on the target.
 Pluto Software Documentation 8.3: both velocity and acceleration must be > 0 for the position to
 change; otherwise the axis stays where it is. Targets are clamped to [MinPos, MaxPos]. After Halt
 an axis stops at once and refuses moves until Reset (PowerCube STATE_HALTED). Modules start homed
@@ -32,6 +32,7 @@ import time
 import can
 
 from ..errors import CodecError
+from ..motion import ramp_step
 from . import codec
 from .codec import Command, Motion, Param, State
 
@@ -62,16 +63,7 @@ class Axis:
         if self.halted or vel <= 0 or acc <= 0:
             self.velocity = 0.0
             return
-        distance = self.target - self.position
-        if distance == 0.0 and self.velocity == 0.0:
-            return
-        wanted = math.copysign(min(vel, math.sqrt(2.0 * acc * abs(distance))), distance)
-        change = max(-acc * dt, min(acc * dt, wanted - self.velocity))
-        self.velocity += change
-        self.position += self.velocity * dt
-        if (self.target - self.position) * distance <= 0 or (
-                abs(self.target - self.position) < 1e-6 and abs(self.velocity) <= acc * dt):
-            self.position, self.velocity = self.target, 0.0
+        self.position, self.velocity = ramp_step(self.position, self.velocity, self.target, vel, acc, dt)
         self.position = max(self.min_pos, min(self.max_pos, self.position))
 
     @property
