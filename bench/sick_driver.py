@@ -31,7 +31,7 @@ TELEGRAM = 6 + 4 + 2 * VALUES      # bytes of one B0 telegram with 361 values
 
 
 def run_driver(path: str, seconds: float) -> dict:
-    from wurde_drivers.devices.sick import SickLaser
+    from wurde_drivers.sick.device import SickLaser
     laser = SickLaser(path, baudrate=BAUD, resolution=0.5)
     laser.connect()
     print('START', flush=True)
@@ -96,7 +96,7 @@ def main() -> int:
         print(json.dumps(runner(args.path, args.child_seconds)), flush=True)
         return 0
 
-    from wurde_drivers.emulators.sick import SickEmulator
+    from wurde_drivers.sick.emulator import SickEmulator
     with SickEmulator(scan_source=lambda count, fov: [4.0] * count) as emulator:
         rows = [('SickLaser.poll', measure(emulator, 'driver', args.seconds))]
         # The device stays at 500000 baud in continuous mode after the driver closes the port.

@@ -2,6 +2,27 @@ from setuptools import find_packages, setup
 
 PACKAGE = 'wurde_drivers'
 
+#: Executable name -> module (inside the package) whose ``main`` it runs.
+EXECUTABLES = {
+    'dummy_base': 'sim.dummies.base',
+    'dummy_sick': 'sim.dummies.sick',
+    'dummy_wrist': 'sim.dummies.wrist',
+    'dummy_dmu': 'sim.dummies.dmu',
+    'dummy_gps': 'sim.dummies.gps',
+    'tour': 'sim.tour',
+    'sick_server': 'sick.module',
+    'sick_emulator': 'sick.emulator_module',
+    'rflex_server': 'rflex.module',
+    'rflex_emulator': 'rflex.emulator_module',
+    'ptu_server': 'ptu.module',
+    'ptu_emulator': 'ptu.emulator_module',
+    'gps_module': 'gps.module',
+    'gps_emulator': 'gps.emulator_module',
+    'dmu_module': 'dmu.module',
+    'dmu_emulator': 'dmu.emulator_module',
+    'wrist_module': 'wrist.module',
+}
+
 setup(
     name=PACKAGE,
     version='0.1.0',
@@ -19,9 +40,5 @@ setup(
     license='BSD-3-Clause',
     tests_require=['pytest'],
     entry_points={'console_scripts': [
-        f'{name} = {PACKAGE}.modules.{name}:main' for name in (
-            'dummy_base', 'dummy_sick', 'dummy_wrist', 'dummy_dmu', 'dummy_gps', 'tour',
-            'sick_server', 'sick_emulator', 'rflex_server', 'rflex_emulator', 'ptu_server',
-            'ptu_emulator', 'gps_module', 'gps_emulator', 'dmu_module', 'dmu_emulator',
-            'wrist_module')]},
+        f'{name} = {PACKAGE}.{module}:main' for name, module in EXECUTABLES.items()]},
 )

@@ -8,8 +8,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from wurde_drivers.codecs import dmu
-from wurde_drivers.codecs.dmu import DmuDeframer, DmuMode, DmuPacket, DmuScale
+from wurde_drivers.dmu import codec as dmu
+from wurde_drivers.dmu.codec import DmuDeframer, DmuMode, DmuPacket, DmuScale
 from wurde_drivers.errors import CodecError
 
 # Layout (Crossbow VG700M manual, "Data Packet Format"): FF, words big-endian, sum of the bytes

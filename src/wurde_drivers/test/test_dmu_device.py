@@ -8,11 +8,11 @@ from collections.abc import Iterator
 
 import pytest
 
-from wurde_drivers.codecs import dmu as codec
-from wurde_drivers.devices.dmu import DmuDriver, RawSample
-from wurde_drivers.emulators.dmu import DmuEmulator, constant_rate
+from wurde_drivers.dmu import codec
+from wurde_drivers.dmu.device import DmuDriver, RawSample
+from wurde_drivers.dmu.emulator import DmuEmulator, constant_rate
 from wurde_drivers.errors import DeviceTimeout
-from wurde_drivers.serial_link import SerialLink
+from wurde_drivers.ports.serial_link import SerialLink
 
 ROLL, PITCH, RATE_Z = 0.1, 0.2, 0.5
 

@@ -6,8 +6,8 @@ import math
 
 import pytest
 
-from wurde_drivers.devices.dmu import RawSample
-from wurde_drivers.dmu_filter import DmuFilter
+from wurde_drivers.dmu.device import RawSample
+from wurde_drivers.dmu.filter import DmuFilter
 
 
 def sample(*, rate_z: float = 0.0, accel_x: float = 0.0, roll: float | None = 0.0,

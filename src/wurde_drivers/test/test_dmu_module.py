@@ -17,8 +17,8 @@ import pytest
 from sim_fixture import Observer
 from wurde_testing import ChildProcess, find_executable
 
-from wurde_drivers.codecs.dmu import G
-from wurde_drivers.emulators.dmu import DmuEmulator, constant_rate
+from wurde_drivers.dmu.codec import G
+from wurde_drivers.dmu.emulator import DmuEmulator, constant_rate
 
 CONFIG = pathlib.Path(__file__).resolve().parents[3] / 'config' / 'dmu'
 STREAMS = {'PlutoDMU': 'DMUState', 'PlutoDMU/Raw': 'DMUState'}

@@ -6,12 +6,12 @@ import pathlib
 
 import pytest
 
-from wurde_drivers.codecs.dmu import DmuMode
-from wurde_drivers.dmu_config import DmuDevice, load_dmu_config
-from wurde_drivers.dmu_config import device_named as dmu_named
+from wurde_drivers.dmu.codec import DmuMode
+from wurde_drivers.dmu.config import DmuDevice, load_dmu_config
+from wurde_drivers.dmu.config import device_named as dmu_named
 from wurde_drivers.errors import ConfigError
-from wurde_drivers.wrist_config import WristDevice, load_wrist_config
-from wurde_drivers.wrist_config import device_named as wrist_named
+from wurde_drivers.wrist.config import WristDevice, load_wrist_config
+from wurde_drivers.wrist.config import device_named as wrist_named
 
 CONFIG = pathlib.Path(__file__).resolve().parents[3] / 'config'
 

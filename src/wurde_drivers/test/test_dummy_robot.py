@@ -73,7 +73,7 @@ def test_the_dummy_robot_comes_up_under_the_mcp_and_every_stream_keeps_its_rate(
                 (1.2 / math.sin(0.218), 0.9, 0.9), abs=1e-6)
             assert sonar.ranges[8] == pytest.approx(2.7, abs=1e-6)
             assert observer.infos['PlutoBaseSonar'].max_range == 8.0
-            assert observer.infos['PlutoLaser'].max_range == pytest.approx(81.91)
+            assert observer.infos['PlutoLaser'].max_range == pytest.approx(81.82)
             _, gps = observer.events['PlutoGPS'][0]
             assert (gps.satellites, gps.quality) == (8, 2)
             assert (gps.x, gps.y) == pytest.approx((3.0, 7.5), abs=1e-6)
@@ -233,7 +233,7 @@ def test_standard_ros_topics_scan_odometry_and_cmd_vel(base: ChildProcess, tmp_p
             observer.until(take, 'a LaserScan and an Odometry')
             scan = got['scan'][0]
             assert len(scan.ranges) == 361 and scan.angle_min == pytest.approx(-math.pi / 2)
-            assert scan.range_max == pytest.approx(81.91) and scan.header.frame_id == 'PlutoLaser'
+            assert scan.range_max == pytest.approx(81.82) and scan.header.frame_id == 'PlutoLaser'
             # Facing north from (3, 7.5): straight ahead the laser (0.2 m forward) sees the wall
             # at y = 8.7 through no door (x = 3 is west of the door at 3.05..3.95).
             assert scan.ranges[180] == pytest.approx(1.0, abs=0.006)

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from wurde_drivers.geo import A, B, E2, LocalFrame, ecef_to_geodetic, geodetic_to_ecef
+from wurde_drivers.gps.geo import A, B, E2, LocalFrame, ecef_to_geodetic, geodetic_to_ecef
 
 
 def test_ecef_of_known_points() -> None:

@@ -8,10 +8,10 @@ from collections.abc import Callable, Iterator
 
 import pytest
 
-from wurde_drivers.devices.gps import BAUDRATE, Fix, GpsReceiver
-from wurde_drivers.emulators.gps import GpsEmulator, GpsSample
-from wurde_drivers.geo import LocalFrame
-from wurde_drivers.serial_link import SerialLink
+from wurde_drivers.gps.device import BAUDRATE, Fix, GpsReceiver
+from wurde_drivers.gps.emulator import GpsEmulator, GpsSample
+from wurde_drivers.gps.geo import LocalFrame
+from wurde_drivers.ports.serial_link import SerialLink
 
 ORIGIN = (59.3293, 18.0686)          # a good fix's position, the frame's origin
 RATE = 20.0                          # Hz: quick tests

@@ -17,9 +17,9 @@ import pytest
 from sim_fixture import Observer, median_interval
 from wurde_testing import ChildProcess, find_executable
 
-from wurde_drivers.emulators.gps import GpsEmulator
-from wurde_drivers.geo import LocalFrame
-from wurde_drivers.modules.gps_emulator import circle
+from wurde_drivers.gps.emulator import GpsEmulator
+from wurde_drivers.gps.emulator_module import circle
+from wurde_drivers.gps.geo import LocalFrame
 
 CONFIG = pathlib.Path(__file__).resolve().parents[3] / 'config' / 'gps'
 CENTRE = (48.1500, 11.5800)

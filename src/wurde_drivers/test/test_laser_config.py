@@ -7,7 +7,7 @@ import pathlib
 import pytest
 
 from wurde_drivers.errors import ConfigError
-from wurde_drivers.laser_config import LaserDevice, device_named, load_laser_config
+from wurde_drivers.sick.config import LaserDevice, device_named, load_laser_config
 
 EXAMPLE = pathlib.Path(__file__).resolve().parents[3] / 'config' / 'sick' / 'laser-config.xml'
 

@@ -9,10 +9,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from wurde_drivers.codecs.nmea import (GGA, KNOT, RMC, ChecksumError, MissingChecksumError,
+from wurde_drivers.errors import CodecError
+from wurde_drivers.gps.codec import (GGA, KNOT, RMC, ChecksumError, MissingChecksumError,
                                        NmeaDeframer, RawSentence, checksum, decode, encode,
                                        parse_frame)
-from wurde_drivers.errors import CodecError
 
 # PROTOCOLS.md 4, verbatim.
 GOLDEN_GGA = b'$GPGGA,123519,4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,*47'

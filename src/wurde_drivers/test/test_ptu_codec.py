@@ -6,10 +6,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from wurde_drivers.codecs.ptu import (RESET_STRING, Command, Error, LimitHit, Ok, PtuDeframer,
+from wurde_drivers.errors import CodecError
+from wurde_drivers.ptu.codec import (RESET_STRING, Command, Error, LimitHit, Ok, PtuDeframer,
                                       ResetDone, decode_command, decode_commands, decode_reply,
                                       encode_command, encode_reply)
-from wurde_drivers.errors import CodecError
 
 
 # -- golden -----------------------------------------------------------------------------------

@@ -9,11 +9,11 @@ from collections.abc import Callable, Iterator
 import pytest
 import serial
 
-from wurde_drivers.codecs.ptu import LimitHit, ResetDone
-from wurde_drivers.devices.ptu import BAUDRATE, Ptu46
-from wurde_drivers.emulators.ptu import Ptu46Emulator
 from wurde_drivers.errors import DeviceError, DeviceTimeout
-from wurde_drivers.serial_link import SerialLink
+from wurde_drivers.ports.serial_link import SerialLink
+from wurde_drivers.ptu.codec import LimitHit, ResetDone
+from wurde_drivers.ptu.device import BAUDRATE, Ptu46
+from wurde_drivers.ptu.emulator import Ptu46Emulator
 
 STEP = 185.1428 / 3600.0 * math.pi / 180.0     # rad per position
 

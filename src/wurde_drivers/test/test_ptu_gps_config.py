@@ -6,10 +6,11 @@ import pathlib
 
 import pytest
 
-from wurde_drivers import gps_config, ptu_config
 from wurde_drivers.errors import ConfigError
-from wurde_drivers.gps_config import GpsDevice, load_gps_config
-from wurde_drivers.ptu_config import PtuDevice, load_ptu_config
+from wurde_drivers.gps import config as gps_config
+from wurde_drivers.gps.config import GpsDevice, load_gps_config
+from wurde_drivers.ptu import config as ptu_config
+from wurde_drivers.ptu.config import PtuDevice, load_ptu_config
 
 CONFIG = pathlib.Path(__file__).resolve().parents[3] / 'config'
 

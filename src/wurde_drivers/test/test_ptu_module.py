@@ -18,7 +18,7 @@ from sim_fixture import Observer, median_interval
 from wurde_core import LockedError
 from wurde_testing import ChildProcess, find_executable
 
-from wurde_drivers.emulators.ptu import Ptu46Emulator
+from wurde_drivers.ptu.emulator import Ptu46Emulator
 
 CONFIG = pathlib.Path(__file__).resolve().parents[3] / 'config' / 'ptu'
 STEP = 185.1428 / 3600.0 * math.pi / 180.0     # rad per position step of the emulated unit

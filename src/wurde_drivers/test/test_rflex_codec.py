@@ -6,8 +6,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from wurde_drivers.codecs import rflex
 from wurde_drivers.errors import CodecError
+from wurde_drivers.rflex import codec as rflex
 
 
 def hexbytes(text: str) -> bytes:

@@ -7,8 +7,8 @@ import pathlib
 import pytest
 
 from wurde_drivers.errors import ConfigError
-from wurde_drivers.rflex_config import RFlexDevice, device_named, load_rflex_config
-from wurde_drivers.rflex_robots import ATRV_JR, B21R
+from wurde_drivers.rflex.config import RFlexDevice, device_named, load_rflex_config
+from wurde_drivers.rflex.robots import ATRV_JR, B21R
 
 EXAMPLE = pathlib.Path(__file__).resolve().parents[3] / 'config' / 'rflex' / 'rflex-config.xml'
 

@@ -8,13 +8,13 @@ from collections.abc import Callable, Iterator
 
 import pytest
 
-from wurde_drivers.codecs import rflex
-from wurde_drivers.devices.rflex import RFlexDriver
-from wurde_drivers.emulators.rflex import RFlexEmulator
 from wurde_drivers.errors import DeviceError, DeviceTimeout
-from wurde_drivers.rflex_config import RFlexDevice
-from wurde_drivers.rflex_robots import B21R
-from wurde_drivers.serial_link import SerialLink
+from wurde_drivers.ports.serial_link import SerialLink
+from wurde_drivers.rflex import codec as rflex
+from wurde_drivers.rflex.config import RFlexDevice
+from wurde_drivers.rflex.device import RFlexDriver
+from wurde_drivers.rflex.emulator import RFlexEmulator
+from wurde_drivers.rflex.robots import B21R
 
 CONNECT_SEQUENCE = [rflex.set_defaults(), rflex.system_report_req(100000, 3),
                     rflex.sonar_run(True), rflex.dio_reports_req(100000)]
@@ -270,7 +270,8 @@ def test_close_is_idempotent_and_switches_reports_off(emulator: RFlexEmulator) -
     drv.close()
     drv.close()
     deadline = time.monotonic() + 2.0
-    while emulator.report_period_s or emulator.sonar_on:
+    while (emulator.report_period_s or emulator.sonar_on
+           or rflex.dio_reports_req(0) not in emulator.commands()):   # the last of close's writes
         assert time.monotonic() < deadline
         time.sleep(0.01)
     assert rflex.dio_reports_req(0) in emulator.commands()

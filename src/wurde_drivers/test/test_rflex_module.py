@@ -19,9 +19,9 @@ import pytest
 from sim_fixture import Observer
 from wurde_testing import ChildProcess, find_executable
 
-from wurde_drivers.codecs.rflex import Mot, Port
-from wurde_drivers.emulators.rflex import RFlexEmulator
-from wurde_drivers.rflex_robots import ATRV_JR, B21R, RobotParams
+from wurde_drivers.rflex.codec import Mot, Port
+from wurde_drivers.rflex.emulator import RFlexEmulator
+from wurde_drivers.rflex.robots import ATRV_JR, B21R, RobotParams
 
 CONFIG = pathlib.Path(__file__).resolve().parents[3] / 'config' / 'rflex'
 #: One range per B21r sonar (m); sonar 5 has no echo. Kept below 4.6 m, where the emulator

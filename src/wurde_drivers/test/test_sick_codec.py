@@ -8,8 +8,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from wurde_drivers.codecs import sick
 from wurde_drivers.errors import CodecError
+from wurde_drivers.sick import codec as sick
 
 # PROTOCOLS.md 1.3, the table verbatim: (request builder, bytes on the wire).
 GOLDEN_REQUESTS = [

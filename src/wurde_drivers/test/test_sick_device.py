@@ -9,11 +9,11 @@ from collections.abc import Iterator
 import pytest
 import serial
 
-from wurde_drivers.codecs import sick
-from wurde_drivers.devices.sick import LaserState, SickLaser
-from wurde_drivers.emulators.pty import PtyDevice
-from wurde_drivers.emulators.sick import SickEmulator
 from wurde_drivers.errors import DeviceError, DeviceTimeout
+from wurde_drivers.ports.pty import PtyDevice
+from wurde_drivers.sick import codec as sick
+from wurde_drivers.sick.device import LaserState, SickLaser
+from wurde_drivers.sick.emulator import SickEmulator
 
 INF_BEAM, NAN_BEAM = 5, 7
 
@@ -106,7 +106,7 @@ def test_centre_time_at_38400_is_about_200_ms_early(emulator: SickEmulator) -> N
         laser.connect()
         (scan, *_) = collect(laser, 1, within=3.0)
         assert 0.19 < scan.arrival_time - scan.centre_time < 0.21
-        assert laser.max_range == pytest.approx(81.91)
+        assert laser.max_range == pytest.approx(81.82)
     finally:
         laser.close()
 

@@ -18,11 +18,11 @@ import serial
 from sim_fixture import Observer
 from wurde_testing import ChildProcess, find_executable
 
-from wurde_drivers.codecs import sick
-from wurde_drivers.emulators.sick import SickEmulator
-from wurde_drivers.modules.sick_emulator import DEFAULT_ROOM, room_source
-from wurde_drivers.laser_config import LaserDevice
-from wurde_drivers.modules.sick_server import LOG_NAME, log_line, make_laser, scan_period
+from wurde_drivers.sick import codec as sick
+from wurde_drivers.sick.config import LaserDevice
+from wurde_drivers.sick.emulator import SickEmulator
+from wurde_drivers.sick.emulator_module import DEFAULT_ROOM, room_source
+from wurde_drivers.sick.module import LOG_NAME, log_line, make_laser, scan_period
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
 SHIPPED = ROOT / 'config' / 'sick'
@@ -125,7 +125,7 @@ def test_scans_carry_the_emulators_values_on_every_stream_and_are_logged(
     assert [list(m.element) for _, m in observer.events['laser/Timing']] == [[361]] * len(
         observer.events['laser/Timing'])
     assert {s for s, _ in observer.events['laser/Timing']} >= {s for s, _ in main[1:]}
-    assert observer.infos['laser'].max_range == pytest.approx(81.91)
+    assert observer.infos['laser'].max_range == pytest.approx(81.82)
     # LaserLog.txt: "stamp : ranges", stamp with 6 decimals, metres with 3, one line per scan.
     lines = (data / LOG_NAME).read_text().splitlines()
     number = r'(?:\d+\.\d{3}|inf|nan)'

@@ -40,8 +40,8 @@ def test_laser_units_maximum_range_and_inverted_order() -> None:
     hall = World([(100, -50, 100, 50)])
     cm = LaserModel(LaserGeometry(count=361, units='cm'), make_rng(1)).scan(hall, 0.0, 0.0, 0.0)
     mm = LaserModel(LaserGeometry(count=361, units='mm'), make_rng(1)).scan(hall, 99.0, 0.0, 0.0)
-    assert math.isinf(cm[180])        # 100 m is past the LMS's 81.91 m: the "value > maximum" reading
-    assert mm[180] == pytest.approx(1.0) and math.isinf(mm[0])   # mm mode reads to 8.191 m only
+    assert math.isinf(cm[180])        # 100 m is past the LMS's 81.82 m: the "value > maximum" reading
+    assert mm[180] == pytest.approx(1.0) and math.isinf(mm[0])   # mm mode reads to 8.182 m only
     geometry = LaserGeometry(count=181, inverted=True)
     inverted = LaserModel(geometry, make_rng(1)).scan(ROOM, 4.0, 1.0, 0.0)
     assert inverted[0] == pytest.approx(5.0) and inverted[180] == pytest.approx(1.0)

@@ -6,10 +6,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from wurde_drivers.codecs import wrist_can as wc
-from wurde_drivers.codecs.wrist_can import (CanFrame, Command, Motion, Param, WristCommand,
-                                            WristReply)
 from wurde_drivers.errors import CodecError
+from wurde_drivers.wrist import codec as wc
+from wurde_drivers.wrist.codec import (CanFrame, Command, Motion, Param, WristCommand,
+                                            WristReply)
 
 H = bytes.fromhex
 # ids: 0x0E0 + module put, 0x0C0 + module get, 0x0A0 + module acknowledge, 0x100 all;

@@ -10,9 +10,9 @@ from collections.abc import Callable, Iterator
 import can
 import pytest
 
-from wurde_drivers.devices.wrist import WristDriver, WristState
-from wurde_drivers.emulators.wrist import WristEmulator
 from wurde_drivers.errors import DeviceTimeout
+from wurde_drivers.wrist.device import WristDriver, WristState
+from wurde_drivers.wrist.emulator import WristEmulator
 
 _channels = itertools.count()
 

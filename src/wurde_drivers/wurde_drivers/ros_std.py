@@ -46,10 +46,13 @@ def _stamp(message: Any, seconds: float) -> None:
 class ScanPublisher:
     """``/S/scan``: the scan in robot order, counter-clockwise from −90° (REP-103)."""
 
-    def __init__(self, node: Any, stream: str, *, max_range: float, frame: str | None = None) -> None:
+    def __init__(self, node: Any, stream: str, *, max_range: float, time_increment: float = 0.0,
+                 frame: str | None = None) -> None:
+        """``time_increment``: seconds between two measurements (the device's fact, 0 if unknown)."""
         self.publisher = node.create_publisher(LaserScan, f'/{stream_segment_path(stream)}/scan', _QOS)
         self.frame = frame or stream.replace('/', '_')
         self.max_range = max_range
+        self.time_increment = time_increment
 
     def publish(self, ranges: Sequence[float], stamp: float, scan_time: float) -> None:
         msg = LaserScan()
@@ -60,7 +63,7 @@ class ScanPublisher:
         msg.angle_max = math.pi / 2
         msg.angle_increment = math.pi / (count - 1) if count > 1 else 0.0
         msg.scan_time = scan_time
-        msg.time_increment = (1.0 / 75.0) / 360.0 if count else 0.0   # one mirror turn per 360°
+        msg.time_increment = self.time_increment if count else 0.0
         msg.range_min = 0.0
         msg.range_max = self.max_range
         msg.ranges = [float(r) for r in ranges]

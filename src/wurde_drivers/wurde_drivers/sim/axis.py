@@ -1,15 +1,15 @@
 """One actuated joint moving toward a target under velocity and acceleration limits.
 
 Used by the dummy wrist (Pluto 8.3: pan and tilt in rad, rad/s, rad/s²; "one must set both the
-velocity and acceleration > 0 if you want the position to change"). The profile is trapezoidal:
-accelerate at ``acceleration`` up to ``velocity``, and brake in time to stop on the target
-(``v² = 2 a d``), within the joint's limits.
+velocity and acceleration > 0 if you want the position to change"). The profile is the one the
+wrist and PTU emulators use (:mod:`wurde_drivers.motion`), within the joint's limits.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import math
+
+from ..motion import ramp_step, stopping_distance
 
 __all__ = ['Axis']
 
@@ -40,8 +40,7 @@ class Axis:
 
     def halt(self) -> None:
         """Stop as fast as the acceleration allows: the target becomes the stopping point."""
-        a = self.accel or self.max_acceleration
-        stop = self.velocity * abs(self.velocity) / (2 * a) if a > 0 else 0.0
+        stop = stopping_distance(self.velocity, self.accel or self.max_acceleration)
         self.target = min(self.maximum, max(self.minimum, self.position + stop))
 
     @property
@@ -49,22 +48,8 @@ class Axis:
         return self.velocity != 0.0 or abs(self.target - self.position) > 1e-9
 
     def step(self, dt: float) -> None:
-        remaining = self.target - self.position
-        if self.accel <= 0.0 or self.speed <= 0.0 or dt <= 0.0 or (remaining == 0.0 and self.velocity == 0.0):
-            self.velocity = self.acceleration = 0.0
-            return
-        direction = math.copysign(1.0, remaining) if remaining else 0.0
-        a_dt = self.accel * dt
-        if abs(self.velocity) <= a_dt + 1e-12 and abs(remaining) <= max(abs(self.velocity) * dt, 1e-9):
-            # Close enough to stop on the target within one step of braking.
-            self.acceleration = -self.velocity / dt
-            self.position, self.velocity = self.target, 0.0
-            return
-        # The fastest speed from which whole steps of braking still stop on the target:
-        # the distance of braking from v in steps of a·dt is dt·v·(v/(a·dt) + 1)/2.
-        brake_speed = (-a_dt + math.sqrt(a_dt * a_dt + 8 * self.accel * abs(remaining))) / 2
-        wanted = direction * min(self.speed, brake_speed)
-        change = max(-a_dt, min(a_dt, wanted - self.velocity))
-        self.velocity += change
-        self.acceleration = change / dt
-        self.position += self.velocity * dt
+        """Advance ``dt`` seconds along the shared profile; ``acceleration`` is the step's."""
+        previous = self.velocity
+        self.position, self.velocity = ramp_step(self.position, self.velocity, self.target,
+                                                 self.speed, self.accel, dt)
+        self.acceleration = (self.velocity - previous) / dt if dt > 0.0 else 0.0

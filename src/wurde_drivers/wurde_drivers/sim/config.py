@@ -32,6 +32,7 @@ import pathlib
 
 from wurde_idl.errors import ConfigError
 
+from ..sick import facts as sick_facts
 from ..xml_config import Attributes, children, local_name, read_root
 from .body import BumperRing, SonarRing
 from .kinematics import DriveLimits
@@ -203,9 +204,13 @@ def _noise(a: Attributes | None) -> OdometryNoise:
 
 
 def _laser(a: Attributes) -> LaserGeometry:
-    return LaserGeometry(model=a.choice('model', ('LMS', 'PLS'), 'LMS'),
-                         count=int(a.choice('count', ('181', '361'), '361')),
-                         units=a.choice('units', ('cm', 'mm'), 'cm'),
+    model = a.choice('model', sick_facts.KINDS, 'LMS')
+    count = int(a.choice('count', tuple(str(n) for n in sick_facts.VALUES_AT.values()), '361'))
+    units = a.choice('units', sick_facts.UNITS, 'cm')
+    problem = sick_facts.variant_error(model, count, units)
+    if problem is not None:
+        raise a.error(problem)
+    return LaserGeometry(model=model, count=count, units=units,
                          inverted=a.boolean('inverted', False),
                          baudrate=int(a.choice('baud', ('9600', '19200', '38400', '500000'), '38400')),
                          mount_x=a.number('mount-x', 0.0), mount_y=a.number('mount-y', 0.0),

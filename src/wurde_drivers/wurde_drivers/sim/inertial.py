@@ -6,7 +6,7 @@
   and their rates are 0; accelerations are the translational acceleration along x, the centripetal
   ``tv × rv`` along y and gravity's reaction (+g) along z.
 - **GPS**: the true position, plus white noise in metres, converted to latitude and longitude by a
-  function of the caller (the local-frame conversion of ``wurde_drivers.geo``), with the fix
+  function of the caller (the local-frame conversion of ``wurde_drivers.gps.geo``), with the fix
   quality, satellites and HDOP from the configuration (Pluto 8.4: more than 5 satellites and
   quality 2 for sub-metre accuracy).
 """

@@ -1,8 +1,9 @@
 """The dummy SICK: geometry, units and timing of an LMS 2xx / PLS, ranges raycast from the map.
 
-Geometry and units follow the real device (PROTOCOLS.md 1.6; Pluto 8.1): 181 values at 1° or 361 at
-0.5° over 180°, counter-clockwise from the right (−90°) to the left (+90°); cm mode reads up to
-81.91 m in 1 cm steps, mm mode up to 8.191 m in 1 mm steps, a PLS up to 50 m. A laser mounted
+Geometry, units and timing are the real device's, from :mod:`wurde_drivers.sick.facts` (PROTOCOLS.md
+1.6; Pluto 8.1): 181 values at 1° or 361 at 0.5° over 180°, counter-clockwise from the right (−90°)
+to the left (+90°); cm mode reads up to 81.82 m in 1 cm steps, mm mode up to 8.182 m in 1 mm
+steps, a PLS (0.5°, cm only) up to 50 m. A laser mounted
 upside down (``inverted``) sees the world mirrored, so its beam order is reversed, as the real
 driver must undo. A beam that hits nothing within the maximum range reads ``math.inf`` — the real
 LMS's "value > maximum" code (8183) — so consumers cannot tell the dummy from the device.
@@ -20,12 +21,11 @@ import math
 
 import numpy as np
 
+from ..sick import codec, facts
 from .world import World
 
 __all__ = ['LaserGeometry', 'LaserModel']
 
-MIRROR_HZ = 75.0
-_MAX_RANGE = {('LMS', 'cm'): 81.91, ('LMS', 'mm'): 8.191, ('PLS', 'cm'): 50.0, ('PLS', 'mm'): 8.191}
 _RESOLUTION = {'cm': 0.01, 'mm': 0.001}
 
 
@@ -35,7 +35,7 @@ class LaserGeometry:
 
     model: str = 'LMS'            # LMS or PLS
     count: int = 361              # 181 (1°) or 361 (0.5°)
-    units: str = 'cm'             # cm (81.91 m) or mm (8.191 m)
+    units: str = 'cm'             # cm (81.82 m) or mm (8.182 m)
     inverted: bool = False        # mounted upside down
     baudrate: int = 38400
     mount_x: float = 0.0          # m, position on the robot (forward)
@@ -44,12 +44,9 @@ class LaserGeometry:
     noise_sigma: float = 0.0      # m, Gaussian range noise (0: the seed's ideal dummy)
 
     def __post_init__(self) -> None:
-        if self.model not in ('LMS', 'PLS'):
-            raise ValueError(f'laser model {self.model!r} is not LMS or PLS')
-        if self.count not in (181, 361):
-            raise ValueError(f'laser count {self.count} is not 181 or 361')
-        if self.units not in _RESOLUTION:
-            raise ValueError(f'laser units {self.units!r} are not cm or mm')
+        problem = facts.variant_error(self.model, self.count, self.units)
+        if problem is not None:
+            raise ValueError(problem)
 
     @property
     def fov(self) -> float:
@@ -61,7 +58,7 @@ class LaserGeometry:
 
     @property
     def max_range(self) -> float:
-        return _MAX_RANGE[(self.model, self.units)]
+        return facts.max_range_m(self.model, self.units)
 
     @property
     def resolution(self) -> float:
@@ -69,21 +66,18 @@ class LaserGeometry:
 
     @property
     def telegram_bytes(self) -> int:
-        """Bytes of one B0 scan telegram: header 4, command 1, count 2, values, status 1, CRC 2."""
-        return 2 * self.count + 10
-
-    @property
-    def transmit_s(self) -> float:
-        return 10.0 * self.telegram_bytes / self.baudrate
-
-    @property
-    def sweep_s(self) -> float:
-        """Time to measure one scan (interlaced sweeps of the 75 Hz mirror)."""
-        return (2 if self.count == 361 else 1) / MIRROR_HZ
+        """Bytes of one B0 scan telegram on the line."""
+        return codec.telegram_size(self.count)
 
     @property
     def scan_period_s(self) -> float:
-        return max(self.sweep_s, self.transmit_s)
+        """Seconds between two scans at this baud rate (the mirror or the wire, the slower)."""
+        return facts.scan_period_s(self.count, self.baudrate)
+
+    @property
+    def centre_offset_s(self) -> float:
+        """Seconds from the middle of a scan to its last byte read, as the driver stamps it."""
+        return facts.centre_offset_s(self.count, self.baudrate)
 
     def beam_angles(self) -> np.ndarray:
         """Beam directions on the robot, in the order the device sends them."""

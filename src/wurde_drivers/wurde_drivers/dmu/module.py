@@ -1,0 +1,131 @@
+"""dmu_module: Pluto's dmuModule (Pluto Software Documentation 8.2), the Crossbow DMU as a module.
+
+It reads its ``<device>`` (chosen by the module name, ``-n``, default PlutoDMU) from
+``dmu-config.xml`` (:mod:`wurde_drivers.dmu.config`; ``-c`` or the config directory), drives the
+unit through :class:`~wurde_drivers.dmu.device.DmuDriver` and publishes exactly the streams of
+the dummy DMU (:class:`~wurde_drivers.streams.dmu.DmuStreams`): ``N/Raw`` for every sample,
+stamped when it was read, and ``N``, low-pass filtered with the heading integrated and the stamp
+moved back by the filter delay.
+
+Life cycle: a unit that is not there at start is tried again about once a second from inside the
+loop (the module never exits for a missing device, which would make the MCP restart it in a loop).
+Once connected the driver re-arms a unit that fell silent or was power cycled and the serial link
+reopens a vanished port. A unit silent for :data:`SILENT_AFTER_S` is logged once and nothing is
+published while it is silent (never stale data); its return is logged too. Across such a gap the
+heading keeps integrating the filtered z rate (trapezoidal over the gap, as the filter does), so
+theta stays relative to the starting orientation.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+from wurde_core import CommsManager, Logger, RunState
+
+from ..errors import DriverError
+from ..module_setup import configured_device, set_loop
+from ..ports.serial_link import SerialLink
+from ..streams.dmu import DmuStreams
+from .config import DmuDevice, load_dmu_config
+from .device import DmuDriver
+
+__all__ = ['DmuRunner', 'main']
+
+#: Loop sleep and the longest poll: the DMU streams at up to ~100 Hz.
+SLEEP_S = 0.01
+#: Longest the loop blocks in one connection attempt (well under the 1 s heartbeat TTL).
+CONNECT_TIMEOUT_S = 0.5
+#: Seconds between two connection attempts while the unit is not there.
+RETRY_S = 1.0
+#: A unit that sent nothing for this long is silent (many packet periods).
+SILENT_AFTER_S = 0.5
+
+
+class DmuRunner:
+    """The module's work per loop turn: connect (again), poll, publish, watch for silence.
+
+    :param device: the configured device (for messages).
+    :param driver: the device layer (constructed, not yet connected).
+    :param streams: the module's DMU streams.
+    :param logger: where connection and silence changes are logged (once each).
+    """
+
+    def __init__(self, device: DmuDevice, driver: DmuDriver, streams: DmuStreams,
+                 logger: Logger) -> None:
+        self.device = device
+        self.driver = driver
+        self.streams = streams
+        self.logger = logger
+        self.connected = False
+        self.silent = False
+        self._failures = 0
+        self._next_try = 0.0
+        # The driver stamps samples with the monotonic clock; streams carry wall-clock time.
+        self._to_wall = time.time() - time.monotonic()
+
+    def step(self, timeout: float) -> int:
+        """One turn: connect if needed, else poll up to ``timeout`` s; returns samples published."""
+        if not self.connected:
+            self._try_connect()
+            return 0
+        samples = self.driver.poll(timeout)
+        if not samples:
+            if not self.silent and self.driver.silent_for > SILENT_AFTER_S:
+                self.silent = True
+                self.logger.warn(f'DMU on {self.device.port} is silent (nothing for '
+                                 f'{self.driver.silent_for:.1f} s); publishing nothing until '
+                                 'it is back')
+            return 0
+        if self.silent:
+            self.silent = False
+            self.logger.notice(f'DMU on {self.device.port} is back')
+        for sample in samples:
+            self.streams.publish(sample, sample.stamp + self._to_wall)
+        return len(samples)
+
+    def _try_connect(self) -> None:
+        now = time.monotonic()
+        if now < self._next_try:
+            return
+        self._next_try = now + RETRY_S
+        try:
+            self.driver.connect(CONNECT_TIMEOUT_S)
+        except DriverError as error:
+            self.driver.link.close()   # open afresh next time (the port may be replaced)
+            if self._failures == 0:
+                self.logger.warn(f'DMU not ready: {error}; trying again every {RETRY_S:g} s')
+            self._failures += 1
+            return
+        self.connected = True
+        self.logger.notice(f'DMU on {self.device.port} streaming ({self.device.mode.name.lower()} '
+                           f'mode, {self.device.baud} baud, filter cut-off '
+                           f'{self.device.cutoff:g} Hz)')
+
+    def close(self) -> None:
+        """Stop the stream and close the port (idempotent)."""
+        self.driver.close()
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv if argv is None else argv)
+    manager = CommsManager('PlutoDMU')
+    device = configured_device(manager, argv, 'dmu-config.xml', load_dmu_config)
+    streams = DmuStreams(manager.name, device.cutoff)
+    runner = DmuRunner(device, DmuDriver(SerialLink(device.port, device.baud), mode=device.mode),
+                       streams, Logger(manager.name))
+    streams.register(manager)
+    manager.register_supplier(runner.logger)
+    set_loop(manager, SLEEP_S)
+    streams.publish_info()
+    try:
+        while manager.run_update() == RunState.RUN:
+            runner.step(SLEEP_S)
+    finally:
+        runner.close()
+        manager.clean_up()
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,291 @@
+"""sick_server: WURDE's SICKServer (guide 7.5) and Pluto's sickModule (8.1), a SICK LMS/PLS as a module.
+
+It reads its ``<device>`` from ``laser-config.xml`` (``-c``, default in the config directory),
+chosen by the module name (``-n``, which WURDE says "should always be specified"; default
+PlutoLaser, the dummy's name), drives the laser through :class:`~wurde_drivers.sick.device.SickLaser`
+and publishes exactly the streams of ``dummy_sick`` (:class:`~wurde_drivers.streams.laser.LaserStreams`):
+``N`` stamped at the scan's centre, ``N/RWI`` (181 values) stamped at arrival, ``N/Timing``.
+Ranges are in the robot's order; the device layer reverses an inverted laser's beams.
+
+Life cycle.  Connecting and resetting the laser block for seconds (a baud search, Pluto's ~20 s
+reboot), longer than the 1 s heartbeat TTL, so each runs in a worker thread while the loop goes on
+beating; the loop touches the device only when no worker runs.  A laser that is not there at
+start is tried again every :data:`RETRY_S` (the module never exits for a missing device).  A laser
+that sends no scan for :func:`silent_after` is logged once and nothing is published (never stale
+data); its return is logged too.  After :data:`RECOVER_AFTER_S` of silence the module reboots it
+(:meth:`SickLaser.recover`, retried every :data:`RETRY_S`): that is how a fatal error ends, since
+a laser in a fatal error only answers the reset.  Once the laser acknowledged the reset, and until
+it streams again, every scan period carries −1 ranges (Pluto 8.1: "all data is set to −1 if a fatal
+error occurs ... about 20 seconds"; :meth:`LaserStreams.publish_fatal`).  A laser that does not
+answer the reset is merely silent and gets nothing published.
+
+``log="true"`` appends one line per scan to ``<data directory>/LaserLog.txt`` (guide 7.5:
+``[timestamp] : [readings]``); the format is :func:`log_line`'s.
+
+The line's parity is the ``<device>``'s ``parity`` attribute (:mod:`~wurde_drivers.sick.config`:
+``none|even``, default even for a PLS, none for an LMS).  A pseudo-terminal cannot carry parity
+(PROTOCOLS.md 6: it refuses PARENB), so a PLS on ``sick_emulator``'s link says ``parity="none"``.
+"""
+
+from __future__ import annotations
+
+import pathlib
+import sys
+import threading
+import time
+from collections.abc import Sequence
+from typing import TextIO
+
+import serial
+from wurde_core import CommsManager, Logger, RunState
+
+from ..errors import DriverError
+from ..module_setup import configured_device, set_loop
+from ..streams.laser import LaserStreams
+from . import facts
+from .config import LaserDevice, load_laser_config
+from .device import LaserState, Scan, SickLaser
+
+__all__ = ['LOG_NAME', 'SickRunner', 'log_line', 'main', 'make_laser', 'scan_period']
+
+#: Loop sleep and the longest poll (a scan comes every 13 ms at best, 190 ms at Pluto's defaults).
+SLEEP_S = 0.02
+#: Seconds between two attempts to connect or reset a laser that is not streaming.
+RETRY_S = 1.0
+#: Seconds without a scan after which the laser is rebooted (its fatal error ends only so).
+RECOVER_AFTER_S = 3.0
+#: Longest time the reset request goes round the speeds unanswered, and longest wait for the
+#: power-on telegram after it was answered (Pluto 8.1: a reboot takes about 20 s).
+RESET_TIMEOUT_S = 30.0
+#: Longest the loop waits for a connect or reset worker when the module quits.
+QUIT_JOIN_S = 1.0
+#: The log file in the data directory (guide 7.5).
+LOG_NAME = 'LaserLog.txt'
+
+
+def scan_period(device: LaserDevice) -> float:
+    """Seconds between two scans: the mirror's sweeps (0.5° interlaced over 2) or the wire time."""
+    return facts.scan_period_s(device.values, device.baud)
+
+
+def silent_after(device: LaserDevice) -> float:
+    """Seconds without a scan that make a laser silent: four scan periods, at least half a second."""
+    return max(0.5, 4 * scan_period(device))
+
+
+#: pyserial's parity for the ``parity`` attribute of laser-config.xml.
+PARITY = {'none': serial.PARITY_NONE, 'even': serial.PARITY_EVEN}
+
+
+def make_laser(device: LaserDevice) -> SickLaser:
+    """The device layer for ``device`` (no I/O), with the configured line parity."""
+    return SickLaser(device.port, kind=device.type, baudrate=device.baud,
+                     resolution=device.resolution, units=device.units, invert=device.invert,
+                     parity=PARITY[device.parity])
+
+
+def log_line(stamp: float, ranges: Sequence[float]) -> str:
+    """One line of ``LaserLog.txt``: ``[timestamp] : [readings]`` (guide 7.5), newline included.
+
+    The timestamp is the scan's centre (the main stream's stamp) in seconds since the epoch with
+    6 decimals; the readings are the published ranges, metres in robot order with 3 decimals
+    (a millimetre), separated by single spaces; ``inf`` (nothing within range) and ``nan`` (an
+    invalid or dazzled beam) as Python writes them.  Example: ``1700000000.123456 : 1.200 inf 2.345``.
+    Only scans are logged: the −1 placeholders published while the laser reboots are no readings.
+    """
+    return f'{stamp:.6f} : ' + ' '.join(f'{r:.3f}' for r in ranges) + '\n'
+
+
+class SickRunner:
+    """The module's work per loop turn: connect or reset in a worker, poll, publish, watch.
+
+    :param device: the configured device.
+    :param streams: the module's laser streams (registered, info published).
+    :param logger: where state changes are logged (once each).
+    :param log_file: ``LaserLog.txt`` opened for appending, or None.
+    """
+
+    def __init__(self, device: LaserDevice, streams: LaserStreams, logger: Logger,
+                 log_file: TextIO | None = None) -> None:
+        self.device = device
+        self.streams = streams
+        self.logger = logger
+        self.log_file = log_file
+        self.laser: SickLaser | None = None
+        self.streaming = False
+        self.silent = False
+        self.rebooting = False
+        self.fatal_scans = 0
+        self._ever_connected = False
+        self._failures = 0
+        self._next_try = 0.0
+        self._next_fatal = 0.0
+        self._period = scan_period(device)
+        self._silent_after = silent_after(device)
+        self._worker: threading.Thread | None = None
+        self._job = ''
+        self._job_error: BaseException | None = None
+        self._telegrams_before = 0
+
+    @property
+    def where(self) -> str:
+        return f'{self.device.type} "{self.device.name}" on {self.device.port}'
+
+    # -- one turn -------------------------------------------------------------------------------
+    def step(self, timeout: float) -> int:
+        """Connect, reset or poll (up to ``timeout`` s); returns the scans published."""
+        if self._worker is not None:
+            if self._worker.is_alive():
+                self._while_resetting()
+                return 0
+            self._finish_job()
+        if not self.streaming:
+            if time.monotonic() >= self._next_try:
+                self._start_job('recover' if self._ever_connected else 'connect')
+            return 0
+        assert self.laser is not None
+        scans = self.laser.poll(timeout)
+        if not scans:
+            self._watch_silence()
+            return 0
+        if self.silent:
+            self.silent = False
+            self.logger.notice(f'laser {self.where} is back')
+        for scan in scans:
+            self._publish(scan)
+        return len(scans)
+
+    def _publish(self, scan: Scan) -> None:
+        self.streams.publish_scan(scan.ranges, centre_stamp=scan.centre_time,
+                                  arrival_stamp=scan.arrival_time)
+        if self.log_file is not None:
+            self.log_file.write(log_line(scan.centre_time, scan.ranges))
+            self.log_file.flush()
+
+    def _watch_silence(self) -> None:
+        assert self.laser is not None
+        quiet = self.laser.silent_for()
+        if not self.silent and quiet > self._silent_after:
+            self.silent = True
+            self.logger.warn(f'laser {self.where} is silent (no scan for {quiet:.1f} s); '
+                             'publishing nothing until it is back')
+        if quiet > RECOVER_AFTER_S:
+            self.logger.warn(f'laser {self.where} silent for {quiet:.1f} s: resetting it')
+            self.streaming = False
+            self._start_job('recover')
+
+    # -- connect and reset in a worker ----------------------------------------------------------
+    def _start_job(self, job: str) -> None:
+        if self.laser is None or not self._ever_connected:
+            self.laser = make_laser(self.device)   # a fresh one until the laser was found
+        laser = self.laser
+        self._job, self._job_error = job, None
+        self._telegrams_before = laser.stats.telegrams
+        self.rebooting = False
+
+        def work() -> None:
+            try:
+                if job == 'connect':
+                    laser.connect()
+                else:
+                    laser.recover(RESET_TIMEOUT_S)
+            except DriverError as error:
+                self._job_error = error
+            except Exception as error:  # a bug: re-raised by the loop, never taken for success
+                self._job_error = error
+
+        self._worker = threading.Thread(target=work, name=f'sick-{job}', daemon=True)
+        self._worker.start()
+
+    def _while_resetting(self) -> None:
+        """While a reset the laser acknowledged is under way, publish −1 ranges every scan period."""
+        assert self.laser is not None
+        if not self.rebooting:
+            if not (self._job == 'recover' and self.laser.state == LaserState.RESETTING
+                    and self.laser.stats.telegrams > self._telegrams_before):
+                return
+            self.rebooting = True
+            self._next_fatal = time.monotonic()
+            self.logger.warn(f'laser {self.where} is rebooting after a fatal error: publishing -1 '
+                             'ranges until it is back')
+        now = time.monotonic()
+        if now >= self._next_fatal:
+            self.streams.publish_fatal(time.time())
+            self.fatal_scans += 1
+            self._next_fatal = max(self._next_fatal + self._period, now)
+
+    def _finish_job(self) -> None:
+        assert self._worker is not None and self.laser is not None
+        self._worker.join()
+        self._worker = None
+        self.rebooting = False
+        error = self._job_error
+        if error is not None and not isinstance(error, DriverError):
+            raise RuntimeError(f'laser {self.where}: {self._job} failed') from error
+        if error is not None:
+            self.laser.close()    # open afresh next time: the port may be a new device by then
+            self._next_try = time.monotonic() + RETRY_S
+            if self._failures == 0:
+                what = 'not ready' if self._job == 'connect' else 'cannot be reset'
+                self.logger.warn(f'laser {self.where} {what}: {error}; trying again every '
+                                 f'{RETRY_S:g} s')
+            self._failures += 1
+            return
+        self.streaming = True
+        self._failures = 0
+        laser = self.laser
+        what = 'streaming' if not self._ever_connected else 'reset and streaming again'
+        self._ever_connected = True
+        self.logger.notice(f'laser {self.where} {what} ({laser.type_string or laser.kind}, '
+                           f'{laser.count} values, {laser.units}, {laser.baudrate} baud)')
+
+    def close(self) -> None:
+        """Close the port (idempotent).  A worker still blocked in the device after
+        :data:`QUIT_JOIN_S` is left to die with the process, which closes the port."""
+        if self._worker is not None:
+            self._worker.join(QUIT_JOIN_S)
+            if self._worker.is_alive():
+                return
+        if self.laser is not None:
+            self.laser.close()
+
+
+def open_log(manager: CommsManager, logger: Logger) -> TextIO | None:
+    """``<data directory>/LaserLog.txt`` for appending, or None (logged) when it cannot be opened."""
+    path = pathlib.Path(manager.config.get_data_directory()) / LOG_NAME
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        handle = open(path, 'a', encoding='ascii')  # noqa: SIM115 (closed by main)
+    except OSError as error:
+        logger.error(f'cannot log the readings to {path}: {error}')
+        return None
+    logger.notice(f'logging the readings to {path}')
+    return handle
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv if argv is None else argv)
+    manager = CommsManager('PlutoLaser')
+    device = configured_device(manager, argv, 'laser-config.xml', load_laser_config)
+    logger = Logger(manager.name)
+    streams = LaserStreams(manager.name)
+    streams.register(manager)
+    manager.register_supplier(logger)
+    set_loop(manager, SLEEP_S)
+    streams.publish_info(count=device.values, max_range=facts.max_range_m(device.type, device.units),
+                         scan_time=scan_period(device))
+    log_file = open_log(manager, logger) if device.log else None
+    runner = SickRunner(device, streams, logger, log_file)
+    try:
+        while manager.run_update() == RunState.RUN:
+            runner.step(SLEEP_S)
+    finally:
+        runner.close()
+        if log_file is not None:
+            log_file.close()
+        manager.clean_up()
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,125 @@
+"""dummy_base: Pluto's dummy base server (5), driving a simulated robot through a map.
+
+It supplies exactly the streams of a real base (see :mod:`wurde_drivers.streams.base`), plus the
+ground truth on ``<name>Truth`` (Egomotion, every simulation step, queue mode) for the other
+dummies, tests and plots. Options: ``-c sim-config.xml`` (default: the config directory's
+``sim-config.xml``) and the standard WURDE options; the module name (``-n``) should be the
+config's base name, since the other dummies follow ``<base name>Truth``.
+
+Simulated time advances in the config's fixed steps; the loop catches up with the wall clock times
+the time scale, so at time scale 10 the robot lives ten seconds each wall second.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import sys
+import time
+
+from wurde_core import CommsManager, Logger, Pose, RunState, Time
+from wurde_core.interfaces import Egomotion
+from wurde_idl.errors import ConfigError
+
+from ...module_setup import exit_on_config_error, set_loop
+from ...streams.base import BaseLimits, BaseStreams
+from ..clock import SimClock, make_rng
+from ..loading import load_sim, sim_config_path
+from ..robot import SimRobot
+
+#: Most simulation steps one loop may run before it gives up catching up (and says so).
+MAX_CATCH_UP = 200
+#: Wall seconds between loops.
+LOOP_S = 0.01
+
+
+def _every(rate: float, step: float) -> int:
+    return max(1, round(1.0 / (rate * step)))
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv if argv is None else argv)
+    manager = CommsManager('PlutoBase')
+    path = sim_config_path(manager, argv)
+    try:
+        config, world, start = load_sim(path)
+        robot = SimRobot(world, config.robot, make_rng(config.seed, 'base'), start=start)
+    except ConfigError as error:
+        return exit_on_config_error(argv[0], error)
+    except ValueError as error:
+        return exit_on_config_error(argv[0], ConfigError(path, None, str(error)))
+    logger = Logger(manager.name)
+    spec = config.robot
+    limits = BaseLimits(spec.limits.max_tv, spec.limits.max_rv, spec.limits.tv_accel, spec.limits.rv_accel,
+                        wheel_base=2 * spec.bumpers.radius)
+    streams = BaseStreams(manager.name, synchro=config.base.type == 'B21r', limits=limits,
+                          command_timeout=config.base.command_timeout, logger=logger)
+    truth = Egomotion(f'{manager.name}Truth')
+    truth.set_queue_mode(True)
+    streams.register(manager)
+    manager.register_supplier(truth)
+    manager.register_supplier(logger)
+    set_loop(manager, LOOP_S)
+
+    clock = SimClock(step_s=config.step, time_scale=config.time_scale, start=time.time())
+    streams.publish_all_info()
+    streams.publish_sonar_info(count=spec.sonar.count, max_range=spec.sonar.max_range,
+                               half_angle=spec.sonar.half_angle, radius=spec.sonar.radius, z=spec.sonar.mount_z)
+    streams.publish_bumper_info(spec.bumpers.radius)
+    b = robot.battery
+    streams.publish_power_info(b.nominal_voltage, b.low_voltage, b.critical_voltage, b.capacity_j)
+    truth.info.origin.set_value(Pose(0.0, 0.0, 0.0))
+    truth.publish_info()
+    odometry_every = _every(config.base.rate, config.step)
+    sonar_every = _every(config.base.sonar_rate, config.step)
+    power_every = _every(1.0, config.step)
+    logger.notice(f'dummy base in {world.name} at {start}, seed {config.seed}, '
+                  f'time scale {config.time_scale}')
+    wall0 = time.monotonic()
+    last_bumpers = robot.bumpers
+    while manager.run_update() == RunState.RUN:
+        target = int((time.monotonic() - wall0) * config.time_scale / config.step)
+        if target - clock.steps > MAX_CATCH_UP:
+            logger.warn(f'{manager.name}: {target - clock.steps} steps behind; dropping them')
+            wall0 = time.monotonic() - clock.steps * config.step / config.time_scale
+            target = clock.steps + 1
+        while clock.steps < target:
+            command = streams.take_command(clock.elapsed)
+            if command is not None:
+                robot.spec = dataclasses.replace(robot.spec, limits=dataclasses.replace(
+                    robot.spec.limits, tv_accel=command.tv_accel, rv_accel=command.rv_accel))
+                robot.command(command.tv, command.rv)
+            robot.step(clock.tick())
+            if robot.bumper_stop and (streams.current.tv or streams.current.rv):
+                streams.current = dataclasses.replace(streams.current, tv=0.0, rv=0.0)
+                streams.publish_drive_info()
+                logger.warn(f'{manager.name}: bumper {"front" if robot.bumpers[0] else "back"} '
+                            'pressed: stopped')
+            _publish(truth, robot.truth, clock.now)
+            n = clock.steps
+            if n % odometry_every == 0:
+                o = robot.odometry
+                streams.publish_motion(o.x, o.y, o.theta, o.tv, o.rv, o.acceleration, clock.now)
+            if n % odometry_every == 0 or robot.bumpers != last_bumpers:
+                streams.publish_bumpers(robot.bumpers, clock.now)
+                last_bumpers = robot.bumpers
+            if n % sonar_every == 0:
+                streams.publish_sonar(robot.sonar(), clock.now)
+            if n % power_every == 0:
+                streams.publish_power(voltage=b.voltage, current=b.current, power=b.power_w, charge=b.charge,
+                                      energy=b.energy_j, low=b.low_voltage, critical=b.critical_voltage,
+                                      stamp=clock.now)
+    manager.clean_up()
+    return 0
+
+
+def _publish(truth: Egomotion, state: object, stamp: float) -> None:
+    data = truth.data
+    data.location = Pose(state.x, state.y, state.theta)  # type: ignore[attr-defined]
+    data.tv, data.rv, data.acceleration = state.tv, state.rv, state.acceleration  # type: ignore[attr-defined]
+    truth.set_auto_timestamp(False)
+    data.timestamp = Time(stamp)
+    truth.publish_data()
+
+
+if __name__ == '__main__':
+    sys.exit(main())

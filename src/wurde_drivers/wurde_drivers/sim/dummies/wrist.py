@@ -1,0 +1,93 @@
+"""dummy_wrist: Pluto's dummy wrist (5, 8.3): a pan/tilt unit that moves as commanded.
+
+One ActuatorState stream named after the module (``-n``, default the config's wrist name): a
+consumer's request is the command — position (pan, tilt) in rad, velocity and acceleration per
+axis, both > 0 for the position to change — and the data is the state: current position,
+velocity and acceleration. Motion is trapezoidal within the configured limits, in simulated time.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+from wurde_core import CommsManager, Logger, RunState, Time
+from wurde_core.interfaces import ActuatorState
+
+from ...module_setup import set_loop
+from ..axis import Axis
+from ..clock import SimClock
+from ..config import WristConfig
+from ..loading import read_sim_config
+
+STEP_S = 0.01
+
+
+def _pair(values: object) -> list[float] | None:
+    items = [float(v) for v in values]  # type: ignore[attr-defined]
+    return items[:2] if len(items) >= 2 else None
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv if argv is None else argv)
+    manager = CommsManager('PlutoWrist')
+    config = read_sim_config(manager, argv)
+    wc = config.wrist or WristConfig()
+    axes = [Axis(wc.pan_min, wc.pan_max, wc.max_velocity, wc.max_acceleration),
+            Axis(wc.tilt_min, wc.tilt_max, wc.max_velocity, wc.max_acceleration)]
+    logger = Logger(manager.name)
+    wrist = ActuatorState(manager.name)
+    wrist.set_auto_timestamp(False)
+    manager.register_supplier(wrist)
+    manager.register_supplier(logger)
+    set_loop(manager, min(0.02, 1.0 / wc.rate / config.time_scale / 2))
+    clock = SimClock(step_s=STEP_S, time_scale=config.time_scale, start=time.time())
+    publish_every = max(1, round(1.0 / (wc.rate * STEP_S)))
+    wall0 = time.monotonic()
+    _publish_command(wrist, axes)
+    while manager.run_update() == RunState.RUN:
+        while wrist.get_next_request():
+            req = wrist.requests
+            target, speed, accel = (_pair(req.position.get_value()), _pair(req.velocity.get_value()),
+                                    _pair(req.acceleration.get_value()))
+            if req.cmd_flags.get_value() < 0:
+                for axis in axes:
+                    axis.halt()
+            elif target is None or speed is None or accel is None:
+                logger.warn(f'{manager.name}: command needs position, velocity and acceleration '
+                            '(pan, tilt); ignored')
+                continue
+            else:
+                for axis, t, s, a in zip(axes, target, speed, accel):
+                    axis.command(t, s, a)
+            _publish_command(wrist, axes)
+        target_steps = int((time.monotonic() - wall0) * config.time_scale / STEP_S)
+        target_steps = min(target_steps, clock.steps + 1000)
+        while clock.steps < target_steps:
+            for axis in axes:
+                axis.step(clock.tick() if axis is axes[0] else STEP_S)
+            if clock.steps % publish_every == 0:
+                data = wrist.data
+                data.cmd_flags = 0
+                data.position = [a.position for a in axes]
+                data.velocity = [a.velocity for a in axes]
+                data.acceleration = [a.acceleration for a in axes]
+                data.force = []
+                data.timestamp = Time(clock.now)
+                wrist.publish_data()
+    manager.clean_up()
+    return 0
+
+
+def _publish_command(wrist: ActuatorState, axes: list[Axis]) -> None:
+    """The info is the command being executed (targets, speeds, accelerations)."""
+    wrist.info.cmd_flags.set_value(0)
+    wrist.info.position.set_value([a.target for a in axes])
+    wrist.info.velocity.set_value([a.speed for a in axes])
+    wrist.info.acceleration.set_value([a.accel for a in axes])
+    wrist.info.force.set_value([])
+    wrist.publish_info()
+
+
+if __name__ == '__main__':
+    sys.exit(main())

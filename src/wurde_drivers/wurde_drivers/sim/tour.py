@@ -1,0 +1,181 @@
+"""tour: a client that drives the (simulated) robot through waypoints and plots the run.
+
+A user program like the guide's: it declares the robot's objects by stream name and uses them —
+RobotDrive to command, Egomotion odometry to know where it is, the laser to slow down and stop
+before obstacles, the bumpers to give up — with no idea whether the robot is a dummy. Its pose is
+the odometry started at the map's ``start`` place, as Pluto's localModule reads its starting pose
+from a file (3). When done (or on Quit) it prints what it saw and saves a plot (map, true path,
+odometry, last laser scan) as PNG.
+
+Options: ``-c sim-config.xml`` (the base, laser and map names), ``-w "x,y x,y ..."`` (waypoints in
+the map frame; default: a tour of the office map), ``-p FILE`` (the PNG, default
+``<data dir>/tour.png``), ``-t SECONDS`` (give up after this long, default 300).
+"""
+
+from __future__ import annotations
+
+import math
+import pathlib
+import sys
+import time
+
+from wurde_core import CommsManager, Logger, RunState
+from wurde_core.interfaces import (
+    Bumper,
+    Egomotion,
+    RangeFinder,
+    RobotDrive,
+    SynchroDrive,
+)
+from wurde_idl.errors import ConfigError
+
+from ..module_setup import config_file, exit_on_config_error
+from .loading import load_sim
+from .plot import plot_run
+
+#: The default route through the office map: along the corridor, into the lab and the
+#: conference room, and back to the start.
+OFFICE_ROUTE = '8,7.5 12.5,7.5 12.5,4.2 12.5,7.5 10,7.5 10,9.6 10,7.5 3.5,7.5'
+REACHED_M = 0.1
+LOOP_S = 0.05   # control period (wall clock)
+WAIT_FOR_BASE_S = 60.0
+TURN_FIRST_RAD = 0.35   # turn on the spot before driving when the heading is this far off
+MAX_TV = 0.6
+MAX_RV = 1.0
+SLOW_M = 1.2     # laser: slow down when something is this close ahead
+STOP_M = 0.45    # laser: stop
+
+
+def _route(text: str) -> list[tuple[float, float]]:
+    points = []
+    for item in text.split():
+        x, y = item.split(',')
+        points.append((float(x), float(y)))
+    return points
+
+
+def _wrap(angle: float) -> float:
+    return math.atan2(math.sin(angle), math.cos(angle))
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv if argv is None else argv)
+    manager = CommsManager('Tour')
+    manager.set_help_string('  -c FILE  sim-config.xml\n  -w "x,y x,y"  waypoints\n'
+                            '  -p FILE  plot (PNG)\n  -t SECONDS  give up after this long')
+    opts = manager.parse_options(argv, 'c:w:p:t:')
+    path = config_file(manager, opts.user.get('c'), 'sim-config.xml')
+    try:
+        config, world, start = load_sim(path)
+        route = _route(opts.user.get('w', OFFICE_ROUTE))
+        limit_s = float(opts.user.get('t', '300'))
+    except ConfigError as error:
+        return exit_on_config_error(argv[0], error)
+    except ValueError as error:
+        print(f'tour: bad -w or -t: {error}', file=sys.stderr)
+        return 2
+    plot_file = opts.user.get('p') or str(pathlib.Path(manager.config.get_data_directory()) / 'tour.png')
+    base = config.base.name
+    laser_name = next(iter(config.lasers), None)
+    drive = (SynchroDrive if config.base.type == 'B21r' else RobotDrive)(f'{base}Drive')
+    odometry = Egomotion(f'{base}Motion')
+    truth = Egomotion(config.base.truth_stream)      # for the plot only, never for steering
+    bumpers = Bumper(f'{base}Bumpers')
+    laser = RangeFinder(laser_name) if laser_name else None
+    logger = Logger(manager.name)
+    for obj in (drive, odometry, truth, bumpers) + ((laser,) if laser else ()):
+        manager.register_consumer(obj)
+    manager.register_supplier(logger)
+    manager.set_sleep(LOOP_S)
+
+    sx, sy, st = start
+    def pose() -> tuple[float, float, float]:
+        loc = odometry.data.location
+        ox, oy, ot = loc.x(), loc.y(), loc.theta()
+        return (sx + ox * math.cos(st) - oy * math.sin(st), sy + ox * math.sin(st) + oy * math.cos(st), st + ot)
+
+    def command(tv: float, rv: float) -> None:
+        if config.base.type == 'B21r':
+            drive.requests.trans.set_value(tv)
+            drive.requests.angular.set_value(rv)
+        else:
+            drive.requests.trans_velocity.set_value(tv)
+            drive.requests.rot_velocity.set_value(rv)
+        drive.publish_request()
+
+    print(f'tour: {len(route)} waypoints in {world.name}, from {start}', flush=True)
+    truth_path: list[tuple[float, float]] = []
+    odo_path: list[tuple[float, float]] = []
+    last_scan: list[float] = []
+    scan_pose = None
+    target = 0
+    have_odometry = False
+    bumped = False
+    started = time.monotonic()
+    last_report = 0.0
+    while manager.run_update() == RunState.RUN:
+        while truth.get_next_data():
+            loc = truth.data.location
+            truth_path.append((loc.x(), loc.y()))
+        while odometry.get_next_data():
+            have_odometry = True
+            x, y, _ = pose()
+            odo_path.append((x, y))
+        if laser is not None:
+            while laser.get_next_data():
+                last_scan = list(laser.data.ranges)
+                scan_pose = pose() if have_odometry else None
+        while bumpers.get_next_data():
+            if bumpers.data.bumped and not bumped:
+                bumped = True
+                print('tour: bumper pressed: stopping', flush=True)
+        if not have_odometry:
+            if time.monotonic() - started > WAIT_FOR_BASE_S:
+                print(f'tour: no odometry from {base}Motion after {WAIT_FOR_BASE_S:.0f} s; is the base '
+                      'running?', file=sys.stderr, flush=True)
+                break
+            continue
+        if bumped or target >= len(route) or time.monotonic() - started > limit_s:
+            command(0.0, 0.0)
+            break
+        x, y, theta = pose()
+        gx, gy = route[target]
+        distance = math.hypot(gx - x, gy - y)
+        if distance < REACHED_M:
+            print(f'tour: reached waypoint {target + 1}/{len(route)} ({gx:.1f}, {gy:.1f}) at '
+                  f'({x:.2f}, {y:.2f})', flush=True)
+            target += 1
+            continue
+        error = _wrap(math.atan2(gy - y, gx - x) - theta)
+        ahead = min((r for i, r in enumerate(last_scan) if abs(i - len(last_scan) // 2) <= len(last_scan) // 12),
+                    default=math.inf)
+        tv = 0.0 if abs(error) > TURN_FIRST_RAD else MAX_TV * math.cos(error) * min(1.0, distance)
+        if ahead < SLOW_M:
+            tv *= max(0.0, (ahead - STOP_M) / (SLOW_M - STOP_M))
+        rv = max(-MAX_RV, min(MAX_RV, 1.5 * error))
+        command(tv, rv)
+        now = time.monotonic()
+        if now - last_report >= 2.0:
+            last_report = now
+            print(f'tour: at ({x:.2f}, {y:.2f}, {math.degrees(theta):.0f} deg), going to waypoint '
+                  f'{target + 1} ({gx:.1f}, {gy:.1f}), {distance:.2f} m away; nearest thing ahead '
+                  f'{ahead:.2f} m', flush=True)
+    command(0.0, 0.0)
+    reached = target >= len(route)
+    distance_driven = sum(math.dist(a, b) for a, b in zip(truth_path, truth_path[1:]))
+    print(f'tour: {"all" if reached else target} of {len(route)} waypoints reached, '
+          f'{distance_driven:.1f} m driven in {time.monotonic() - started:.1f} s', flush=True)
+    if truth_path:
+        final = truth_path[-1]
+        x, y, _ = pose()
+        print(f'tour: odometry ends at ({x:.2f}, {y:.2f}), truth at ({final[0]:.2f}, {final[1]:.2f})',
+              flush=True)
+    plot_run(world, plot_file, truth=truth_path, odometry=odo_path, scan_pose=scan_pose,
+             scan=last_scan, waypoints=route, title=f'{world.name}: tour of {len(route)} waypoints')
+    print(f'tour: plot saved to {plot_file}', flush=True)
+    manager.clean_up()
+    return 0 if reached else 1
+
+
+if __name__ == '__main__':
+    sys.exit(main())

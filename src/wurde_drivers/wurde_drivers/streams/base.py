@@ -1,0 +1,290 @@
+"""The streams of a robot base, shared by every base module (the rFLEX driver and the dummy base).
+
+A base module named ``N`` supplies, as WURDE's RFlexServer did (guide 2.x mappings: ``<N>Drive``,
+``<N>Motion``), and as Pluto's baseserver (4: "ATRV2/Drive/Command", cmdFlags 0 only):
+
+============== ================ =====================================================================
+stream         interface        what
+============== ================ =====================================================================
+``NDrive``     SynchroDrive     B21r (synchro drive): requests set trans/angular, limits, brake
+``NDrive``     RobotDrive       ATRV-Jr (differential/skid): trans/rot or left/right wheel velocities
+``NCommand``   ActuatorState    Pluto's base command: cmdFlags 0, velocity[0..1] = (linear, angular)
+``NMotion``    Egomotion        odometry: pose, tv, rv, acceleration
+``NSonar``     RangeFinder      the sonar ring
+``NBumpers``   Bumper           front and back bumpers
+``NPower``     Power            battery
+============== ================ =====================================================================
+
+Standard ROS: ``nav_msgs/Odometry`` on ``/N/odom`` and ``geometry_msgs/Twist`` commands on
+``/N/cmd_vel`` (:mod:`wurde_drivers.ros_std`). Whatever backend moves the robot, consumers see the
+same streams, so no module can tell a dummy
+from the real base. Commands are velocity set-points with a watchdog: when no command has come for
+``command_timeout`` seconds the base is stopped (a command that stops coming stops the robot).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from collections.abc import Sequence
+
+from wurde_core import CommsManager, Logger, Pose, Pose3D, Time
+from wurde_core.interfaces import (ActuatorState, Bumper, Egomotion, Power, RangeFinder, RobotDrive,
+                                   SynchroDrive)
+
+from ..ros_std import OdometryPublisher, TwistInbox
+
+__all__ = ['BaseLimits', 'BaseStreams', 'VelocityCommand']
+
+
+@dataclasses.dataclass(frozen=True)
+class BaseLimits:
+    """What the hardware allows (the drive's info reports these as the limits)."""
+
+    max_tv: float
+    max_rv: float
+    tv_accel: float
+    rv_accel: float
+    wheel_base: float = 0.5
+
+
+@dataclasses.dataclass(frozen=True)
+class VelocityCommand:
+    tv: float
+    rv: float
+    tv_accel: float
+    rv_accel: float
+    brake: bool = False
+
+
+def _set(request: object) -> set[str]:
+    return set(request.ros_message().set_fields)  # type: ignore[attr-defined]
+
+
+class BaseStreams:
+    """Suppliers of one base; call :meth:`register` once, then :meth:`take_command` every loop."""
+
+    def __init__(self, name: str, *, synchro: bool, limits: BaseLimits, command_timeout: float,
+                 logger: Logger | None = None) -> None:
+        self.name = name
+        self.synchro = synchro
+        self.limits = limits
+        self.command_timeout = command_timeout
+        self.logger = logger
+        self.drive = (SynchroDrive if synchro else RobotDrive)(f'{name}Drive')
+        self.command = ActuatorState(f'{name}Command')
+        self.motion = Egomotion(f'{name}Motion')
+        self.sonar = RangeFinder(f'{name}Sonar')
+        self.bumpers = Bumper(f'{name}Bumpers')
+        self.power = Power(f'{name}Power')
+        self.current = VelocityCommand(0.0, 0.0, limits.tv_accel, limits.rv_accel)
+        self.tv_limit = limits.max_tv
+        self.rv_limit = limits.max_rv
+        self.last_command = -math.inf
+        self.timeouts = 0
+        self.refused_commands = 0
+        self._odom: OdometryPublisher | None = None
+        self._twist: TwistInbox | None = None
+
+    @property
+    def objects(self) -> list[object]:
+        return [self.drive, self.command, self.motion, self.sonar, self.bumpers, self.power]
+
+    def register(self, manager: CommsManager) -> None:
+        for obj in self.objects:
+            manager.register_supplier(obj)  # type: ignore[arg-type]
+        self._odom = OdometryPublisher(manager.node, self.name)
+        self._twist = TwistInbox(manager.node, self.name)
+
+    # -- info ---------------------------------------------------------------------------------
+    def publish_drive_info(self) -> None:
+        info, c = self.drive.info, self.current
+        if self.synchro:
+            info.brake.set_value(c.brake)
+            info.trans.set_value(c.tv)
+            info.angular.set_value(c.rv)
+            info.trans_limit.set_value(self.tv_limit)
+            info.angular_limit.set_value(self.rv_limit)
+            info.trans_accel.set_value(c.tv_accel)
+            info.angular_accel.set_value(c.rv_accel)
+            info.trans_decel.set_value(c.tv_accel)
+            info.angular_decel.set_value(c.rv_accel)
+        else:
+            info.brake.set_value(c.brake)
+            info.mode.set_value(0)
+            info.trans_velocity.set_value(c.tv)
+            info.rot_velocity.set_value(c.rv)
+            half = c.rv * self.limits.wheel_base / 2
+            info.left_velocity.set_value(c.tv - half)
+            info.right_velocity.set_value(c.tv + half)
+            info.trans_limit.set_value(self.tv_limit)
+            info.rot_limit.set_value(self.rv_limit)
+            info.trans_accel.set_value(c.tv_accel)
+            info.rot_accel.set_value(c.rv_accel)
+            info.wheel_base.set_value(self.limits.wheel_base)
+        self.drive.publish_info()
+
+    def publish_sonar_info(self, *, count: int, max_range: float, half_angle: float, radius: float,
+                           z: float) -> None:
+        info = self.sonar.info
+        info.max_range.set_value(max_range)
+        info.uniform.set_value(True)
+        info.half_angle.set_value(half_angle)
+        info.x_offset.set_value(radius)
+        info.y_offset.set_value(0.0)
+        info.z_offset.set_value(z)
+        info.theta_offset.set_value(0.0)
+        info.theta_separation.set_value(2 * math.pi / count)
+        info.sensor_positions.set_value([Pose3D(radius * math.cos(a), radius * math.sin(a), z, a, 0.0, 0.0)
+                                         for a in (2 * math.pi * i / count for i in range(count))])
+        self.sonar.publish_info()
+
+    def publish_bumper_info(self, radius: float, z: float = 0.2) -> None:
+        info = self.bumpers.info
+        info.uniform.set_value(False)
+        info.sensor_positions.set_value([Pose3D(radius, 0.0, z, 0.0, 0.0, 0.0),
+                                         Pose3D(-radius, 0.0, z, math.pi, 0.0, 0.0)])
+        self.bumpers.publish_info()
+
+    def publish_power_info(self, nominal: float, low: float, critical: float, capacity: float) -> None:
+        info = self.power.info
+        info.nominal_voltage.set_value(nominal)
+        info.low_voltage.set_value(low)
+        info.critical_voltage.set_value(critical)
+        info.capacity.set_value(capacity)
+        self.power.publish_info()
+
+    def publish_all_info(self) -> None:
+        self.publish_drive_info()
+        self.motion.info.origin.set_value(Pose(0.0, 0.0, 0.0))
+        self.motion.publish_info()
+        self._publish_command_state()
+
+    # -- commands -----------------------------------------------------------------------------
+    def take_command(self, now: float) -> VelocityCommand | None:
+        """The new velocity command if one arrived, a stop if the last one is too old, else None.
+
+        ``now`` is the base's clock in seconds (simulated time for the dummy).
+        """
+        changed = False
+        while self.drive.get_next_request():
+            changed |= self._drive_request()
+        while self.command.get_next_request():
+            changed |= self._pluto_request()
+        twist = self._twist.take() if self._twist is not None else None
+        if twist is not None:
+            tv, rv = self._clamp(twist.linear.x, twist.angular.z)
+            self.current = dataclasses.replace(self.current, tv=tv, rv=rv, brake=False)
+            changed = True
+        if changed:
+            self.last_command = now
+            self.publish_drive_info()
+            self._publish_command_state()
+            return self.current
+        moving = self.current.tv != 0.0 or self.current.rv != 0.0
+        if moving and now - self.last_command > self.command_timeout:
+            self.timeouts += 1
+            if self.logger is not None:
+                self.logger.warn(f'{self.name}: no command for {self.command_timeout:.2f} s: stopping')
+            self.current = dataclasses.replace(self.current, tv=0.0, rv=0.0)
+            self.publish_drive_info()
+            self._publish_command_state()
+            return self.current
+        return None
+
+    def _clamp(self, tv: float, rv: float) -> tuple[float, float]:
+        return (max(-self.tv_limit, min(self.tv_limit, tv)), max(-self.rv_limit, min(self.rv_limit, rv)))
+
+    def _drive_request(self) -> bool:
+        req, fields = self.drive.requests, _set(self.drive.requests)
+        c = self.current
+        tv, rv, tv_acc, rv_acc, brake = c.tv, c.rv, c.tv_accel, c.rv_accel, c.brake
+        if self.synchro:
+            names = {'trans': 'trans', 'angular': 'angular', 'tl': 'trans_limit', 'rl': 'angular_limit',
+                     'ta': 'trans_accel', 'ra': 'angular_accel'}
+        else:
+            names = {'trans': 'trans_velocity', 'angular': 'rot_velocity', 'tl': 'trans_limit',
+                     'rl': 'rot_limit', 'ta': 'trans_accel', 'ra': 'rot_accel'}
+        if names['tl'] in fields:
+            self.tv_limit = min(abs(getattr(req, names['tl']).get_value()), self.limits.max_tv)
+        if names['rl'] in fields:
+            self.rv_limit = min(abs(getattr(req, names['rl']).get_value()), self.limits.max_rv)
+        if names['ta'] in fields and getattr(req, names['ta']).get_value() > 0:
+            tv_acc = min(getattr(req, names['ta']).get_value(), self.limits.tv_accel)
+        if names['ra'] in fields and getattr(req, names['ra']).get_value() > 0:
+            rv_acc = min(getattr(req, names['ra']).get_value(), self.limits.rv_accel)
+        if names['trans'] in fields:
+            tv = getattr(req, names['trans']).get_value()
+        if names['angular'] in fields:
+            rv = getattr(req, names['angular']).get_value()
+        if not self.synchro and 'mode' in fields and req.mode.get_value() == 1:
+            left, right = req.left_velocity.get_value(), req.right_velocity.get_value()
+            tv, rv = (left + right) / 2, (right - left) / self.limits.wheel_base
+        if 'brake' in fields:
+            brake = bool(req.brake.get_value())
+        if brake:
+            tv = rv = 0.0
+        tv, rv = self._clamp(tv, rv)
+        self.current = VelocityCommand(tv, rv, tv_acc, rv_acc, brake)
+        return True
+
+    def _pluto_request(self) -> bool:
+        """Pluto's baseserver command (4): only cmdFlags 0, velocity[0..1] = (linear, angular)."""
+        req = self.command.requests
+        flags = req.cmd_flags.get_value()
+        velocity = list(req.velocity.get_value())
+        if flags != 0 or len(velocity) < 2:
+            self.refused_commands += 1
+            if self.logger is not None:
+                self.logger.warn(f'{self.name}Command: refused cmdFlags={flags} velocity={velocity} '
+                                 '(the base takes cmdFlags 0 and velocity[0..1] only)')
+            return False
+        tv, rv = self._clamp(float(velocity[0]), float(velocity[1]))
+        self.current = dataclasses.replace(self.current, tv=tv, rv=rv, brake=False)
+        return True
+
+    def _publish_command_state(self) -> None:
+        data = self.command.data
+        data.cmd_flags = 0
+        data.velocity = [self.current.tv, self.current.rv]
+        data.position = []
+        data.force = []
+        data.acceleration = [self.current.tv_accel, self.current.rv_accel]
+        self.command.publish_data()
+
+    # -- data ---------------------------------------------------------------------------------
+    def _stamp(self, obj: object, stamp: float | None) -> None:
+        if stamp is not None:
+            obj.set_auto_timestamp(False)  # type: ignore[attr-defined]
+            obj.data.timestamp = Time(stamp)  # type: ignore[attr-defined]
+
+    def publish_motion(self, x: float, y: float, theta: float, tv: float, rv: float,
+                       acceleration: float, stamp: float | None = None) -> None:
+        data = self.motion.data
+        data.location = Pose(x, y, theta)
+        data.tv, data.rv, data.acceleration = tv, rv, acceleration
+        self._stamp(self.motion, stamp)
+        self.motion.publish_data()
+        if self._odom is not None:
+            self._odom.publish(x, y, theta, tv, rv, stamp if stamp is not None else time.time())
+
+    def publish_sonar(self, ranges: Sequence[float], stamp: float | None = None) -> None:
+        self.sonar.data.ranges = [float(r) for r in ranges]
+        self._stamp(self.sonar, stamp)
+        self.sonar.publish_data()
+
+    def publish_bumpers(self, pressed: Sequence[bool], stamp: float | None = None) -> None:
+        self.bumpers.data.bumpers = [bool(p) for p in pressed]
+        self.bumpers.data.bumped = any(pressed)
+        self._stamp(self.bumpers, stamp)
+        self.bumpers.publish_data()
+
+    def publish_power(self, *, voltage: float, current: float, power: float, charge: float, energy: float,
+                      low: float, critical: float, stamp: float | None = None) -> None:
+        d = self.power.data
+        d.voltage, d.current, d.power, d.charge, d.energy = voltage, current, power, charge, energy
+        d.charging = False
+        d.low, d.critical = voltage < low, voltage < critical
+        self._stamp(self.power, stamp)
+        self.power.publish_data()

@@ -1,0 +1,102 @@
+"""The streams of a laser module, shared by the SICK driver and the dummy SICK.
+
+Pluto's sickModule has three interfaces (8.1), and WURDE's SICKServer one RangeFinder named after
+the laser (7.5). A laser module named ``N`` supplies:
+
+================ ============== ===================================================================
+stream           interface      what
+================ ============== ===================================================================
+``N``            RangeFinder    every beam (181 or 361), stamped at the scan's centre (Pluto's
+                                second interface; the WURDE SICKServer's stream)
+``N/RWI``        RangeFinder    181 beams stamped when the data arrived at the serial port, as the
+                                old RWI interface (Pluto's first)
+``N/Timing``     FVectorState   one element, the number of scan points, stamped at the scan's
+                                centre (Pluto's third, used by the localization)
+================ ============== ===================================================================
+
+Ranges are metres in the robot's order (counter-clockwise from −90° to +90°, also for a laser
+mounted upside down); a beam that saw nothing within range reads ``inf``. A ``sensor_msgs/LaserScan``
+of the main stream goes to ``/N/scan`` as well (:mod:`wurde_drivers.ros_std`). When the laser has a
+fatal error every range is −1 until it is back (Pluto 8.1: "all data is set to -1").
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+from wurde_core import CommsManager, Time
+from wurde_core.interfaces import FVectorState, RangeFinder
+
+from ..ros_std import ScanPublisher
+from ..sick import facts
+
+__all__ = ['LaserStreams']
+
+
+class LaserStreams:
+    """Suppliers of one laser; :meth:`register`, :meth:`publish_info`, then :meth:`publish_scan`."""
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+        self.scan = RangeFinder(name)
+        self.rwi = RangeFinder(f'{name}/RWI')
+        self.timing = FVectorState(f'{name}/Timing')
+        for obj in (self.scan, self.rwi, self.timing):
+            obj.set_auto_timestamp(False)
+        self.count = 0
+        self.max_range = 0.0
+        self.scan_time = 0.0
+        self.scans = 0
+        self._node: object = None
+        self._ros: ScanPublisher | None = None
+
+    def register(self, manager: CommsManager) -> None:
+        for obj in (self.scan, self.rwi, self.timing):
+            manager.register_supplier(obj)
+        self._node = manager.node
+
+    def publish_info(self, *, count: int, max_range: float, mount_x: float = 0.0, mount_y: float = 0.0,
+                     mount_z: float = 0.4, scan_time: float = 0.0) -> None:
+        """The RangeFinder info: a uniform fan over 180° at the laser's mounting point.
+
+        ``scan_time`` (s between scans) goes into the standard LaserScan on ``/<name>/scan``.
+        """
+        self.count, self.max_range, self.scan_time = count, max_range, scan_time
+        if self._node is not None and self._ros is None and '/' not in self.name:
+            self._ros = ScanPublisher(self._node, self.name, max_range=max_range,
+                                      time_increment=1.0 / facts.MIRROR_HZ / 360.0)  # a turn per 360°
+        for obj, beams in ((self.scan, count), (self.rwi, facts.RWI_VALUES)):
+            step = math.pi / (beams - 1)
+            info = obj.info
+            info.max_range.set_value(max_range)
+            info.uniform.set_value(True)
+            info.half_angle.set_value(step / 2)
+            info.x_offset.set_value(mount_x)
+            info.y_offset.set_value(mount_y)
+            info.z_offset.set_value(mount_z)
+            info.theta_offset.set_value(-math.pi / 2)
+            info.theta_separation.set_value(step)
+            obj.publish_info()
+
+    def publish_scan(self, ranges: Sequence[float], *, centre_stamp: float, arrival_stamp: float) -> None:
+        """One scan in robot order; the RWI stream gets every other beam of a 361-beam scan."""
+        values = [float(r) for r in ranges]
+        self.scan.data.ranges = values
+        self.scan.data.timestamp = Time(centre_stamp)
+        self.scan.publish_data()
+        self.rwi.data.ranges = values[::2] if len(values) == facts.VALUES_AT[0.5] else values
+        self.rwi.data.timestamp = Time(arrival_stamp)
+        self.rwi.publish_data()
+        self.timing.data.element = [len(values)]
+        self.timing.data.data = []
+        self.timing.data.timestamp = Time(centre_stamp)
+        self.timing.publish_data()
+        if self._ros is not None and values and values[0] != -1.0:
+            self._ros.publish(values, centre_stamp, self.scan_time)
+        self.scans += 1
+
+    def publish_fatal(self, stamp: float) -> None:
+        """Pluto 8.1: during a fatal error (the sensor reboots) every range is −1."""
+        count = self.count or facts.VALUES_AT[0.5]
+        self.publish_scan([-1.0] * count, centre_stamp=stamp, arrival_stamp=stamp)
