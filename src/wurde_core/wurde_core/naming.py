@@ -69,6 +69,17 @@ def topic(stream: str, channel: str) -> str:
     return f'{PREFIX}/{stream_segment_path(stream)}/{channel}'
 
 
+def typed_view(stream: str, interface: str) -> str:
+    """The stream on which a module supplies ``stream`` as a second interface.
+
+    A stream has one interface; a module that serves the same thing as two (a base's RobotDrive
+    and SynchroDrive) supplies the second on ``<stream>/<interface>``, and the MCP assigns it to a
+    mapping of that interface to ``stream`` (WURDE guide 1.1.5 and appendix 10.1 map one base's
+    drive as either).
+    """
+    return f'{stream}/{interface}'
+
+
 def stream_name(topic_name: str) -> tuple[str, str]:
     """Undo :func:`topic`: ``/wurde/<path>/<channel>`` -> ``(stream, channel)``.
 

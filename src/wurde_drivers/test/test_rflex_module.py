@@ -109,7 +109,7 @@ def test_sensor_data_flows_with_the_emulated_values_and_the_brake_stays_set(
         # brake-reset is false: a release request is refused and never reaches the base.
         observer.request('baseDrive', brake=False, trans=0.3)
         # The refusal is logged, then the drive info says the brake is still set.
-        observer.until(lambda o: 'brake release refused' in child.stderr and o.infos['baseDrive'].brake,
+        observer.until(lambda o: 'may not release its brake' in child.stderr and o.infos['baseDrive'].brake,
                        'the refusal, and the brake set in the info', 10)
         assert emulator.brake
         assert not any(p.opcode == Mot.BRAKE_RELEASE and p.port == Port.MOT

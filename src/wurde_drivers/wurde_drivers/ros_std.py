@@ -31,6 +31,7 @@ from nav_msgs.msg import Odometry
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import Imu, LaserScan, NavSatFix, NavSatStatus
 from wurde_core.naming import stream_segment_path
+from wurde_core.ros_adaptor import take
 
 __all__ = ['FixPublisher', 'ImuPublisher', 'OdometryPublisher', 'ScanPublisher', 'TwistInbox']
 
@@ -100,13 +101,9 @@ class TwistInbox:
     def take(self) -> Twist | None:
         """The newest Twist that arrived since the last call, or None."""
         newest = None
-        handle = self.subscription.handle
-        with handle:
-            while True:
-                result = handle.take_message(Twist, False)
-                if result is None:
-                    return newest
-                newest = result[0]
+        for newest in take(self.subscription.handle, Twist, -1):
+            pass
+        return newest
 
 
 def quaternion(theta: float, phi: float, psi: float) -> tuple[float, float, float, float]:

@@ -156,6 +156,14 @@ class RFlexRunner:
         if command is not None:
             self._send(command)
 
+    def stop(self) -> None:
+        """Stop the base now (the module goes Idle: nothing may drive it unattended)."""
+        if self.connected:
+            try:
+                self._send(self.streams.stop())
+            except DeviceError as error:
+                self.logger.warn(f'{self.streams.name}: could not stop the base: {error}')
+
     def _send(self, command: VelocityCommand) -> None:
         if command.brake != self._brake:
             if command.brake:
@@ -261,13 +269,14 @@ def main(argv: list[str] | None = None) -> int:
     logger = Logger(manager.name)
     streams = BaseStreams(manager.name, synchro=robot.drive is DriveKind.SYNCHRO,
                           limits=limits_for(robot), command_timeout=device.command_timeout,
-                          logger=logger)
+                          logger=logger, brake_release=device.brake_reset)
     driver = RFlexDriver(SerialLink(device.port, BAUDRATE), robot, brake_reset=device.brake_reset,
                          command_timeout=None)
     runner = RFlexRunner(device, driver, streams, logger)
     streams.register(manager)
     manager.register_supplier(logger)
     set_loop(manager, SLEEP_S)
+    manager.on_state(RunState.IDLE, runner.stop)
     streams.publish_all_info()
     publish_sensor_info(streams, robot)
     try:

@@ -18,8 +18,22 @@ stream         interface        what
 Standard ROS: ``nav_msgs/Odometry`` on ``/N/odom`` and ``geometry_msgs/Twist`` commands on
 ``/N/cmd_vel`` (:mod:`wurde_drivers.ros_std`). Whatever backend moves the robot, consumers see the
 same streams, so no module can tell a dummy
-from the real base. Commands are velocity set-points with a watchdog: when no command has come for
-``command_timeout`` seconds the base is stopped (a command that stops coming stops the robot).
+from the real base.
+
+Both drive interfaces: the guide's examples disagree on which one a base supplies (chapter 1 maps
+a SynchroDrive consumer to an ATRV Jr, the appendix a RobotDrive consumer to a B21r, and 7.3 says
+SynchroMover needs RobotDrive), so every base supplies its own kind on ``NDrive`` and the other
+kind as the typed view ``NDrive/<Interface>`` (:func:`wurde_core.naming.typed_view`), which the MCP
+assigns to a mapping of that interface to ``NDrive``.  Both drive one set-point.
+
+Failing safe:
+
+- Commands are velocity set-points with a watchdog: when no command has come for
+  ``command_timeout`` seconds the base is stopped (a command that stops coming stops the robot).
+- The brake is released only by a Drive request that sets ``brake`` false — an explicit request,
+  refused while ``brake`` (or the drive) is locked against its sender.  A Twist on ``cmd_vel`` or
+  a Pluto command never releases it: while the brake is set they are refused and counted.
+- A command with a NaN or infinite value is refused whole and counted (``refused_commands``).
 """
 
 from __future__ import annotations
@@ -30,6 +44,7 @@ import time
 from collections.abc import Sequence
 
 from wurde_core import CommsManager, Logger, Pose, Pose3D, Time
+from wurde_core.naming import typed_view
 from wurde_core.interfaces import (ActuatorState, Bumper, Egomotion, Power, RangeFinder, RobotDrive,
                                    SynchroDrive)
 
@@ -66,13 +81,19 @@ class BaseStreams:
     """Suppliers of one base; call :meth:`register` once, then :meth:`take_command` every loop."""
 
     def __init__(self, name: str, *, synchro: bool, limits: BaseLimits, command_timeout: float,
-                 logger: Logger | None = None) -> None:
+                 logger: Logger | None = None, brake_release: bool = True) -> None:
+        """:param brake_release: whether a Drive request may release the brake at all (the
+            rFLEX config's ``brake-reset``); when not, such a request is refused whole."""
         self.name = name
+        self.brake_release = brake_release
         self.synchro = synchro
         self.limits = limits
         self.command_timeout = command_timeout
         self.logger = logger
-        self.drive = (SynchroDrive if synchro else RobotDrive)(f'{name}Drive')
+        native, other = (SynchroDrive, RobotDrive) if synchro else (RobotDrive, SynchroDrive)
+        self.drive = native(f'{name}Drive')
+        #: The other drive interface, on the typed view of the same stream.
+        self.drive_view = other(typed_view(f'{name}Drive', other.interface_name))
         self.command = ActuatorState(f'{name}Command')
         self.motion = Egomotion(f'{name}Motion')
         self.sonar = RangeFinder(f'{name}Sonar')
@@ -89,7 +110,8 @@ class BaseStreams:
 
     @property
     def objects(self) -> list[object]:
-        return [self.drive, self.command, self.motion, self.sonar, self.bumpers, self.power]
+        return [self.drive, self.drive_view, self.command, self.motion, self.sonar, self.bumpers,
+                self.power]
 
     def register(self, manager: CommsManager) -> None:
         for obj in self.objects:
@@ -99,31 +121,35 @@ class BaseStreams:
 
     # -- info ---------------------------------------------------------------------------------
     def publish_drive_info(self) -> None:
-        info, c = self.drive.info, self.current
-        if self.synchro:
-            info.brake.set_value(c.brake)
-            info.trans.set_value(c.tv)
-            info.angular.set_value(c.rv)
-            info.trans_limit.set_value(self.tv_limit)
-            info.angular_limit.set_value(self.rv_limit)
-            info.trans_accel.set_value(c.tv_accel)
-            info.angular_accel.set_value(c.rv_accel)
-            info.trans_decel.set_value(c.tv_accel)
-            info.angular_decel.set_value(c.rv_accel)
-        else:
-            info.brake.set_value(c.brake)
-            info.mode.set_value(0)
-            info.trans_velocity.set_value(c.tv)
-            info.rot_velocity.set_value(c.rv)
-            half = c.rv * self.limits.wheel_base / 2
-            info.left_velocity.set_value(c.tv - half)
-            info.right_velocity.set_value(c.tv + half)
-            info.trans_limit.set_value(self.tv_limit)
-            info.rot_limit.set_value(self.rv_limit)
-            info.trans_accel.set_value(c.tv_accel)
-            info.rot_accel.set_value(c.rv_accel)
-            info.wheel_base.set_value(self.limits.wheel_base)
-        self.drive.publish_info()
+        """Publish the set-point on both drive interfaces."""
+        for obj, synchro in ((self.drive, self.synchro), (self.drive_view, not self.synchro)):
+            self._fill_drive_info(obj.info, synchro)
+            obj.publish_info()
+
+    def _fill_drive_info(self, info: object, synchro: bool) -> None:
+        c = self.current
+        info.brake.set_value(c.brake)  # type: ignore[attr-defined]
+        if synchro:
+            info.trans.set_value(c.tv)  # type: ignore[attr-defined]
+            info.angular.set_value(c.rv)  # type: ignore[attr-defined]
+            info.trans_limit.set_value(self.tv_limit)  # type: ignore[attr-defined]
+            info.angular_limit.set_value(self.rv_limit)  # type: ignore[attr-defined]
+            info.trans_accel.set_value(c.tv_accel)  # type: ignore[attr-defined]
+            info.angular_accel.set_value(c.rv_accel)  # type: ignore[attr-defined]
+            info.trans_decel.set_value(c.tv_accel)  # type: ignore[attr-defined]
+            info.angular_decel.set_value(c.rv_accel)  # type: ignore[attr-defined]
+            return
+        info.mode.set_value(0)  # type: ignore[attr-defined]
+        info.trans_velocity.set_value(c.tv)  # type: ignore[attr-defined]
+        info.rot_velocity.set_value(c.rv)  # type: ignore[attr-defined]
+        half = c.rv * self.limits.wheel_base / 2
+        info.left_velocity.set_value(c.tv - half)  # type: ignore[attr-defined]
+        info.right_velocity.set_value(c.tv + half)  # type: ignore[attr-defined]
+        info.trans_limit.set_value(self.tv_limit)  # type: ignore[attr-defined]
+        info.rot_limit.set_value(self.rv_limit)  # type: ignore[attr-defined]
+        info.trans_accel.set_value(c.tv_accel)  # type: ignore[attr-defined]
+        info.rot_accel.set_value(c.rv_accel)  # type: ignore[attr-defined]
+        info.wheel_base.set_value(self.limits.wheel_base)  # type: ignore[attr-defined]
 
     def publish_sonar_info(self, *, count: int, max_range: float, half_angle: float, radius: float,
                            z: float) -> None:
@@ -168,15 +194,14 @@ class BaseStreams:
         ``now`` is the base's clock in seconds (simulated time for the dummy).
         """
         changed = False
-        while self.drive.get_next_request():
-            changed |= self._drive_request()
+        for obj, synchro in ((self.drive, self.synchro), (self.drive_view, not self.synchro)):
+            while obj.get_next_request():
+                changed |= self._drive_request(obj, synchro)
         while self.command.get_next_request():
             changed |= self._pluto_request()
         twist = self._twist.take() if self._twist is not None else None
         if twist is not None:
-            tv, rv = self._clamp(twist.linear.x, twist.angular.z)
-            self.current = dataclasses.replace(self.current, tv=tv, rv=rv, brake=False)
-            changed = True
+            changed |= self._velocity(twist.linear.x, twist.angular.z, 'cmd_vel Twist')
         if changed:
             self.last_command = now
             self.publish_drive_info()
@@ -193,33 +218,62 @@ class BaseStreams:
             return self.current
         return None
 
+    def stop(self) -> VelocityCommand:
+        """Stop now (the module went Idle, a bumper tripped): zero velocities, brake as it was."""
+        self.current = dataclasses.replace(self.current, tv=0.0, rv=0.0)
+        return self.current
+
+    def _refuse(self, what: str, why: str) -> bool:
+        self.refused_commands += 1
+        if self.logger is not None:
+            self.logger.warn(f'{self.name}: refused {what}: {why}')
+        return False
+
     def _clamp(self, tv: float, rv: float) -> tuple[float, float]:
         return (max(-self.tv_limit, min(self.tv_limit, tv)), max(-self.rv_limit, min(self.rv_limit, rv)))
 
-    def _drive_request(self) -> bool:
-        req, fields = self.drive.requests, _set(self.drive.requests)
+    def _velocity(self, tv: float, rv: float, what: str) -> bool:
+        """A velocity command that is not a Drive request: never touches the brake."""
+        if not (math.isfinite(tv) and math.isfinite(rv)):
+            return self._refuse(what, f'not finite (tv={tv}, rv={rv})')
+        if self.current.brake:
+            return self._refuse(what, 'the brake is set; release it with a Drive request '
+                                      '(brake false)')
+        tv, rv = self._clamp(tv, rv)
+        self.current = dataclasses.replace(self.current, tv=tv, rv=rv)
+        return True
+
+    def _drive_request(self, obj: object, synchro: bool) -> bool:
+        req, fields = obj.requests, _set(obj.requests)  # type: ignore[attr-defined]
+        values = {f: getattr(req, f).get_value() for f in fields if f != 'brake'}
+        bad = {f: v for f, v in values.items() if isinstance(v, float) and not math.isfinite(v)}
+        if bad:
+            return self._refuse(f'{obj.interface_name} request', f'not finite: {bad}')  # type: ignore[attr-defined]
         c = self.current
+        if 'brake' in fields and c.brake and not req.brake.get_value() and not self.brake_release:
+            return self._refuse(f'{obj.interface_name} request', 'this base may not release its '  # type: ignore[attr-defined]
+                                'brake (brake-reset="false")')
         tv, rv, tv_acc, rv_acc, brake = c.tv, c.rv, c.tv_accel, c.rv_accel, c.brake
-        if self.synchro:
+        if synchro:
             names = {'trans': 'trans', 'angular': 'angular', 'tl': 'trans_limit', 'rl': 'angular_limit',
                      'ta': 'trans_accel', 'ra': 'angular_accel'}
         else:
             names = {'trans': 'trans_velocity', 'angular': 'rot_velocity', 'tl': 'trans_limit',
                      'rl': 'rot_limit', 'ta': 'trans_accel', 'ra': 'rot_accel'}
         if names['tl'] in fields:
-            self.tv_limit = min(abs(getattr(req, names['tl']).get_value()), self.limits.max_tv)
+            self.tv_limit = min(abs(values[names['tl']]), self.limits.max_tv)
         if names['rl'] in fields:
-            self.rv_limit = min(abs(getattr(req, names['rl']).get_value()), self.limits.max_rv)
-        if names['ta'] in fields and getattr(req, names['ta']).get_value() > 0:
-            tv_acc = min(getattr(req, names['ta']).get_value(), self.limits.tv_accel)
-        if names['ra'] in fields and getattr(req, names['ra']).get_value() > 0:
-            rv_acc = min(getattr(req, names['ra']).get_value(), self.limits.rv_accel)
+            self.rv_limit = min(abs(values[names['rl']]), self.limits.max_rv)
+        if names['ta'] in fields and values[names['ta']] > 0:
+            tv_acc = min(values[names['ta']], self.limits.tv_accel)
+        if names['ra'] in fields and values[names['ra']] > 0:
+            rv_acc = min(values[names['ra']], self.limits.rv_accel)
         if names['trans'] in fields:
-            tv = getattr(req, names['trans']).get_value()
+            tv = values[names['trans']]
         if names['angular'] in fields:
-            rv = getattr(req, names['angular']).get_value()
-        if not self.synchro and 'mode' in fields and req.mode.get_value() == 1:
-            left, right = req.left_velocity.get_value(), req.right_velocity.get_value()
+            rv = values[names['angular']]
+        if not synchro and 'mode' in fields and values['mode'] == 1:
+            left, right = values.get('left_velocity', 0.0), values.get('right_velocity', 0.0)
             tv, rv = (left + right) / 2, (right - left) / self.limits.wheel_base
         if 'brake' in fields:
             brake = bool(req.brake.get_value())
@@ -235,14 +289,9 @@ class BaseStreams:
         flags = req.cmd_flags.get_value()
         velocity = list(req.velocity.get_value())
         if flags != 0 or len(velocity) < 2:
-            self.refused_commands += 1
-            if self.logger is not None:
-                self.logger.warn(f'{self.name}Command: refused cmdFlags={flags} velocity={velocity} '
-                                 '(the base takes cmdFlags 0 and velocity[0..1] only)')
-            return False
-        tv, rv = self._clamp(float(velocity[0]), float(velocity[1]))
-        self.current = dataclasses.replace(self.current, tv=tv, rv=rv, brake=False)
-        return True
+            return self._refuse(f'{self.name}Command cmdFlags={flags} velocity={velocity}',
+                                'the base takes cmdFlags 0 and velocity[0..1] only')
+        return self._velocity(float(velocity[0]), float(velocity[1]), f'{self.name}Command')
 
     def _publish_command_state(self) -> None:
         data = self.command.data
@@ -255,8 +304,10 @@ class BaseStreams:
 
     # -- data ---------------------------------------------------------------------------------
     def _stamp(self, obj: object, stamp: float | None) -> None:
+        """Stamp with ``stamp``, or with the time of publishing when there is none (never the
+        stamp an earlier event was given)."""
+        obj.set_auto_timestamp(stamp is None)  # type: ignore[attr-defined]
         if stamp is not None:
-            obj.set_auto_timestamp(False)  # type: ignore[attr-defined]
             obj.data.timestamp = Time(stamp)  # type: ignore[attr-defined]
 
     def publish_motion(self, x: float, y: float, theta: float, tv: float, rv: float,

@@ -30,6 +30,8 @@ from ..robot import SimRobot
 MAX_CATCH_UP = 200
 #: Wall seconds between loops.
 LOOP_S = 0.01
+#: Longest (simulated) time the base is given to come to rest when it goes Idle.
+MAX_STOP_S = 10.0
 
 
 def _every(rate: float, step: float) -> int:
@@ -76,8 +78,27 @@ def main(argv: list[str] | None = None) -> int:
                   f'time scale {config.time_scale}')
     wall0 = time.monotonic()
     last_bumpers = robot.bumpers
+
+    def target_step() -> int:
+        return int((time.monotonic() - wall0) * config.time_scale / config.step)
+
+    def brake_for_idle() -> None:
+        """Idle (guide 5.2.1): the base must not drive on unattended; bring it to rest now."""
+        streams.stop()
+        robot.command(0.0, 0.0)
+        for _ in range(int(MAX_STOP_S / config.step)):
+            if robot.truth.tv == 0.0 and robot.truth.rv == 0.0:
+                break
+            robot.step(clock.tick())
+
+    def resume() -> None:
+        """Back in Run: the robot stood still while Idle; simulated time jumps to the wall's."""
+        clock.steps = max(clock.steps, target_step())
+
+    manager.on_state(RunState.IDLE, brake_for_idle)
+    manager.on_state(RunState.RUN, resume)
     while manager.run_update() == RunState.RUN:
-        target = int((time.monotonic() - wall0) * config.time_scale / config.step)
+        target = target_step()
         if target - clock.steps > MAX_CATCH_UP:
             logger.warn(f'{manager.name}: {target - clock.steps} steps behind; dropping them')
             wall0 = time.monotonic() - clock.steps * config.step / config.time_scale
