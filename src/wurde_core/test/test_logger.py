@@ -11,6 +11,7 @@ from conftest import until
 from wurde_core import CommsManager, Logger, g_warn
 from wurde_core import logger as logger_module
 from wurde_core.interfaces import robot_object_class
+from wurde_core.ros_adaptor import take_stamped
 
 
 @pytest.fixture(autouse=True)
@@ -67,10 +68,7 @@ def _rosout(manager: CommsManager) -> Callable[[], list[tuple[int, str]]]:
     found: list[tuple[int, str]] = []
 
     def read() -> list[tuple[int, str]]:
-        result = subscription.handle.take_message(Log, False)
-        while result is not None:
-            found.append((result[0].level, result[0].msg))
-            result = subscription.handle.take_message(Log, False)
+        found.extend((message.level, message.msg) for message, _ in take_stamped(subscription))
         return found
     return read
 

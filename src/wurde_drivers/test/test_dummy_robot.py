@@ -8,6 +8,7 @@ import pathlib
 
 import pytest
 from sim_fixture import MAPS, Observer, median_interval, sim_config
+from wurde_core.ros_adaptor import take_stamped
 from wurde_testing import ChildProcess, find_executable
 
 from wurde_drivers.sim.kinematics import arc
@@ -46,10 +47,7 @@ def test_the_dummy_robot_comes_up_under_the_mcp_and_every_stream_keeps_its_rate(
 
     def everything(o: Observer) -> bool:
         for key, (sub, kind) in standard.items():
-            result = sub.handle.take_message(kind, False)
-            while result is not None:
-                seen[key].append(result[0])
-                result = sub.handle.take_message(kind, False)
+            seen[key].extend(message for message, _ in take_stamped(sub))
         return all(seen.values()) and all(len(o.events[s]) >= 4 for s, (_, p) in RATES.items() if p)
     try:
         with start_mcp(tmp_path) as mcp:
@@ -221,10 +219,7 @@ def test_standard_ros_topics_scan_odometry_and_cmd_vel(base: ChildProcess, tmp_p
 
     def take(o: Observer) -> bool:
         for key, sub, kind in (('scan', scans, LaserScan), ('odom', odoms, Odometry)):
-            result = sub.handle.take_message(kind, False)
-            while result is not None:
-                got[key].append(result[0])
-                result = sub.handle.take_message(kind, False)
+            got[key].extend(message for message, _ in take_stamped(sub))
         return bool(got['scan']) and bool(got['odom'])
 
     with ChildProcess([find_executable('wurde_drivers', 'dummy_sick'), '-c', str(tmp_path / 'sim-config.xml'),
