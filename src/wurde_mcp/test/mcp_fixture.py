@@ -60,7 +60,7 @@ class Table:
         return self.rows
 
     def until(self, predicate: Callable[[dict[str, dict[str, Any]]], bool], what: str,
-              timeout: float = 30.0) -> dict[str, dict[str, Any]]:
+              timeout: float = 60.0) -> dict[str, dict[str, Any]]:
         deadline = time.monotonic() + timeout
         while True:
             rows = self.refresh()

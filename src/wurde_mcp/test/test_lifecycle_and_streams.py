@@ -13,11 +13,11 @@ import time
 from lifecycle_msgs.msg import Transition
 from lifecycle_msgs.srv import ChangeState, GetState
 
-from mcp_fixture import WORKER, Table, alive, start_mcp, worker, write_config
+from mcp_fixture import WORKER, Table, alive, start_mcp, wait_output, worker, write_config
 from wurde_core import RunState, StatusMode
 from wurde_core.interfaces import robot_object_class
 from wurde_mcp.supervisor import CMD_START, CMD_STOP
-from wurde_testing import find_executable
+from wurde_testing import ChildProcess, find_executable
 
 ACTIVE, DEAD = StatusMode.ACTIVE, StatusMode.DEAD
 
@@ -160,7 +160,9 @@ def test_assigned_consumer_receives_data_also_after_its_supplier_restarts(tmp_pa
                 if line.startswith('VALUE FooServer')]
 
     def wait_for(predicate, what: str) -> None:
-        deadline = time.monotonic() + 40
+        # A failure bound, not a speed target: on a loaded machine FooServer's 25 values and
+        # the restart's discovery have taken more than 40 s.
+        deadline = time.monotonic() + 120
         while not predicate():
             assert time.monotonic() < deadline, f'{what}; listener log:\n{log.read_text()}'
             table.refresh()
@@ -198,7 +200,6 @@ def test_turn_off_stops_everyone(tmp_path, table) -> None:
 def test_guide_chapter1_files_as_printed_configure_and_run(tmp_path, table) -> None:
     """config/guide-ch1 (the guide's files as printed) is accepted by the running MCP: BlindTeleop,
     named only in the mappings, is watched as an external module and the warning says where."""
-    from mcp_fixture import wait_output
     root = pathlib.Path(__file__).resolve().parents[3] / 'config' / 'guide-ch1'
     mappings = str(root / 'mcp-mappings.xml')
     with start_mcp(tmp_path, str(root / 'mcp-config.xml'), mappings, '-a') as mcp:
@@ -208,3 +209,34 @@ def test_guide_chapter1_files_as_printed_configure_and_run(tmp_path, table) -> N
             int(warning[1]) - 1]
         rows = table.until(lambda r: 'BlindTeleop' in r and 'VectorMover' in r, 'module table')
         assert len(rows) == 6 and mcp.process.poll() is None
+
+
+def test_supplier_known_only_at_run_time_contradicting_a_mapping_is_refused(tmp_path,
+                                                                            table) -> None:
+    """Ext (external, started by hand) supplies Ext_out as Foo; the mapping gives it to Reader
+    as a RangeFinder.  The MCP learns it from Ext's heartbeat: it logs the mapping's file, line
+    and both types, and refuses Reader that stream instead of letting it wait for data forever."""
+    reader = tmp_path / 'reader.py'
+    reader.write_text(
+        '#!/usr/bin/env python3\n'
+        'import sys\n'
+        'from wurde_core import CommsManager, ConnectionStrategy, RunState\n'
+        'from wurde_core.interfaces import RangeFinder\n'
+        'm = CommsManager("Reader"); m.parse_options(sys.argv); m.set_sleep(0.1)\n'
+        'm.register_consumer(RangeFinder(ConnectionStrategy.ASSIGNED, "Laser"))\n'
+        'while m.run_update() != RunState.QUIT:\n'
+        '    pass\n'
+        'm.clean_up()\n')
+    config, mappings = write_config(
+        tmp_path, '<module name="Ext" locale="external"/>',
+        '<connect module="Reader">\n<input interface="RangeFinder" source="Ext_out" '
+        'object="Laser"/>\n</connect>')
+    reason = ('mapping connects RangeFinder object "Laser" of module "Reader" to stream '
+              '"Ext_out", but module "Ext" supplies that stream as Foo')
+    with start_mcp(tmp_path, config, mappings, '-a') as mcp:
+        with ChildProcess([WORKER, '-n', 'Ext']):
+            wait_output(mcp, re.escape(f'{mappings}:4: {reason}'), timeout=60)
+            with ChildProcess([str(reader)]) as client:  # asks only once the MCP knows Ext
+                wait_output(client, r'could not assign a stream to RangeFinder\("Laser"\): ' +
+                            re.escape(f'{mappings}:4: {reason}'), timeout=60)
+        assert mcp.process.poll() is None

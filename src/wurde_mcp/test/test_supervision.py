@@ -41,7 +41,7 @@ def test_a_hung_module_becomes_a_zombie_and_is_restarted(tmp_path, table) -> Non
         os.kill(pid, signal.SIGSTOP)
         table.until(lambda r: r['Hung']['pid'] != pid and r['Hung']['status'] == ACTIVE,
                     'Hung replaced by a live process')
-        assert 'zombie' in wait_output(mcp, 'MCP: Hung missed its TTL')[0]
+        assert wait_output(mcp, r'MCP: Hung missed its TTL \(1\.000 s\): zombie')
         assert not alive(pid)
 
 
@@ -147,8 +147,8 @@ def test_bad_configuration_is_refused_before_anything_starts(tmp_path) -> None:
                                     '<connect module="A">\n<input interface="Foo" source="S"/>\n'
                                     '</connect>\n<connect module="B">\n<input '
                                     'interface="RangeFinder" source="S"/>\n</connect>')
-    with ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', config, '-m', mappings,
-                       '-a']) as mcp:
+    with ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', config, '-m', mappings, '-a'],
+                      env=dict(os.environ, WURDE_LOG_DIRECTORY=str(tmp_path))) as mcp:
         assert mcp.process.wait(timeout=60) == 1
     assert (f'{mappings}:7: mapping connects RangeFinder object "*" of module "B" to stream "S", '
             f'which the mapping at {mappings}:4 uses as Foo') in mcp.stderr
@@ -161,8 +161,8 @@ def test_mapping_against_what_the_supplier_reports_is_refused_at_configure(tmp_p
     config, mappings = write_config(tmp_path, worker('Sup'),
                                     '<connect module="Reader">\n<input interface="RangeFinder" '
                                     'source="Sup_out" object="Laser"/>\n</connect>')
-    with ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', config, '-m', mappings,
-                       '-a']) as mcp:
+    with ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', config, '-m', mappings, '-a'],
+                      env=dict(os.environ, WURDE_LOG_DIRECTORY=str(tmp_path))) as mcp:
         assert mcp.process.wait(timeout=90) == 1
     assert (f'{mappings}:4: mapping connects RangeFinder object "Laser" of module "Reader" to '
             'stream "Sup_out", but module "Sup" supplies that stream as Foo') in mcp.stderr

@@ -25,7 +25,7 @@ from .binaries import find_binary
 from .clock import REVIEW_S, SupervisionClock
 from .config import McpConfig, ModuleSpec
 from .process import ModuleProcess
-from .streams import KIND_ASSIGN, KIND_CAPABILITIES, KIND_START, StreamDesk
+from .streams import StreamDesk
 
 #: Restart delays by restart count (s); the last repeats until the cap.
 BACKOFF_S = (0.0, 0.5, 1.0, 2.0, 4.0)
@@ -43,7 +43,6 @@ TABLE_PERIOD_S = 0.5
 #: Stopping a module: wait this long for it to obey Quit, then SIGINT, SIGTERM, SIGKILL this far
 #: apart.
 STOP_GRACE_S, STOP_STEP_S = 2.0, 1.0
-__all__ = ['KIND_ASSIGN', 'KIND_CAPABILITIES', 'KIND_START', 'Module', 'Supervisor']
 CMD_QUIT_ALL, CMD_START, CMD_STOP, CMD_RESTART, CMD_STATE = 1, 2, 3, 4, 5
 
 

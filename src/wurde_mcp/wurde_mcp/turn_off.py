@@ -10,6 +10,10 @@ So ``turn_off NAME`` reaches any running module by its CommsManager name:
 - otherwise — no MCP, or one that does not supervise NAME — Quit goes to NAME's heartbeat
   directly.
 
+Whether an MCP answers is a matter of discovery: turn_off gives it :data:`MCP_GRACE_S` from its
+start, and waits for the MCP's control channel as long as for the module once the ROS graph
+shows the MCP's node.
+
 ``turn_off`` alone quits every module but the MCP: through the MCP's quit-all when one answers,
 else directly to every heartbeat stream in the ROS graph.
 """
@@ -26,8 +30,9 @@ from wurde_core.interfaces import robot_object_class
 from .control import WAIT_S, connect, read_table, send
 from .supervisor import CMD_QUIT_ALL, CMD_STOP
 
-#: After the module has been found: how much longer an MCP may take to be discovered.
-MCP_GRACE_S = 1.0
+#: How long an MCP may take to be discovered, from the start, when the module itself answers
+#: (discovery of two processes can differ by seconds on a loaded machine).
+MCP_GRACE_S = 3.0
 HEARTBEAT_PREFIX = 'heartbeat/'
 MCP_NAME = 'MCP'
 
@@ -52,11 +57,20 @@ def _wait(manager: CommsManager, done: Any, seconds: float) -> None:
         manager.wait(0.02)
 
 
+def _mcp_seen(manager: CommsManager) -> bool:
+    """Whether the ROS graph shows an MCP's nodes (before its control channel is matched)."""
+    return any(node in ('MCP', 'mcp') for node in manager.node.get_node_names())
+
+
 def _one(manager: CommsManager, control: Any, name: str) -> int:
     heartbeat = _heartbeat(manager, name)
+    start = time.monotonic()
     _wait(manager, lambda: heartbeat.peers() or control.peers(), WAIT_S)
     if heartbeat.peers() and not control.peers():
-        _wait(manager, control.peers, MCP_GRACE_S)
+        _wait(manager, lambda: control.peers() or _mcp_seen(manager),
+              MCP_GRACE_S - (time.monotonic() - start))
+        if _mcp_seen(manager):  # an MCP is there: wait for its control channel
+            _wait(manager, control.peers, WAIT_S)
     if control.peers():
         rows = read_table(manager, control, WAIT_S)
         if rows is not None and any(row['name'] == name for row in rows):
