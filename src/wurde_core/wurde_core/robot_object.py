@@ -143,6 +143,12 @@ class RobotObject:
     def get_auto_timestamp(self) -> bool:
         return self._auto_timestamp
 
+    def set_mcp_traffic(self, value: bool) -> None:
+        """Mark this object as heartbeat and MCP traffic (guide 5.2.1): it keeps flowing in every
+        run state, as the manager's own heartbeat does.  For the MCP and controllers, whose job
+        is to command other modules also while they themselves idle or quit."""
+        self._system = bool(value)
+
     # -- state ---------------------------------------------------------------------------------
     @property
     def role(self) -> str | None:

@@ -96,11 +96,15 @@ class Supervisor:
         self.idled_for: str | None = None
         self._table_at = 0.0
         self._changed = True
+        # The MCP's channels are MCP traffic: they flow while the MCP itself idles or quits
+        # (its last act is to command everyone to Quit).
         self.mcp = robot_object_class('McpRequest')('mcp')
         self.mcp.set_queue_mode(True)
+        self.mcp.set_mcp_traffic(True)
         manager.register_supplier(self.mcp)
         self.control = robot_object_class('SimpleControl')('mcp_control')
         self.control.set_queue_mode(True)
+        self.control.set_mcp_traffic(True)
         manager.register_supplier(self.control)
         #: Watched time (TTLs are judged on it) and zombies declared so far.
         self.clock = SupervisionClock()
@@ -115,6 +119,7 @@ class Supervisor:
     def _watch(self, spec: ModuleSpec) -> Module:
         heartbeat = robot_object_class('Heartbeat')(f'heartbeat/{spec.name}')
         heartbeat.set_queue_mode(True)
+        heartbeat.set_mcp_traffic(True)
         self.manager.register_consumer(heartbeat)
         module = Module(spec=spec, heartbeat=heartbeat)
         self.modules[spec.name] = module
@@ -208,20 +213,26 @@ class Supervisor:
     def quit_all(self, wait_s: float = 10.0) -> None:
         """Quit every module and reap the internal ones: all are escalated at once, and this
         waits (at shutdown, never in the loop) up to ``wait_s`` for them to end."""
-        step_s = min(STOP_STEP_S, wait_s / 4)
+        step_s = min(STOP_STEP_S, wait_s / 5)
+        grace_s = min(STOP_GRACE_S, wait_s / 5)
+        quit_at = time.monotonic()
         for module in self.modules.values():
             module.wanted = False
             module.start_on_exit = False
             module.restart_at = None
             self.command_state(module.name, RunState.QUIT)
             if module.process is not None:
-                module.process.stop(step_s=step_s, grace_s=step_s)
+                module.process.stop(step_s=step_s, grace_s=grace_s)
         deadline = time.monotonic() + wait_s
         for module in self.modules.values():
             process = module.process
             if process is not None:
-                if process.wait(max(0.0, deadline - time.monotonic())) is None:
+                code = process.wait(max(0.0, deadline - time.monotonic()))
+                if code is None:
                     g_error(f'MCP: {module.name} (pid {process.pid}) did not end after SIGKILL')
+                else:
+                    g_info(f'MCP: {module.name} ended {process.ended - quit_at:.2f} s after '
+                           f'Quit (exit code {code})')
                 module.process = None
                 module.pid = 0
                 module.status = StatusMode.DEAD
