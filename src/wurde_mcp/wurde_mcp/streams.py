@@ -15,7 +15,7 @@ from typing import Any, Protocol
 from wurde_core import ConnectionStrategy, StatusMode, g_error
 
 from .config import Mapping, McpConfig
-from .wiring import consumer_conflict, supplier_conflict, where
+from .wiring import consumer_conflict, served_stream, supplier_conflict, where
 
 KIND_ASSIGN, KIND_START, KIND_CAPABILITIES = 0, 1, 2
 
@@ -110,11 +110,12 @@ class StreamDesk:
                                    f'"{module}" a {mapping.interface}, but the module asks for '
                                    f'it as {interface}')
             supplier = self.supplier_of(mapping.source)
+            stream = mapping.source
             if supplier is not None:
                 reason = supplier_conflict(mapping, supplier.name, supplier.supplies)
                 if reason is not None:
                     return False, '', f'{where(mapping)}: {reason}'
-            stream = mapping.source
+                stream = served_stream(mapping, supplier.supplies)
             break
         if not stream and strategy == ConnectionStrategy.AUTO:
             stream = next((s for m in self.modules.values() for i, s in m.supplies

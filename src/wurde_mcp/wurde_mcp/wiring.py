@@ -10,11 +10,17 @@ disagreement is refused, naming the mapping's file and line and both types:
   what its consumers are);
 - at run time, when a module's capability report or heartbeat shows a supplier that the files
   could not know: the MCP logs the error and refuses to assign that stream.
+
+A supplier that serves ``S`` as ``J`` and also as ``I`` on the typed view ``S/I``
+(:func:`wurde_core.naming.typed_view`, as every base does with its two drive interfaces) agrees
+with the mapping: the consumer is given ``S/I``.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable
+
+from wurde_core.naming import typed_view
 
 from .config import Mapping
 
@@ -38,10 +44,22 @@ def static_conflict(mappings: Iterable[Mapping]) -> tuple[Mapping, str] | None:
     return None
 
 
+def served_stream(mapping: Mapping, supplies: Iterable[tuple[str, str]]) -> str:
+    """The stream that serves ``mapping`` among a supplier's ``(interface, stream)`` list: the
+    typed view of the mapped stream when the supplier offers one for the mapping's interface,
+    else the mapped stream itself."""
+    view = typed_view(mapping.source, mapping.interface)
+    return view if (mapping.interface, view) in set(supplies) else mapping.source
+
+
 def supplier_conflict(mapping: Mapping, supplier: str,
                       supplies: Iterable[tuple[str, str]]) -> str | None:
     """Why ``mapping`` disagrees with module ``supplier``'s ``(interface, stream)`` list, or
-    ``None`` when it does not supply the mapping's stream as another interface."""
+    ``None`` when it does not supply the mapping's stream as another interface (or supplies the
+    mapping's interface on the stream's typed view too)."""
+    supplies = list(supplies)
+    if served_stream(mapping, supplies) != mapping.source:
+        return None
     for interface, stream in supplies:
         if stream == mapping.source and interface != mapping.interface:
             return (f'mapping connects {mapping.interface} object "{mapping.object or "*"}" of '
