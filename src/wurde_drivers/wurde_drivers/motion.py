@@ -6,7 +6,9 @@ braking maths is that of the simulation's own steps: the velocity changes by at 
 step and then the position moves by ``v·dt``, so braking from ``v`` in whole steps covers
 ``dt·v·(v/(a·dt) + 1)/2``; the fastest speed that still stops on the target from distance ``d`` is
 therefore ``(−a·dt + sqrt((a·dt)² + 8·a·d)) / 2`` — the continuous ``v² = 2·a·d`` as ``dt → 0``,
-but exact for the steps taken, so an axis lands on its target instead of overshooting it.
+but exact for the steps taken, so an axis lands on its target instead of overshooting it.  An
+emulator steps in wall-clock time, so a step can be longer than the one braking planned for; a
+step that would pass the target stops on it.
 
 Pure Python, any units (rad or PTU positions) as long as they agree.
 """
@@ -46,4 +48,9 @@ def ramp_step(position: float, velocity: float, target: float, speed: float, acc
     direction = math.copysign(1.0, remaining) if remaining else 0.0
     wanted = direction * min(speed, braking_speed(abs(remaining), accel, dt))
     velocity += max(-a_dt, min(a_dt, wanted - velocity))
-    return position + velocity * dt, velocity
+    position += velocity * dt
+    if (target - position) * remaining < 0.0 and abs(target - position) > 1e-9:
+        # Passed: only a step longer than the one braking planned for (an emulator stepping in
+        # wall-clock time) gets here; the axis stops on its target.
+        return target, 0.0
+    return position, velocity

@@ -38,6 +38,7 @@ import math
 import struct
 
 from ..errors import CodecError
+from .sample import Inertial
 
 __all__ = [
     'CMD_ANGLE_MODE', 'CMD_CONTINUOUS', 'CMD_GET', 'CMD_PING', 'CMD_POLLED', 'CMD_SCALED_MODE',
@@ -150,22 +151,19 @@ def _word(value: float, lsb: float) -> int:
 
 
 @dataclasses.dataclass(frozen=True)
-class DmuPacket:
+class _Moded:
+    mode: DmuMode
+
+
+@dataclasses.dataclass(frozen=True)
+class DmuPacket(Inertial, _Moded):
     """One data packet in SI units, sensor frame (x forward, y right, z down: Pluto 8.2 says the
     sensor's z points down; y right follows for a right-handed frame with x forward).
 
-    ``roll`` and ``pitch`` are None in scaled mode (the packet has no angles).
+    Fields in order: ``mode``, the :class:`~.sample.Inertial` fields (``roll`` and ``pitch`` are
+    None in scaled mode: the packet has no angles), ``temperature`` (degC), ``time_ticks``.
     """
 
-    mode: DmuMode
-    roll: float | None
-    pitch: float | None
-    rate_x: float
-    rate_y: float
-    rate_z: float
-    accel_x: float
-    accel_y: float
-    accel_z: float
     temperature: float
     time_ticks: int
 

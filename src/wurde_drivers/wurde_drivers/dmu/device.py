@@ -23,28 +23,20 @@ from collections.abc import Callable
 from ..errors import DeviceTimeout
 from ..ports.serial_link import LinkStats, SerialLink
 from . import codec
+from .sample import Inertial
 
 __all__ = ['DmuDriver', 'RawSample', 'to_robot_frame']
 
 
-@dataclasses.dataclass(frozen=True)
-class RawSample:
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class RawSample(Inertial):
     """One DMU packet in the robot frame (x forward, y left, z up): Pluto's DMUraw_state.
 
-    ``roll`` (about x) and ``pitch`` (about y) in rad are None in scaled mode; rates in rad/s,
-    accelerations in m/s^2 (specific force: +g along z at rest), temperature in degC,
-    ``time_ticks`` the sensor's raw 16-bit counter, ``stamp`` the driver clock when it arrived.
+    The :class:`~.sample.Inertial` fields (+g along z at rest), then ``stamp`` the driver clock
+    when it arrived, ``temperature`` in degC and ``time_ticks`` the sensor's raw 16-bit counter.
     """
 
     stamp: float
-    roll: float | None
-    pitch: float | None
-    rate_x: float
-    rate_y: float
-    rate_z: float
-    accel_x: float
-    accel_y: float
-    accel_z: float
     temperature: float
     time_ticks: int
 

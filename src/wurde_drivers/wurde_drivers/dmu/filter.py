@@ -22,42 +22,31 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Protocol
 
-__all__ = ['DmuFilter', 'FilteredState', 'ImuSample']
+from .sample import MOTION_FIELDS, Inertial
 
-_FILTERED = ('rate_x', 'rate_y', 'rate_z', 'accel_x', 'accel_y', 'accel_z')
+__all__ = ['DmuFilter', 'FilteredState']
 
-
-class ImuSample(Protocol):
-    """What the filter reads from a sample (e.g. :class:`~wurde_drivers.dmu.device.RawSample`)."""
-
-    roll: float | None
-    pitch: float | None
-    rate_x: float
-    rate_y: float
-    rate_z: float
-    accel_x: float
-    accel_y: float
-    accel_z: float
+_RATE_Z = MOTION_FIELDS.index('rate_z')
 
 
-@dataclasses.dataclass(frozen=True)
-class FilteredState:
-    """Pluto's DMUstate: theta (heading about z, from start), phi (pitch about y), psi (roll about
-    x) in rad; filtered rates (rad/s) and accelerations (m/s^2); ``stamp`` already moved back by
-    the filter delay. ``phi`` and ``psi`` are None when the sensor gives no angles."""
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class FilteredState(Inertial):
+    """Pluto's DMUstate: the :class:`~.sample.Inertial` fields with rates and accelerations
+    filtered (roll and pitch as the sensor gave them), ``theta`` the heading about z since the
+    start (rad) and ``stamp`` already moved back by the filter delay.  Pluto's names for the
+    angles, ``phi`` (pitch about y) and ``psi`` (roll about x), are None without angles."""
 
     stamp: float
     theta: float
-    phi: float | None
-    psi: float | None
-    rate_x: float
-    rate_y: float
-    rate_z: float
-    accel_x: float
-    accel_y: float
-    accel_z: float
+
+    @property
+    def phi(self) -> float | None:
+        return self.pitch
+
+    @property
+    def psi(self) -> float | None:
+        return self.roll
 
 
 class DmuFilter:
@@ -82,19 +71,20 @@ class DmuFilter:
         self._stamp = 0.0
         self.theta = 0.0
 
-    def update(self, sample: ImuSample, stamp: float) -> FilteredState:
+    def update(self, sample: Inertial, stamp: float) -> FilteredState:
         """Filter one sample taken at ``stamp`` (seconds) and return the state."""
-        raw = [float(getattr(sample, name)) for name in _FILTERED]
+        raw = [float(getattr(sample, name)) for name in MOTION_FIELDS]
         if self._values is None:
             self._values = raw
             self._stamp = stamp
         else:
             dt = stamp - self._stamp
             if dt > 0:
-                previous_rate_z = self._values[2]
+                previous_rate_z = self._values[_RATE_Z]
                 alpha = 1.0 - math.exp(-dt / self.tau)
                 self._values = [y + alpha * (x - y) for x, y in zip(raw, self._values)]
-                self.theta += 0.5 * (previous_rate_z + self._values[2]) * dt
+                self.theta += 0.5 * (previous_rate_z + self._values[_RATE_Z]) * dt
                 self._stamp = stamp
-        return FilteredState(self._stamp - self.filter_delay, self.theta, sample.pitch,
-                             sample.roll, *self._values)
+        return FilteredState(stamp=self._stamp - self.filter_delay, theta=self.theta,
+                             roll=sample.roll, pitch=sample.pitch,
+                             **dict(zip(MOTION_FIELDS, self._values)))

@@ -18,32 +18,28 @@ from collections.abc import Callable
 
 import numpy as np
 
+from ..dmu.sample import Inertial
+
 __all__ = ['DmuModel', 'DmuReading', 'GpsModel', 'GpsReading', 'GRAVITY']
 
 GRAVITY = 9.80665
 
 
-@dataclasses.dataclass(frozen=True)
-class DmuReading:
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class DmuReading(Inertial):
+    """One dummy DMU sample (robot frame): the DMU's fields plus the true integrated heading."""
+
     theta: float
-    phi: float
-    psi: float
-    rate_x: float
-    rate_y: float
-    rate_z: float
-    accel_x: float
-    accel_y: float
-    accel_z: float
 
     @property
-    def roll(self) -> float:
-        """Roll about x (= psi), the name the DMU filter reads."""
-        return self.psi
+    def phi(self) -> float | None:
+        """Pitch about y (Pluto's name)."""
+        return self.pitch
 
     @property
-    def pitch(self) -> float:
-        """Pitch about y (= phi)."""
-        return self.phi
+    def psi(self) -> float | None:
+        """Roll about x (Pluto's name)."""
+        return self.roll
 
 
 class DmuModel:
@@ -64,7 +60,8 @@ class DmuModel:
         rate_z = rv + self.rate_bias + float(self._noise(self.rate_noise)[0])
         self.theta += rate_z * dt
         ax, ay, az = np.array([acceleration, tv * rv, GRAVITY]) + self._noise(self.accel_noise, 3)
-        return DmuReading(self.theta, 0.0, 0.0, 0.0, 0.0, rate_z, float(ax), float(ay), float(az))
+        return DmuReading(theta=self.theta, roll=0.0, pitch=0.0, rate_x=0.0, rate_y=0.0, rate_z=rate_z,
+                          accel_x=float(ax), accel_y=float(ay), accel_z=float(az))
 
 
 @dataclasses.dataclass(frozen=True)

@@ -14,12 +14,11 @@ The filtered state also goes out as ``sensor_msgs/Imu`` on ``/N/imu`` (:mod:`wur
 
 from __future__ import annotations
 
-from typing import Any
-
 from wurde_core import CommsManager, Time
 from wurde_core.interfaces import DMUState
 
 from ..dmu.filter import DmuFilter, FilteredState
+from ..dmu.sample import MOTION_FIELDS, Inertial
 from ..ros_std import ImuPublisher
 
 __all__ = ['DmuStreams']
@@ -50,7 +49,7 @@ class DmuStreams:
             obj.info.filter_delay.set_value(self.filter.filter_delay if filtered else 0.0)
             obj.publish_info()
 
-    def publish(self, sample: Any, stamp: float, *, raw: bool = True, filtered: bool = True) -> FilteredState:
+    def publish(self, sample: Inertial, stamp: float, *, raw: bool = True, filtered: bool = True) -> FilteredState:
         """Filter ``sample`` (robot frame) and publish the raw and/or the filtered state."""
         state = self.filter.update(sample, stamp)
         if raw:
@@ -58,8 +57,8 @@ class DmuStreams:
             d.theta = 0.0
             d.phi = float(sample.pitch or 0.0)
             d.psi = float(sample.roll or 0.0)
-            d.rate_x, d.rate_y, d.rate_z = float(sample.rate_x), float(sample.rate_y), float(sample.rate_z)
-            d.accel_x, d.accel_y, d.accel_z = float(sample.accel_x), float(sample.accel_y), float(sample.accel_z)
+            for field in MOTION_FIELDS:
+                setattr(d, field, float(getattr(sample, field)))
             d.timestamp = Time(stamp)
             self.raw.publish_data()
         if filtered:
@@ -67,8 +66,8 @@ class DmuStreams:
             d.theta = state.theta
             d.phi = float(state.phi or 0.0)
             d.psi = float(state.psi or 0.0)
-            d.rate_x, d.rate_y, d.rate_z = state.rate_x, state.rate_y, state.rate_z
-            d.accel_x, d.accel_y, d.accel_z = state.accel_x, state.accel_y, state.accel_z
+            for field in MOTION_FIELDS:
+                setattr(d, field, getattr(state, field))
             d.timestamp = Time(state.stamp)
             self.state.publish_data()
             if self._imu is not None:
