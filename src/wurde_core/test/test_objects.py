@@ -183,3 +183,16 @@ def test_bad_role_config_is_refused_with_file_and_line(tmp_path) -> None:
     assert f'{bad}:3: not well-formed XML' in result.stderr
     result = run_module('-g', str(tmp_path / 'missing.xml'))
     assert result.returncode == 2 and 'missing.xml: cannot read' in result.stderr
+
+
+def test_an_object_can_be_unregistered_and_registered_again(manager: CommsManager) -> None:
+    foo = Foo('again')
+    manager.register_supplier(foo)
+    assert foo.is_connected() and foo in manager.objects(user_only=True)
+    manager.unregister(foo)
+    assert not foo.is_connected() and foo.role is None
+    assert foo not in manager.objects(user_only=True)
+    with pytest.raises(RegistrationError, match='is not registered'):
+        manager.unregister(foo)
+    manager.register_consumer(foo)
+    assert foo.role == 'consumer' and foo.is_connected()

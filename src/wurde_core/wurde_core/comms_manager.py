@@ -233,6 +233,23 @@ class CommsManager:
                 self._mcp_client().request_start(obj)
         self.entities_changed()
 
+    def unregister(self, obj: RobotObject) -> None:
+        """Release ``obj``'s stream and forget it (it may be registered again afterwards).
+
+        :raises RegistrationError: when ``obj`` is not registered with this manager.
+        """
+        if not any(o is obj for o in self._objects):
+            raise RegistrationError(f'{obj._label()} is not registered with CommsManager '
+                                    f'"{self.name}"')
+        if self._mcp is not None:
+            self._mcp.forget(obj)
+        obj._disconnect()
+        obj._unregister()
+        self._objects = [o for o in self._objects if o is not obj]
+        for trigger in self._triggers:
+            trigger.remove(obj)
+        self.entities_changed()
+
     def entities_changed(self) -> None:
         """An object's publishers or subscriptions changed (registration, assignment, a queue
         mode switched after connection): wait anew, and tell the MCP if it cares."""

@@ -118,6 +118,10 @@ class McpClient:
                 self.request_stream(obj)
         return assigned
 
+    def forget(self, obj: RobotObject) -> None:
+        """Stop asking for ``obj``'s stream (it was unregistered)."""
+        self._pending = {k: v for k, v in self._pending.items() if v[0] is not obj}
+
     def waiting(self) -> list[RobotObject]:
         """Objects still waiting for their stream."""
         return [obj for obj, _ in self._pending.values()]

@@ -387,6 +387,10 @@ class RobotObject:
         self._manager = manager
         self._role = role
 
+    def _unregister(self) -> None:
+        self._manager = None
+        self._role = None
+
     def _connect(self, stream: str) -> None:
         """Create this object's publishers and subscriptions on ``stream``."""
         manager = self._manager

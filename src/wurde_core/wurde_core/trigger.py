@@ -34,6 +34,11 @@ class Trigger:
 
     register_object = add
 
+    def remove(self, obj: 'RobotObject') -> None:
+        """Take ``obj`` out of the trigger (nothing happens when it is not in it)."""
+        self._objects = [o for o in self._objects if o is not obj]
+        self._seen.pop(id(obj), None)
+
     @property
     def objects(self) -> tuple['RobotObject', ...]:
         return tuple(self._objects)

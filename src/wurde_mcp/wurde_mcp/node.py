@@ -106,6 +106,7 @@ class Mcp:
         except ConfigError as exc:
             g_error(f'MCP: {exc}')
             self.supervisor.quit_all(wait_s=2.0)
+            self.supervisor.close()
             self.supervisor = None
             return TransitionCallbackReturn.FAILURE
         g_info(f'MCP: configured with {len(config.modules)} modules from {self.config_file}')
@@ -159,6 +160,9 @@ class Mcp:
 
     def on_cleanup(self, state: LifecycleState) -> TransitionCallbackReturn:
         self.quit_all()
+        if self.supervisor is not None:
+            self.supervisor.close()  # a later configure makes a new one
+            self.supervisor = None
         return TransitionCallbackReturn.SUCCESS
 
     def on_shutdown(self, state: LifecycleState) -> TransitionCallbackReturn:

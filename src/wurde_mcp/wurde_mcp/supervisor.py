@@ -118,6 +118,11 @@ class Supervisor:
             self._watch(spec)
         self.streams = StreamDesk(self.mcp, config, self.modules, self.start)
 
+    def close(self) -> None:
+        """Release the MCP's streams and the modules' heartbeat channels (after :meth:`quit_all`)."""
+        for obj in [self.mcp, self.control, *(m.heartbeat for m in self.modules.values())]:
+            self.manager.unregister(obj)
+
     # -- modules -------------------------------------------------------------------------------
     def _watch(self, spec: ModuleSpec) -> Module:
         heartbeat = robot_object_class('Heartbeat')(f'heartbeat/{spec.name}')
