@@ -29,6 +29,8 @@ from .streams import StreamDesk
 
 #: Restart delays by restart count (s); the last repeats until the cap.
 BACKOFF_S = (0.0, 0.5, 1.0, 2.0, 4.0)
+#: Least time between two state commands to a module that does not report the state it was told.
+RECOMMAND_S = 1.0
 #: Restarts of one module before the MCP gives up on it.
 MAX_RESTARTS = 5
 #: TTLs outside this range are not trusted (a module announcing 0 or a day is clamped).  The floor
@@ -73,6 +75,10 @@ class Module:
     #: while a stop was under way).
     start_on_exit: bool = False
     ever_active: bool = False
+    #: The run state the MCP last commanded (Run or Idle are held: see Supervisor._reconcile),
+    #: and when it last sent a state command (monotonic).
+    commanded_state: RunState = RunState.RUN
+    commanded_at: float = 0.0
     #: Silent past its TTL by the wall clock since its last beat (what the old rule judged).
     wall_late: bool = False
 
@@ -201,10 +207,25 @@ class Supervisor:
             self.start(name)
 
     def command_state(self, name: str, state: RunState) -> None:
-        """Send a run-state command to a module (through its heartbeat channel)."""
-        heartbeat = self.modules[name].heartbeat
+        """Send a run-state command to a module (through its heartbeat channel).  Run and Idle
+        are held: a module that reports another state later is told again."""
+        module = self.modules[name]
+        module.commanded_state = RunState(state)
+        module.commanded_at = time.monotonic()
+        heartbeat = module.heartbeat
         heartbeat.requests.state.set_value(state)
         heartbeat.publish_request()
+
+    def _reconcile(self, now: float) -> None:
+        """Tell again every live module whose reported state is not the Run or Idle it was
+        commanded (one that came alive after the command, or missed it), at most every
+        :data:`RECOMMAND_S`."""
+        for module in self.modules.values():
+            wanted = module.commanded_state
+            if (module.status == StatusMode.ACTIVE and wanted in (RunState.RUN, RunState.IDLE)
+                    and module.run_state in (RunState.RUN, RunState.IDLE)
+                    and module.run_state != wanted and now - module.commanded_at >= RECOMMAND_S):
+                self.command_state(module.name, wanted)
 
     def start_all(self) -> None:
         """Start every internal module that has a binary."""
@@ -213,7 +234,11 @@ class Supervisor:
                 self.start(module.name)
 
     def set_all(self, state: RunState, *, except_: str | None = None) -> None:
-        """Command every module but ``except_`` into ``state``."""
+        """Command every module but ``except_`` into ``state``.  Idling everyone (the lifecycle
+        deactivated) ends a critical module's idling of the others: nobody is to come back to
+        Run when it does."""
+        if state == RunState.IDLE and except_ is None:
+            self.idled_for = None
         for name in self.modules:
             if name != except_:
                 self.command_state(name, state)
@@ -270,6 +295,7 @@ class Supervisor:
                 module.restart_at = None
                 self.start(module.name)
         self._critical()
+        self._reconcile(now)
         self.streams.serve()
         self._control()
         if self._changed or now - self._table_at >= TABLE_PERIOD_S:
@@ -377,9 +403,11 @@ class Supervisor:
         module.restart_at = now + delay
 
     def _critical(self) -> None:
-        """While a critical module that has run is not up in Run, every other module is Idle."""
+        """While a critical module that has run is not up in Run (and was not told to idle),
+        every other module is Idle."""
         down = next((m.name for m in self.modules.values()
                      if m.spec.managed == ProcessType.CRITICAL and m.ever_active
+                     and m.commanded_state == RunState.RUN
                      and (m.status != StatusMode.ACTIVE or m.run_state != RunState.RUN)), None)
         if down is not None and self.idled_for is None:
             self.idled_for = down
