@@ -218,11 +218,10 @@ def validate(config: McpConfig, interfaces: Iterable[str]) -> list[str]:
     user starts by hand, without listing it in mcp-config) becomes an external module: the MCP
     watches it and answers its requests but cannot start it, and a warning names the mapping's
     file and line.  Refused with file and line: a mapping naming an unknown interface, and two
-    mappings that use one stream as two different interfaces (see :mod:`wurde_mcp.wiring`).
+    mappings that use one stream as two different interfaces (:func:`static_conflict`).
 
     :raises ConfigError: naming the file, the line and the reason.
     """
-    from .wiring import static_conflict
     known = set(interfaces)
     warnings = []
     for mapping in config.mappings:
@@ -242,3 +241,22 @@ def validate(config: McpConfig, interfaces: Iterable[str]) -> list[str]:
         raise ConfigError(mapping.path, mapping.line, reason)
     config.warnings.extend(warnings)
     return warnings
+
+
+def where(mapping: Mapping) -> str:
+    """``file:line`` of a mapping."""
+    return f'{mapping.path}:{mapping.line}'
+
+
+def static_conflict(mappings: Iterable[Mapping]) -> tuple[Mapping, str] | None:
+    """The first mapping that uses a stream as another interface than an earlier mapping does,
+    with the reason; ``None`` when they agree."""
+    first: dict[str, Mapping] = {}
+    for mapping in mappings:
+        earlier = first.setdefault(mapping.source, mapping)
+        if earlier.interface != mapping.interface:
+            return mapping, (f'mapping connects {mapping.interface} object '
+                             f'"{mapping.object or "*"}" of module "{mapping.module}" to stream '
+                             f'"{mapping.source}", which the mapping at {where(earlier)} uses as '
+                             f'{earlier.interface}')
+    return None

@@ -14,8 +14,8 @@ from typing import Any, Protocol
 
 from wurde_core import ConnectionStrategy, StatusMode, g_error
 
-from .config import Mapping, McpConfig
-from .wiring import consumer_conflict, served_stream, supplier_conflict, where
+from .config import Mapping, McpConfig, where
+from .wiring import consumer_conflict, served_stream, supplier_conflict
 
 KIND_ASSIGN, KIND_START, KIND_CAPABILITIES = 0, 1, 2
 

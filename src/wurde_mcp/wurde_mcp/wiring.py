@@ -22,26 +22,7 @@ from collections.abc import Iterable
 
 from wurde_core.naming import typed_view
 
-from .config import Mapping
-
-
-def where(mapping: Mapping) -> str:
-    """``file:line`` of a mapping."""
-    return f'{mapping.path}:{mapping.line}'
-
-
-def static_conflict(mappings: Iterable[Mapping]) -> tuple[Mapping, str] | None:
-    """The first mapping that uses a stream as another interface than an earlier mapping does,
-    with the reason; ``None`` when they agree."""
-    first: dict[str, Mapping] = {}
-    for mapping in mappings:
-        earlier = first.setdefault(mapping.source, mapping)
-        if earlier.interface != mapping.interface:
-            return mapping, (f'mapping connects {mapping.interface} object '
-                             f'"{mapping.object or "*"}" of module "{mapping.module}" to stream '
-                             f'"{mapping.source}", which the mapping at {where(earlier)} uses as '
-                             f'{earlier.interface}')
-    return None
+from .config import Mapping, where
 
 
 def served_stream(mapping: Mapping, supplies: Iterable[tuple[str, str]]) -> str:
