@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import pathlib
 import re
+import time
 
 from mcp_fixture import Table
 from wurde_core import StatusMode
@@ -30,6 +31,11 @@ def test_readme_mcp_command_brings_up_the_foo_system(ros_domain: int, tmp_path) 
                                and r.get('FooClient', {}).get('status') == StatusMode.ACTIVE,
                                'FooServer and FooClient active')
             assert set(rows) == {'FooServer', 'FooClient'}
+            log = tmp_path / 'mcp-modules' / 'FooClient.log'
+            deadline = time.monotonic() + 60
+            while not ('Info: MaxRange 8.0' in log.read_text() and 'Val ' in log.read_text()):
+                assert time.monotonic() < deadline, f'FooClient printed no info and data:\n{log.read_text()}'
+                table.manager.wait(0.1)
             assert mcp.stop() == 0
     finally:
         table.close()
