@@ -11,6 +11,7 @@ import pytest
 from wurde_drivers.gps.device import BAUDRATE, Fix, GpsReceiver
 from wurde_drivers.gps.emulator import GpsEmulator, GpsSample
 from wurde_drivers.gps.geo import LocalFrame
+from wurde_drivers.gps.quality import meets
 from wurde_drivers.ports.serial_link import SerialLink
 
 ORIGIN = (59.3293, 18.0686)          # a good fix's position, the frame's origin
@@ -104,6 +105,36 @@ def test_good_follows_the_thresholds(receiver: GpsEmulator, gps: GpsReceiver) ->
     gps.min_quality = 1
     assert collect(gps, 1)[0].good
     assert gps.frame is not None
+
+
+def test_the_quality_rank_is_accuracy_not_number() -> None:
+    """Pluto 8.4's "quality 2" means DGPS or better: RTK (5 float, 4 fixed) is better, while
+    6 dead reckoning, 7 manual and 8 simulation measure nothing however large they are."""
+    assert [q for q in range(10) if meets(q, 2)] == [2, 4, 5]
+    assert [q for q in range(10) if meets(q, 1)] == [1, 2, 3, 4, 5]
+    assert [q for q in range(10) if meets(q, 0)] == [1, 2, 3, 4, 5]
+    assert [q for q in range(10) if meets(q, 4)] == [4]
+    assert [q for q in range(10) if meets(q, 5)] == [4, 5]
+    for minimum in (6, 7, 8, 9, -1):
+        with pytest.raises(ValueError):
+            meets(2, minimum)
+    with pytest.raises(ValueError):
+        GpsReceiver(SerialLink('loop://', BAUDRATE), min_quality=6)
+
+
+@pytest.mark.parametrize(('quality', 'good'), [(6, False), (7, False), (8, False), (1, False),
+                                                (2, True), (5, True), (4, True)])
+def test_dead_reckoning_is_never_a_good_fix_and_rtk_is(quality: int, good: bool) -> None:
+    with GpsEmulator(walking_north, rate_hz=RATE, quality=quality, satellites=9) as receiver:
+        gps = GpsReceiver(SerialLink(receiver.path, BAUDRATE))
+        try:
+            fixes = collect(gps, 2)
+        finally:
+            gps.close()
+    assert receiver.error is None
+    assert all(f.quality == quality and f.good is good for f in fixes)
+    assert (gps.frame is not None) is good      # only a good fix may become the grid's origin
+    assert gps.fixes == len(fixes) and gps.good_fixes == (len(fixes) if good else 0)
 
 
 def test_no_fix_sentences_give_nan_positions(receiver: GpsEmulator, gps: GpsReceiver) -> None:
