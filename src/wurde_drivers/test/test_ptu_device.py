@@ -121,7 +121,8 @@ def test_set_position_converts_with_the_queried_resolution(unit: Ptu46Emulator, 
     pan, tilt = ptu.set_position(0.1, -0.05)
     assert pan == pytest.approx(round(0.1 / STEP) * STEP)
     assert tilt == pytest.approx(round(-0.05 / STEP) * STEP)
-    wait_for(lambda: (unit.pan, unit.tilt) == (round(0.1 / STEP), round(-0.05 / STEP)))
+    settle(ptu)                                    # arrived and stopped, as the unit says
+    assert (unit.pan, unit.tilt) == (round(0.1 / STEP), round(-0.05 / STEP))
     state = ptu.query()
     assert state.pan == pytest.approx(pan) and state.tilt == pytest.approx(tilt)
     assert not state.moving
