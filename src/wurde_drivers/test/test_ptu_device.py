@@ -218,7 +218,7 @@ def test_reset_recentres(unit: Ptu46Emulator, ptu: Ptu46) -> None:
 def test_poll_returns_limit_hits(unit: Ptu46Emulator, ptu: Ptu46) -> None:
     start = time.monotonic()
     assert ptu.poll(0.1) == []
-    assert 0.09 <= time.monotonic() - start < 1.0
+    assert 0.09 <= time.monotonic() - start < 0.1 + 1.5   # (slack for a loaded machine)
     unit.inject_limit_hit('tilt')
     assert ptu.poll(2.0) == [LimitHit('tilt')]
 

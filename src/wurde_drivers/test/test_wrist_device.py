@@ -176,7 +176,7 @@ def test_connect_without_a_wrist_raises_device_timeout(channel: str) -> None:
     try:
         with pytest.raises(DeviceTimeout):
             wrist.connect(timeout=0.3)
-        assert time.monotonic() - started < 1.5
+        assert time.monotonic() - started < 0.3 + 1.5     # (slack for a loaded machine)
     finally:
         wrist.close()
     wrist.close()                                      # idempotent
