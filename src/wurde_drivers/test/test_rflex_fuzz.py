@@ -28,7 +28,7 @@ def be(data: bytes, start: int, size: int, signed: bool = False) -> int:
 
 def expected_report(kind: str, data: bytes) -> object | None:
     """The report ``data`` holds, read from PROTOCOLS.md 3's layouts; None: too short/malformed."""
-    if kind == 'motor':       # rv(4) timestamp(4) axis(1) position(4) velocity(4) accel(4) torque(4)
+    if kind == 'motor':       # rv timestamp (4 each) axis (1) position velocity accel torque (4)
         if len(data) < 25:
             return None
         return rflex.MotorReport(axis=data[8], position=be(data, 9, 4, True),

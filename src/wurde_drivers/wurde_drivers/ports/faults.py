@@ -5,22 +5,24 @@ the ``OSError`` or ``termios.error`` it came from, a bare ``OSError`` (the ``TIO
 ``in_waiting``), or a bare ``termios.error`` (``flush``, ``reset_input_buffer``).  :func:`classify`
 finds the errno in any of them and names the kind of fault:
 
-================ ================================================ ====================================
-fault            from                                             what the link does
-================ ================================================ ====================================
-``WOULD_BLOCK``  EAGAIN / EWOULDBLOCK / EINTR; a write timeout     nothing can move now: retry later;
-                 (the device takes no bytes: flow control or a     the port stays open
+================ ============================================== ==============================
+fault            from                                           what the link does
+================ ============================================== ==============================
+``WOULD_BLOCK``  EAGAIN / EWOULDBLOCK / EINTR; a write timeout   nothing can move now: retry
+                 (the device takes no bytes: flow control or a   later; the port stays open
                  full buffer)
-``IO_ERROR``     EIO (the line failed: the far end of a pty        disconnect, reopen after ``retry_s``
-                 closed, a hung-up terminal)
-``VANISHED``     ENXIO / ENODEV / ENOENT, or a read at end of      disconnect, reopen after ``retry_s``
-                 file ("readiness to read but returned no data":
-                 how Linux shows an unplugged adapter or a
-                 hung-up pty)
-``REFUSED``      EINVAL / ENOTTY / EOPNOTSUPP, or pyserial's       the setting is not made and not
-                 ``ValueError`` for a speed it cannot set          recorded; the port stays open
-``OTHER``        any other errno                                   disconnect, reopen after ``retry_s``
-================ ================================================ ====================================
+``IO_ERROR``     EIO (the line failed: the far end of a pty      disconnect, reopen after
+                 closed, a hung-up terminal)                     ``retry_s``
+``VANISHED``     ENXIO / ENODEV / ENOENT, or a read at end of    disconnect, reopen after
+                 file ("readiness to read but returned no        ``retry_s``
+                 data": how Linux shows an unplugged adapter
+                 or a hung-up pty)
+``REFUSED``      EINVAL / ENOTTY / EOPNOTSUPP, or pyserial's     the setting is neither made
+                 ``ValueError`` for a speed it cannot set        nor recorded; the port stays
+                                                                 open
+``OTHER``        any other errno                                 disconnect, reopen after
+                                                                 ``retry_s``
+================ ============================================== ==============================
 
 What is not a port error — a ``TypeError``, pyserial's ``PortNotOpenError`` (our own bug: using a
 port we closed), any other exception — is not classified: :func:`is_port_error` says so, and the
