@@ -173,6 +173,7 @@ def test_eio_on_write_after_the_device_end_closed_is_an_io_error(pty: Pty,
     assert troubles(link) == dict(NONE, io_errors=1, disconnects=1)
     assert link.last_fault is Fault.IO_ERROR and 'write' in link.last_error
     assert not link.is_open
+    assert link.fault_note().startswith('; last port fault: ') and 'I/O error' in link.fault_note()
 
 
 def test_end_of_file_on_read_is_a_vanished_device(pty: Pty, link: SerialLink) -> None:
@@ -267,3 +268,4 @@ def test_a_type_error_is_a_bug_not_a_disconnect(pty: Pty, link: SerialLink) -> N
         link.read('soon')                    # type: ignore[arg-type]
     assert troubles(link) == NONE and link.is_open and link.last_fault is None
     assert link.write(b'still fine') and os.read(pty.master, 64) == b'still fine'
+    assert link.fault_note() == ''

@@ -97,6 +97,12 @@ class SerialLink:
     def is_open(self) -> bool:
         return self._port is not None
 
+    def fault_note(self) -> str:
+        """``'; last port fault: ...'`` for a module's log line, or ``''`` if the port never
+        failed: says whether a silent device vanished, hung up the line (EIO) or just says
+        nothing."""
+        return f'; last port fault: {self.last_error}' if self.last_error else ''
+
     def open(self) -> None:
         """Open the port now.
 

@@ -157,6 +157,12 @@ class SickLaser:
     def stats(self) -> LinkStats:
         return self._link.stats
 
+    @property
+    def port_fault(self) -> str:
+        """The port's last fault for a log line (``''`` if none), see
+        :meth:`~wurde_drivers.ports.serial_link.SerialLink.fault_note`."""
+        return self._link.fault_note()
+
     def silent_for(self) -> float:
         """Seconds since the last good scan (or since :meth:`connect` started)."""
         return time.monotonic() - self._last_scan
