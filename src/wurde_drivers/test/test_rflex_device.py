@@ -226,6 +226,20 @@ def test_unplug_and_replug_with_power_cycle(emulator: RFlexEmulator,
     assert emulator.commands().count(rflex.system_report_req(100000, 3)) >= 2
 
 
+def test_a_base_that_forgot_its_reports_is_told_again(emulator: RFlexEmulator,
+                                                     driver: RFlexDriver) -> None:
+    """A base power-cycled too quickly for the driver to find it silent may well answer the
+    SYS_STATUS polls, but sends no odometry: the start-up sequence must go out again (a loaded
+    run of the unplug test above hung there)."""
+    poll_until(driver, lambda: driver.state.odometry_ready)
+    resyncs, requests = driver.resyncs, emulator.commands().count(rflex.system_report_req(100000, 3))
+    emulator.replug(power_cycle=True)                      # rebooted: every request forgotten
+    assert emulator.report_period_s == 0.0
+    poll_until(driver, lambda: emulator.report_period_s > 0 and driver.state.odometry_ready)
+    assert driver.resyncs > resyncs
+    assert emulator.commands().count(rflex.system_report_req(100000, 3)) > requests
+
+
 def test_link_reopened_after_the_port_vanished(emulator: RFlexEmulator,
                                                driver: RFlexDriver) -> None:
     poll_until(driver, lambda: driver.state.odometry_ready)
