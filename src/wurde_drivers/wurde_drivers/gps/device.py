@@ -27,7 +27,7 @@ import time
 from ..ports.serial_link import LinkStats, SerialLink
 from .codec import GGA, RMC, NmeaDeframer
 from .geo import LocalFrame
-from .quality import meets
+from .quality import MINIMUMS, meets
 
 __all__ = ['BAUDRATE', 'Fix', 'GpsReceiver']
 
@@ -79,7 +79,9 @@ class GpsReceiver:
 
     def __init__(self, link: SerialLink, *, origin: tuple[float, ...] | None = None,
                  min_satellites: int = 6, min_quality: int = 2) -> None:
-        meets(1, min_quality)                    # refuses a minimum that is no measurement
+        if min_quality not in MINIMUMS:
+            raise ValueError(f'min_quality must be one of {MINIMUMS} (a measured fix quality), '
+                             f'not {min_quality}')
         self.link = link
         self.min_satellites = min_satellites
         self.min_quality = min_quality
