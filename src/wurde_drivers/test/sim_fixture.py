@@ -85,6 +85,22 @@ class Observer:
     def stamps(self, stream: str) -> list[float]:
         return [stamp for stamp, _ in self.events[stream]]
 
+    def beats(self, module: str) -> int:
+        """Heartbeats of ``module`` seen so far (observe :func:`heartbeat` ``(module)``)."""
+        return len(self.events[HEARTBEAT + module])
+
+    def quiet_span(self, module: str, what: str, *, turns: int = 3, timeout: float = 30.0) -> float:
+        """Wait while ``module`` sends ``turns`` more heartbeats; return the wall time this began.
+
+        A "nothing is published while the device is silent" check is proven, not waited for:
+        the span is measured in the module's own loop turns (each one a chance to publish), and
+        :func:`assert_none_between` checks the stamps once events from after the silence have
+        arrived — one writer, delivered in order, so nothing of the span is still on its way.
+        """
+        start, seen = time.time(), self.beats(module)
+        self.until(lambda o: o.beats(module) >= seen + turns, what, timeout)
+        return start
+
     def request(self, stream: str, **values: Any) -> None:
         obj = self.objects[stream]
         for name, value in values.items():
@@ -93,6 +109,20 @@ class Observer:
 
     def close(self) -> None:
         self.manager.clean_up()
+
+
+HEARTBEAT = 'heartbeat/'
+
+
+def heartbeat(module: str) -> dict[str, str]:
+    """The stream of ``module``'s heartbeat, for an :class:`Observer` (its beats are loop turns)."""
+    return {HEARTBEAT + module: 'Heartbeat'}
+
+
+def assert_none_between(stamps: Iterable[float], start: float, end: float, what: str) -> None:
+    """No event of ``stamps`` is stamped inside ``(start, end)`` (wall-clock seconds)."""
+    inside = [stamp for stamp in stamps if start < stamp < end]
+    assert not inside, f'{what}: {len(inside)} events stamped between {start:.3f} and {end:.3f}'
 
 
 def median_interval(stamps: Iterable[float]) -> float:

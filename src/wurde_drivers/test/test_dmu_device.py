@@ -112,12 +112,14 @@ def test_silent_unit_times_out_and_is_rearmed(emulator: DmuEmulator) -> None:
         driver.connect()
         collect(driver, 2)
         emulator.silent.set()
-        deadline = time.monotonic() + 2.0
+        assert emulator.settle()                            # nothing more is coming
+        deadline = time.monotonic() + 20.0
         while driver.poll(0.05) and time.monotonic() < deadline:
             pass                                            # drain what was in flight
         started = time.monotonic()
         assert driver.poll(0.3) == []
-        assert 0.25 <= time.monotonic() - started < 1.0     # poll kept its deadline
+        # poll kept its deadline (the upper bound allows for a loaded machine's scheduling)
+        assert 0.25 <= time.monotonic() - started < 0.3 + 1.0
         deadline = time.monotonic() + 20.0
         while driver.rearms < 1 and time.monotonic() < deadline:
             driver.poll(0.1)
@@ -155,7 +157,7 @@ def test_connect_to_a_silent_unit_raises_device_timeout(emulator: DmuEmulator) -
     try:
         with pytest.raises(DeviceTimeout):
             driver.connect(timeout=0.5)
-        assert time.monotonic() - started < 2.0
+        assert time.monotonic() - started < 0.5 + 1.5      # (slack for a loaded machine)
     finally:
         driver.close()
 
@@ -212,7 +214,8 @@ def test_explicit_reconnect_restarts_the_stream(emulator: DmuEmulator) -> None:
         collect(driver, 2)
         emulator.unplug()
         emulator.replug()                                   # power cycled: polled, silent
-        deadline = time.monotonic() + 2.0
+        assert emulator.settle()                            # nothing more is coming
+        deadline = time.monotonic() + 20.0
         while driver.poll(0.05) and time.monotonic() < deadline:
             pass
         assert driver.poll(0.2) == []

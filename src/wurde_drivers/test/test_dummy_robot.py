@@ -16,7 +16,8 @@ from wurde_drivers.sim.mapfile import load_map
 
 #: Every stream of the dummy Pluto (config/sim) and the interval its stamps must keep (s of
 #: simulated time): base 10 Hz, sonar 10 Hz, power 1 Hz, truth every 20 ms step, laser one scan
-#: per 190.625 ms (361 values at 38400 baud, Pluto 8.1), wrist 20 Hz, DMU 50 Hz, GPS 1 Hz.
+#: per 190.625 ms (361 values at 38400 baud, Pluto 8.1), wrist 20 Hz, DMU 50 Hz, GPS 1 Hz (and
+#: its Pluto 8.4 layout).
 RATES = {
     'PlutoBaseTruth': ('Egomotion', 0.02), 'PlutoBaseMotion': ('Egomotion', 0.1),
     'PlutoBaseSonar': ('RangeFinder', 0.1), 'PlutoBaseBumpers': ('Bumper', 0.1),
@@ -24,6 +25,7 @@ RATES = {
     'PlutoLaser': ('RangeFinder', 0.190625), 'PlutoLaser/RWI': ('RangeFinder', 0.190625),
     'PlutoLaser/Timing': ('FVectorState', 0.190625), 'PlutoWrist': ('ActuatorState', 0.05),
     'PlutoDMU': ('DMUState', 0.02), 'PlutoDMU/Raw': ('DMUState', 0.02), 'PlutoGPS': ('GPS', 1.0),
+    'PlutoGPS/Pluto': ('ActuatorState', 1.0),
 }
 
 
@@ -76,6 +78,10 @@ def test_the_dummy_robot_comes_up_under_the_mcp_and_every_stream_keeps_its_rate(
             assert (gps.satellites, gps.quality) == (8, 2)
             assert (gps.x, gps.y) == pytest.approx((3.0, 7.5), abs=1e-6)
             assert gps.latitude == pytest.approx(59.3498 + 7.5 / 111_000, abs=1e-5)
+            # Pluto 8.4's layout of the same fix: force[0] satellites, force[3] quality.
+            _, pluto = observer.events['PlutoGPS/Pluto'][0]
+            assert (pluto.force[0], pluto.force[3]) == (8.0, 2.0)
+            assert list(pluto.position) == pytest.approx([3.0, 7.5], abs=1e-5)
             _, dmu = observer.events['PlutoDMU/Raw'][0]
             assert dmu.accel_z == pytest.approx(9.80665)
             # The same, as standard ROS 2 messages: at rest facing east, a DGPS fix.

@@ -7,6 +7,7 @@ pty. The last test brings up the shipped config/gps (emulator program and module
 
 from __future__ import annotations
 
+import datetime
 import math
 import os
 import pathlib
@@ -54,9 +55,26 @@ def receiver() -> Iterator[GpsEmulator]:
     assert emulator.error is None
 
 
+class RecordingClock:
+    """The emulator's UTC clock, keeping every time it gave: one per GGA/RMC pair it built."""
+
+    def __init__(self) -> None:
+        self.given: list[datetime.datetime] = []
+
+    def __call__(self) -> datetime.datetime:
+        now = datetime.datetime.now(datetime.UTC)
+        self.given.append(now)
+        return now
+
+    def times_of_day(self) -> set[int]:
+        """The GGA times sent, in hundredths of a second since midnight (as the GGA has them)."""
+        return {(t.hour * 3600 + t.minute * 60 + t.second) * 100 + t.microsecond // 10000
+                for t in list(self.given)}
+
+
 @pytest.fixture
 def observer(ros_domain: int) -> Iterator[Observer]:
-    watcher = Observer({'PlutoGPS': 'GPS'})
+    watcher = Observer({'PlutoGPS': 'GPS', 'PlutoGPS/Pluto': 'ActuatorState'})
     try:
         yield watcher
     finally:
@@ -66,8 +84,8 @@ def observer(ros_domain: int) -> Iterator[Observer]:
 def test_fixes_flow_on_the_grid_of_the_first_good_fix(receiver: GpsEmulator, observer: Observer,
                                                        tmp_path: pathlib.Path) -> None:
     with gps_module(gps_config(tmp_path, receiver.path)) as child:
-        observer.until(lambda o: 'PlutoGPS' in o.infos and len(o.events['PlutoGPS']) >= 30,
-                       '30 fixes')
+        observer.until(lambda o: 'PlutoGPS' in o.infos and len(o.events['PlutoGPS']) >= 30
+                       and len(o.events['PlutoGPS/Pluto']) >= 30, '30 fixes in both layouts')
         assert 'grid origin (first good fix)' in child.stderr
     info = observer.infos['PlutoGPS']
     assert (info.min_satellites, info.min_quality) == (6, 2)        # Pluto 8.4's defaults
@@ -90,28 +108,51 @@ def test_fixes_flow_on_the_grid_of_the_first_good_fix(receiver: GpsEmulator, obs
     stamps = observer.stamps('PlutoGPS')
     assert median_interval(stamps) == pytest.approx(1.0 / RATE, abs=0.02)
     assert abs(stamps[-1] - time.time()) < 5.0                   # wall-clock stamps
+    # Pluto 8.4's layout of the same fixes: force[0] satellites, force[3] quality, position the
+    # grid's x, y (float32), one event per fix with the fix's stamp.
+    by_stamp = dict(observer.events['PlutoGPS'])
+    pluto = observer.events['PlutoGPS/Pluto']
+    assert len({stamp for stamp, _ in pluto} & set(by_stamp)) >= 29
+    for stamp, state in pluto:
+        if stamp not in by_stamp:
+            continue                      # its GPS twin came before the observer was listening
+        fix = by_stamp[stamp]
+        assert state.cmd_flags == 0 and list(state.velocity) == [] == list(state.acceleration)
+        assert list(state.force) == pytest.approx([9.0, 0.9, 30.0, 2.0])
+        assert (state.force[0], state.force[3]) == (fix.satellites, fix.quality)
+        assert list(state.position) == pytest.approx([fix.x, fix.y], abs=1e-4)
 
 
 def test_a_silent_receiver_is_logged_and_nothing_is_published_until_it_is_back(
-        receiver: GpsEmulator, observer: Observer, tmp_path: pathlib.Path) -> None:
-    with gps_module(gps_config(tmp_path, receiver.path)) as child:
-        observer.until(lambda o: len(o.events['PlutoGPS']) >= 5, 'fixes before the silence')
-        receiver.silent.set()
-        silenced = time.time()
-        observer.until(lambda o: 'is silent' in child.stderr, 'the silence logged', timeout=10)
-        count = len(observer.events['PlutoGPS'])
-        window = time.monotonic() + 1.0      # nothing may come while the receiver is silent
-        while time.monotonic() < window:
-            observer.pump()
-            observer.manager.wait(0.05)
-        assert len(observer.events['PlutoGPS']) == count
-        assert max(observer.stamps('PlutoGPS')) < silenced + 0.2
-        receiver.silent.clear()
-        back = time.time()
-        observer.until(lambda o: 'is back' in child.stderr and sum(
-            s > back for s in o.stamps('PlutoGPS')) >= 5, 'fixes again', timeout=10)
-        assert logged(child, 'WARN', 'is silent') == 1              # once each
-        assert logged(child, 'NOTICE', 'is back') == 1
+        ros_domain: int, tmp_path: pathlib.Path) -> None:
+    """Nothing is published while the receiver is silent, proven by what comes after: every fix
+    published, before and after the silence, is one GGA the receiver sent (its UTC time is one
+    the emulator's clock gave), each once — a fix made up while silent (a repeat,
+    a NaN, a stale position) would break that — and fixes after the silence did arrive."""
+    clock = RecordingClock()
+    observer = Observer({'PlutoGPS': 'GPS'})
+    try:
+        with GpsEmulator(circle(*CENTRE, RADIUS, LAP), rate_hz=RATE, quality=2, satellites=9,
+                         clock=clock) as receiver, \
+                gps_module(gps_config(tmp_path, receiver.path)) as child:
+            observer.until(lambda o: len(o.events['PlutoGPS']) >= 5, 'fixes before the silence')
+            receiver.silent.set()
+            observer.until(lambda o: 'is silent' in child.stderr, 'the silence logged',
+                           timeout=10)
+            before = len(observer.events['PlutoGPS'])
+            receiver.silent.clear()
+            observer.until(lambda o: 'is back' in child.stderr
+                           and len(o.events['PlutoGPS']) >= before + 5, 'fixes again',
+                           timeout=10)
+            assert logged(child, 'WARN', 'is silent') == 1              # once each
+            assert logged(child, 'NOTICE', 'is back') == 1
+        assert receiver.error is None
+    finally:
+        observer.close()
+    sent = clock.times_of_day()
+    published = [round(fix.fix_time * 100) for _, fix in observer.events['PlutoGPS']]
+    assert all(when in sent for when in published), 'a fix the receiver never sent'
+    assert len(set(published)) == len(published), 'a fix published twice'
 
 
 @pytest.mark.parametrize(('device', 'name', 'reason'), [

@@ -114,6 +114,8 @@ def test_bad_ptu_file_names_file_and_line(tmp_path: pathlib.Path, body: str, lin
      'min-satellites="5.5" of <device> is not an integer'),
     ('<gps-config>\n  <device port="p" name="g" min-quality="-1"/>\n</gps-config>', 2,
      'min-quality=-1 of <device> is below 0'),
+    ('<gps-config>\n  <device port="p" name="g" min-quality="6"/>\n</gps-config>', 2,
+     'min-quality=6 of <device> is no measured fix quality'),
     ('<gps-config>\n  <device port="p" name="g" timeout="0"/>\n</gps-config>', 2,
      'timeout=0.0 of <device> must be above 0 s'),
     ('<gps-config>\n  <device port="p" name="g" altitude="30"/>\n</gps-config>', 2,

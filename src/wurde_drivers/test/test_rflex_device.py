@@ -198,11 +198,12 @@ def test_bad_crc_and_garbage_are_counted_and_data_flows(emulator: RFlexEmulator,
 def test_silence_is_reported_and_recovered(emulator: RFlexEmulator, driver: RFlexDriver) -> None:
     poll_until(driver, lambda: driver.state.odometry_ready)
     emulator.silent.set()
+    assert emulator.settle()                               # nothing more is coming
     poll_until(driver, lambda: driver.silent)
     assert driver.silent_for() > 0.3 and driver.stats.timeouts == 1
     start = time.monotonic()
     assert driver.poll(0.2) == []
-    assert time.monotonic() - start < 0.4                  # poll keeps to its budget
+    assert time.monotonic() - start < 0.2 + 1.0            # poll keeps to its budget (+ load)
     emulator.silent.clear()
     poll_until(driver, lambda: not driver.silent)
 
@@ -223,6 +224,20 @@ def test_unplug_and_replug_with_power_cycle(emulator: RFlexEmulator,
     assert driver.resyncs >= 1 and driver.odometry_resets == 0
     assert (driver.state.x, driver.state.y, driver.state.theta) == pytest.approx(pose, abs=1e-3)
     assert emulator.commands().count(rflex.system_report_req(100000, 3)) >= 2
+
+
+def test_a_base_that_forgot_its_reports_is_told_again(emulator: RFlexEmulator,
+                                                     driver: RFlexDriver) -> None:
+    """A base power-cycled too quickly for the driver to find it silent may well answer the
+    SYS_STATUS polls, but sends no odometry: the start-up sequence must go out again (a loaded
+    run of the unplug test above hung there)."""
+    poll_until(driver, lambda: driver.state.odometry_ready)
+    resyncs, requests = driver.resyncs, emulator.commands().count(rflex.system_report_req(100000, 3))
+    emulator.replug(power_cycle=True)                      # rebooted: every request forgotten
+    assert emulator.report_period_s == 0.0
+    poll_until(driver, lambda: emulator.report_period_s > 0 and driver.state.odometry_ready)
+    assert driver.resyncs > resyncs
+    assert emulator.commands().count(rflex.system_report_req(100000, 3)) > requests
 
 
 def test_link_reopened_after_the_port_vanished(emulator: RFlexEmulator,
@@ -258,7 +273,7 @@ def test_connect_failures(emulator: RFlexEmulator) -> None:
     start = time.monotonic()
     with pytest.raises(DeviceTimeout):
         drv.connect(timeout=0.3)
-    assert time.monotonic() - start < 1.0
+    assert time.monotonic() - start < 0.3 + 1.5           # (slack for a loaded machine)
     drv.close()
     assert not drv.link.is_open
 

@@ -39,7 +39,7 @@ def driver(channel: str, emulator: WristEmulator) -> Iterator[WristDriver]:
 
 
 def wait_for(driver: WristDriver, condition: Callable[[WristState], bool],
-             within: float = 3.0) -> WristState:
+             within: float = 20.0) -> WristState:
     deadline = time.monotonic() + within
     last = None
     while time.monotonic() < deadline:
@@ -124,7 +124,9 @@ def test_unsolicited_state_frames_are_used(channel: str) -> None:
         try:
             wrist.connect()                           # one request, then broadcasts only
             emulator.pan.target, emulator.pan.target_vel, emulator.pan.target_acc = 0.2, 1, 4
-            assert wait_for(wrist, lambda s: abs(s.pan - 0.2) < 1e-4).pan_velocity == 0.0
+            # Arrived and stopped, seen through the broadcasts alone: where it stops is the target.
+            stopped = wait_for(wrist, lambda s: s.pan > 0.1 and s.pan_velocity == 0.0)
+            assert stopped.pan == pytest.approx(0.2, abs=1e-4)
             assert wrist.stats.frames_out == 2 + 6    # the resets and one request
         finally:
             wrist.close()
@@ -174,7 +176,7 @@ def test_connect_without_a_wrist_raises_device_timeout(channel: str) -> None:
     try:
         with pytest.raises(DeviceTimeout):
             wrist.connect(timeout=0.3)
-        assert time.monotonic() - started < 1.5
+        assert time.monotonic() - started < 0.3 + 1.5     # (slack for a loaded machine)
     finally:
         wrist.close()
     wrist.close()                                      # idempotent

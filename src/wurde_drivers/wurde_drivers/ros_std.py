@@ -135,10 +135,11 @@ class ImuPublisher:
         self.publisher.publish(msg)
 
 
-#: NMEA GGA fix quality → NavSatStatus (0 invalid, 1 GPS, 2 DGPS, 4/5 RTK, 6 estimated).
+#: NMEA GGA fix quality → NavSatStatus (0 invalid, 1 GPS, 2 DGPS, 3 PPS, 4/5 RTK).  6 (dead
+#: reckoning), 7 (manual input) and 8 (simulation) are no satellite fix: STATUS_NO_FIX, as is
+#: any other code (wurde_drivers.gps.quality).
 _STATUS = {0: NavSatStatus.STATUS_NO_FIX, 1: NavSatStatus.STATUS_FIX, 2: NavSatStatus.STATUS_SBAS_FIX,
-           3: NavSatStatus.STATUS_FIX, 4: NavSatStatus.STATUS_GBAS_FIX, 5: NavSatStatus.STATUS_GBAS_FIX,
-           6: NavSatStatus.STATUS_FIX, 7: NavSatStatus.STATUS_FIX, 8: NavSatStatus.STATUS_FIX}
+           3: NavSatStatus.STATUS_FIX, 4: NavSatStatus.STATUS_GBAS_FIX, 5: NavSatStatus.STATUS_GBAS_FIX}
 
 
 class FixPublisher:

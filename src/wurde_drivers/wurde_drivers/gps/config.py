@@ -15,7 +15,9 @@ Pluto's gpsModule had no documented configuration file; the format follows WURDE
 - ``origin-latitude`` and ``origin-longitude`` (degrees, both or neither): the origin of the
   local x (east), y (north) grid in metres; without them the first good fix is the origin;
 - ``min-satellites`` (default 6) and ``min-quality`` (default 2): what a good fix needs (Pluto
-  8.4: "> 5 satellites and quality 2 for sub-meter accuracy");
+  8.4: "> 5 satellites and quality 2 for sub-meter accuracy"); the quality is a GGA code ranked
+  by accuracy (:mod:`~wurde_drivers.gps.quality`): 0 (any measured fix), 1, 3, 2, 5 or 4 — never
+  6 to 9, which measure nothing;
 - ``timeout``: seconds without a sentence before the receiver counts as silent (default 3).
 """
 
@@ -27,6 +29,7 @@ import os
 from lxml import etree
 
 from ..xml_config import Attributes, device_named, read_devices
+from .quality import MINIMUMS
 
 __all__ = ['GpsDevice', 'device_named', 'load_gps_config']
 
@@ -52,6 +55,15 @@ class GpsDevice:
     line: int | None = None
 
 
+def _min_quality(attrs: Attributes) -> int:
+    """``min-quality``: a GGA quality a fix can be required to have (not 6 dead reckoning, ...)."""
+    value = int(attrs.number('min-quality', 2, minimum=0, maximum=9, integer=True))
+    if value not in MINIMUMS:
+        raise attrs.error(f'attribute min-quality={value} of <device> is no measured fix quality: '
+                          f'use one of {", ".join(map(str, MINIMUMS))} (0 any, 2 DGPS, 4/5 RTK)')
+    return value
+
+
 def _device(path: str, node: etree._Element) -> GpsDevice:
     attrs = Attributes(path, node, required=('port', 'name'),
                        optional=('baud', 'origin-latitude', 'origin-longitude', 'min-satellites',
@@ -71,7 +83,7 @@ def _device(path: str, node: etree._Element) -> GpsDevice:
         port=attrs.text('port'), name=attrs.text('name'),
         baud=int(attrs.choice('baud', _BAUDS, '4800')), origin=origin,
         min_satellites=attrs.number('min-satellites', 6, minimum=0, maximum=64, integer=True),
-        min_quality=attrs.number('min-quality', 2, minimum=0, maximum=9, integer=True),
+        min_quality=_min_quality(attrs),
         timeout=timeout, path=path, line=attrs.line)
 
 

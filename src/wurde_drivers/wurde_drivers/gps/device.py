@@ -5,8 +5,10 @@
 and turns each GGA into a :class:`Fix` with x, y in a local metric frame (x east, y north,
 :class:`~wurde_drivers.gps.geo.LocalFrame`), as Pluto's gpsmeter proxy does. The frame's origin is
 given, or else the first good fix. A fix is *good* when it has more than ``min_satellites - 1``
-satellites and at least quality ``min_quality`` (Pluto 8.4: "> 5 satellites and quality 2 for
-sub-meter accuracy", the defaults).
+satellites and a quality at least as accurate as ``min_quality`` (Pluto 8.4: "> 5 satellites and
+quality 2 for sub-meter accuracy", the defaults).  Qualities are ranked by accuracy, not by
+number (:mod:`~wurde_drivers.gps.quality`): with minimum 2 a good fix is DGPS (2) or RTK (5 float,
+4 fixed), never 6 (dead reckoning), 7 (manual) or 8 (simulation).
 
 :meth:`GpsReceiver.poll` never raises and never blocks longer than asked: bad checksums,
 missing checksums, over-long lines and garbage are counted (:attr:`GpsReceiver.counters`,
@@ -25,6 +27,7 @@ import time
 from ..ports.serial_link import LinkStats, SerialLink
 from .codec import GGA, RMC, NmeaDeframer
 from .geo import LocalFrame
+from .quality import MINIMUMS, meets
 
 __all__ = ['BAUDRATE', 'Fix', 'GpsReceiver']
 
@@ -69,11 +72,16 @@ class GpsReceiver:
 
     :param origin: (latitude, longitude[, altitude]) of the local frame; None: the first good fix.
     :param min_satellites: satellites a good fix needs (Pluto: more than 5, so 6).
-    :param min_quality: GGA quality a good fix needs (Pluto: 2, DGPS).
+    :param min_quality: GGA quality a good fix needs at least (Pluto: 2, DGPS; ranked by
+        accuracy, :func:`~wurde_drivers.gps.quality.meets`).
+    :raises ValueError: ``min_quality`` is not a quality a fix can be required to have.
     """
 
     def __init__(self, link: SerialLink, *, origin: tuple[float, ...] | None = None,
                  min_satellites: int = 6, min_quality: int = 2) -> None:
+        if min_quality not in MINIMUMS:
+            raise ValueError(f'min_quality must be one of {MINIMUMS} (a measured fix quality), '
+                             f'not {min_quality}')
         self.link = link
         self.min_satellites = min_satellites
         self.min_quality = min_quality
@@ -105,7 +113,8 @@ class GpsReceiver:
     def is_good(self, gga: GGA) -> bool:
         """Pluto 8.4's test, with this receiver's thresholds."""
         return (gga.latitude is not None and gga.longitude is not None
-                and gga.satellites >= self.min_satellites and gga.quality >= self.min_quality)
+                and gga.satellites >= self.min_satellites
+                and meets(gga.quality, self.min_quality))
 
     def silent_for(self) -> float:
         """Seconds since the last GGA or RMC (since construction if none yet)."""

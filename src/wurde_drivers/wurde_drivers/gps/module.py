@@ -76,7 +76,8 @@ class GpsModule:
         if not self.silent and quiet > self.config.timeout:
             self.silent = True
             self.logger.warn(f'{self.label} is silent (nothing for {quiet:.1f} s); no fixes '
-                             f'until it talks (counters: {self.receiver.counters})')
+                             f'until it talks (counters: {self.receiver.counters})'
+                             f'{self.receiver.link.fault_note()}')
         elif heard and quiet <= self.config.timeout and (self.silent or not self._heard):
             self.logger.notice(f'{self.label} {"is back" if self._heard else "is talking"}')
             self.silent, self._heard = False, True

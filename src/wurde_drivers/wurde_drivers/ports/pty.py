@@ -50,6 +50,9 @@ class PtyDevice:
         #: Bytes lost because the driver's side was full (nobody reading).
         self.bytes_dropped = 0
         self.error: BaseException | None = None
+        #: Turns of the emulator's thread completed (see :meth:`settle`).
+        self.turns = 0
+        self._turned = threading.Condition()
 
     # -- life cycle ---------------------------------------------------------------------------
     def start(self) -> 'PtyDevice':
@@ -98,6 +101,20 @@ class PtyDevice:
                 view = view[written:]
                 self.bytes_out += written
 
+    def settle(self, timeout: float = 10.0) -> bool:
+        """Wait until the emulator's thread has finished two turns since this call.
+
+        After a change made from another thread (``silent``, ``unplugged``, a fault), whatever
+        the turn under way had decided under the old state is then on the line, and nothing
+        more of it is to come: the event tests wait for instead of a guessed time.  False if
+        the thread did not turn within ``timeout`` (it is stopped, or stuck).
+        """
+        with self._turned:
+            target = self.turns + 2
+            self._turned.wait_for(
+                lambda: self.turns >= target or not self._thread.is_alive(), timeout)
+            return self.turns >= target
+
     # -- hooks ----------------------------------------------------------------------------------
     def on_bytes(self, data: bytes) -> None:
         """Handle bytes the driver wrote (override)."""
@@ -120,6 +137,9 @@ class PtyDevice:
                         self.on_bytes(data)
                 if not self.unplugged.is_set():
                     self.tick(time.monotonic())
+                with self._turned:
+                    self.turns += 1
+                    self._turned.notify_all()
         except BaseException as error:  # kept for the test to see; the thread must not die silently
             self.error = error
             raise

@@ -158,6 +158,7 @@ class Ptu46Emulator(PtyDevice):
         self._awaiting = False
         self._reset_at: float | None = None
         self._last_tick: float | None = None
+        self._unstepped = 0.0
 
     def _check_power(self) -> None:
         if self._power_cycle:
@@ -205,10 +206,17 @@ class Ptu46Emulator(PtyDevice):
 
     def tick(self, now: float) -> None:
         self._check_power()
+        # The motion profile stops exactly on the target only for steps of one length
+        # (wurde_drivers.motion); a late tick on a loaded machine would carry an axis past its
+        # target, which a real unit never does.  So time is spent in whole steps of tick_s
+        # (at most 0.1 s per tick, as before), the rest kept for the next tick.
         dt = 0.0 if self._last_tick is None else min(now - self._last_tick, 0.1)
         self._last_tick = now
-        for axis in (self._pan, self._tilt):
-            axis.step(dt, self._velocity_mode, self._enforce)
+        self._unstepped += dt
+        while self._unstepped >= self.tick_s:
+            self._unstepped -= self.tick_s
+            for axis in (self._pan, self._tilt):
+                axis.step(self.tick_s, self._velocity_mode, self._enforce)
         if self._reset_at is not None and now >= self._reset_at:
             self._reset_at = None
             self._recentre()

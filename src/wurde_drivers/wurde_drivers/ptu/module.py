@@ -96,7 +96,7 @@ class PtuServer:
             self._reported = True
             # The device layer's errors name the port.
             self.logger.warn(f'PTU {what}: {error}; no data until it answers (retrying every '
-                             f'{RETRY_S:g} s)')
+                             f'{RETRY_S:g} s){self.device.link.fault_note()}')
 
     def _connect(self, now: float) -> None:
         if now < self._next_try:

@@ -10,8 +10,8 @@ BRAKE_RELEASE only if the configuration allows it (WURDE 7.6 "whether the module
 to reset the brake"), then a SYS_STATUS poll. ``poll`` re-polls SYS_STATUS every
 ``status_period_s`` (voltage, brake), stops the base when no velocity command came for
 ``command_timeout`` seconds, and re-sends the start-up sequence when the link was reopened after
-the device vanished, or every ``resend_s`` while the base is silent (a power-cycled base has
-forgotten every request).
+the device vanished, or every ``resend_s`` while the base is silent or sends no odometry (a
+power-cycled base has forgotten every request, but may still answer the SYS_STATUS polls).
 
 Odometry: the pose integrates the deltas of the axis-0 distance and axis-1 bearing counters
 (signed 32-bit, wrap handled), pairing each distance delta with the bearing delta that follows it
@@ -106,6 +106,7 @@ class RFlexDriver:
         self._seen_reconnects = 0
         self._next_status = self._next_resend = 0.0
         self._silent = False
+        self._last_odometry: float | None = None
         self._last_command = 0.0
         self._moving = False
         self._counters: list[int | None] = [None, None]
@@ -137,6 +138,7 @@ class RFlexDriver:
         self._deframer.reset()
         now = time.monotonic()
         self._connected_at = now
+        self._last_odometry = None
         self._seen_reconnects = self.link.stats.reconnects
         self._resync(now, count=False)
         if timeout <= 0:
@@ -271,8 +273,8 @@ class RFlexDriver:
             self._seen_reconnects = self.link.stats.reconnects
             self._deframer.reset()
             self._resync(now)
-        elif self.silent and now >= self._next_resend:
-            if not self._silent:
+        elif (self.silent or self._odometry_stopped(now)) and now >= self._next_resend:
+            if self.silent and not self._silent:
                 self._silent = True
                 self.link.stats.timeouts += 1
             self._resync(now)
@@ -282,6 +284,14 @@ class RFlexDriver:
         if (self._moving and self.command_timeout is not None
                 and now - self._last_command > self.command_timeout):
             self.stop()
+
+    def _odometry_stopped(self, now: float) -> bool:
+        """Odometry was requested but no motor report came for ``silence_s``: a base that
+        still answers polls has forgotten the request (it was power-cycled while unplugged)."""
+        if not self.odometry_period_us:
+            return False
+        last = self._last_odometry or self._connected_at
+        return last is not None and now - last > self.silence_s
 
     def _ingest(self, data: bytes) -> list[codec.Report | codec.Packet]:
         deframer, stats = self._deframer, self.link.stats
@@ -303,6 +313,8 @@ class RFlexDriver:
             if isinstance(report, codec.Packet):
                 self.bad_reports += 1
             else:
+                if isinstance(report, codec.MotorReport):
+                    self._last_odometry = now
                 self._apply(report)
             found.append(report)
         return found

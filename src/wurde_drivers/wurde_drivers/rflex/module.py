@@ -221,7 +221,8 @@ class RFlexRunner:
             if not self.silent:
                 self.silent = True
                 self.logger.warn(f'rFLEX base on {self.device.port} is silent (nothing for '
-                                 f'{silent_for:.1f} s); publishing nothing until it is back')
+                                 f'{silent_for:.1f} s); publishing nothing until it is back'
+                                 f'{self.driver.link.fault_note()}')
             return
         if self.silent:
             self.silent = False

@@ -10,7 +10,9 @@ then a status request until a reply telegram arrives; enter installation mode; s
 speed (the device answers at the old one, then we change termios); for an LMS read the type and set
 the variant (180° at 1° → 181 values, or 0.5° → 361) and the units (cm, or mm) — a PLS is left at
 180°/0.5° in cm, as Player does; start continuous mode.  Defaults follow Pluto 8.1: cm, 361 values,
-38400 baud, which gives a scan about every 200 ms.
+38400 baud, which gives a scan about every 200 ms.  A speed the port refuses is never taken for
+done (:meth:`~wurde_drivers.ports.serial_link.SerialLink.set_baudrate` raises): the search skips
+it, and a refused target speed fails :meth:`SickLaser.connect` with a :class:`DeviceError`.
 
 Time stamps of a :class:`Scan`: ``arrival_time`` is ``time.time()`` just after the read that
 brought the telegram's last byte; ``centre_time`` estimates when the mirror was in the middle of
@@ -155,6 +157,12 @@ class SickLaser:
     def stats(self) -> LinkStats:
         return self._link.stats
 
+    @property
+    def port_fault(self) -> str:
+        """The port's last fault for a log line (``''`` if none), see
+        :meth:`~wurde_drivers.ports.serial_link.SerialLink.fault_note`."""
+        return self._link.fault_note()
+
     def silent_for(self) -> float:
         """Seconds since the last good scan (or since :meth:`connect` started)."""
         return time.monotonic() - self._last_scan
@@ -243,14 +251,26 @@ class SickLaser:
         return list(dict.fromkeys(([self._known_baud] if self._known_baud else [])
                                   + list(SEARCH_BAUDS)))
 
-    def _listen_at(self, baud: int) -> None:
-        self._link.set_baudrate(baud)
+    def _listen_at(self, baud: int) -> bool:
+        """Put the line at ``baud`` with nothing read pending; False if the port refused that
+        speed (the device cannot be heard at it, so it is skipped).
+
+        :raises DeviceError: the port failed while changing speed (it is closed).
+        """
+        try:
+            self._link.set_baudrate(baud)
+        except DeviceError:
+            if not self._link.is_open:
+                raise
+            return False
         self._link.reset_input()
         self._forget_input()
+        return True
 
     def _find_baud(self) -> int:
         for baud in self._bauds():
-            self._listen_at(baud)
+            if not self._listen_at(baud):
+                continue
             for frame, reply in ((sick.stop_continuous_request(), sick.REPLY_MODE),
                                  (sick.status_request(), sick.REPLY_STATUS)):
                 if not self._link.write(frame):
@@ -338,21 +358,27 @@ class SickLaser:
         except DeviceError:
             self.state = LaserState.FAILED
             raise
-        if self._reset(reset_timeout):
-            self._link.set_baudrate(9600)
-            self._forget_input()
-            self._known_baud = 9600
-            self._await({sick.REPLY_POWER_ON}, reset_timeout)
+        try:
+            if self._reset(reset_timeout):
+                self._link.set_baudrate(9600)
+                self._forget_input()
+                self._known_baud = 9600
+                self._await({sick.REPLY_POWER_ON}, reset_timeout)
+        except DeviceError:
+            self.state = LaserState.FAILED
+            raise
         self.connect()
 
     def _reset(self, timeout: float) -> bool:
         """Send the reset at each speed in turn (see :meth:`recover`); True once acknowledged."""
         deadline = time.monotonic() + timeout
         bauds, tried = self._bauds(), 0
-        while tried < len(bauds) or time.monotonic() < deadline:
+        while bauds and (tried < len(bauds) or time.monotonic() < deadline):
             baud = bauds[tried % len(bauds)]
+            if not self._listen_at(baud):
+                bauds.remove(baud)                  # the port cannot run at it: never again
+                continue
             tried += 1
-            self._listen_at(baud)
             if not self._link.write(sick.reset_request()):
                 return False            # the line cannot be written: connect reports it
             reply = self._await({sick.REPLY_RESET, sick.REPLY_NOT_ACK}, self.reply_timeout)

@@ -168,7 +168,7 @@ class SickRunner:
         if not self.silent and quiet > self._silent_after:
             self.silent = True
             self.logger.warn(f'laser {self.where} is silent (no scan for {quiet:.1f} s); '
-                             'publishing nothing until it is back')
+                             f'publishing nothing until it is back{self.laser.port_fault}')
         if quiet > RECOVER_AFTER_S:
             self.logger.warn(f'laser {self.where} silent for {quiet:.1f} s: resetting it')
             self.streaming = False

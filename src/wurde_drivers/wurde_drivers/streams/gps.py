@@ -3,18 +3,46 @@
 A GPS module named ``N`` supplies one GPS stream ``N``: latitude, longitude, altitude, satellites,
 fix quality, HDOP, the UTC time of the fix, and x (east), y (north) in metres in a local frame
 around the origin given in the info — Pluto's gpsmeter grid. The info also says what counts as a
-good fix (Pluto: more than 5 satellites and quality 2 for sub-metre accuracy). Each fix also goes
-out as ``sensor_msgs/NavSatFix`` on ``/N/fix`` (:mod:`wurde_drivers.ros_std`).
+good fix (Pluto: more than 5 satellites and quality 2 for sub-metre accuracy); the quality is a
+GGA code ranked by accuracy, not a number to compare with ``>=``: with minimum 2 a good fix is 2
+(DGPS), 5 or 4 (RTK), never 6 (dead reckoning), see :mod:`wurde_drivers.gps.quality`. Each fix
+also goes out as ``sensor_msgs/NavSatFix`` on ``/N/fix`` (:mod:`wurde_drivers.ros_std`).
+
+Pluto's own layout (Pluto 8.4: "force[0]=number of satellites and force[3]=GPS quality") is the
+extra ActuatorState stream ``N/Pluto`` (:data:`PLUTO_SUFFIX`), one event per fix with the same
+time stamp, for Pluto programs that read it:
+
+================ =============================================================================
+field            value
+================ =============================================================================
+``cmdFlags``     0
+``position``     ``[x, y]``: m east and north on the gpsmeter grid (NaN before the origin)
+``velocity``     ``[]``
+``force``        ``[satellites, hdop, altitude, quality]``: force[0] and force[3] as Pluto 8.4
+                 says; force[1] (HDOP) and force[2] (m above MSL) are ours
+``acceleration`` ``[]``
+================ =============================================================================
+
+Latitude and longitude are not in it (a Float cannot hold them to the metre); read them from
+``N``.
 """
 
 from __future__ import annotations
 
 from wurde_core import CommsManager, Time
-from wurde_core.interfaces import GPS
+from wurde_core.interfaces import GPS, ActuatorState
 
 from ..ros_std import FixPublisher
 
-__all__ = ['GpsStreams']
+__all__ = ['PLUTO_SUFFIX', 'GpsStreams', 'pluto_force']
+
+#: The Pluto-layout stream of a GPS module ``N`` is ``N`` + this.
+PLUTO_SUFFIX = '/Pluto'
+
+
+def pluto_force(*, satellites: int, hdop: float, altitude: float, quality: int) -> list[float]:
+    """The ``force`` vector of the Pluto layout: force[0] satellites, force[3] quality."""
+    return [float(satellites), float(hdop), float(altitude), float(quality)]
 
 
 class GpsStreams:
@@ -24,11 +52,15 @@ class GpsStreams:
         self._name = name
         self.gps = GPS(name)
         self.gps.set_auto_timestamp(False)
+        #: The same fixes in Pluto 8.4's layout (see the module's table).
+        self.pluto = ActuatorState(name + PLUTO_SUFFIX)
+        self.pluto.set_auto_timestamp(False)
         self.fixes = 0
         self._fix: FixPublisher | None = None
 
     def register(self, manager: CommsManager) -> None:
         manager.register_supplier(self.gps)
+        manager.register_supplier(self.pluto)
         if '/' not in self._name:
             self._fix = FixPublisher(manager.node, self._name)
 
@@ -49,6 +81,14 @@ class GpsStreams:
         d.fix_time, d.x, d.y = fix_time, x, y
         d.timestamp = Time(stamp)
         self.gps.publish_data()
+        p = self.pluto.data
+        p.cmd_flags = 0
+        p.position = [float(x), float(y)]
+        p.velocity = []
+        p.force = pluto_force(satellites=satellites, hdop=hdop, altitude=altitude, quality=quality)
+        p.acceleration = []
+        p.timestamp = Time(stamp)
+        self.pluto.publish_data()
         if self._fix is not None:
             self._fix.publish(latitude=latitude, longitude=longitude, altitude=altitude, quality=quality,
                               stamp=stamp)

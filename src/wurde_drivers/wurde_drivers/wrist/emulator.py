@@ -240,12 +240,19 @@ class WristEmulator(can.Listener):
     def _run(self) -> None:
         last = time.monotonic()
         next_state = last
+        unstepped = 0.0
         try:
             while not self._stop.wait(self.tick_s):
                 now = time.monotonic()
+                # Whole steps of tick_s only: the shared motion profile stops exactly on the
+                # target for steps of one length, and a late wake-up on a loaded machine must
+                # not carry an axis past it (wurde_drivers.motion).
+                unstepped += now - last
                 with self._lock:
-                    for axis in self.axes.values():
-                        axis.step(now - last)
+                    while unstepped >= self.tick_s:
+                        unstepped -= self.tick_s
+                        for axis in self.axes.values():
+                            axis.step(self.tick_s)
                     snapshot = [(a.module, a.position, a.velocity) for a in self.axes.values()]
                 last = now
                 if self.state_hz and now >= next_state:
