@@ -3,13 +3,16 @@
 With ``config/sim`` under the MCP: a lifecycle deactivate → activate keeps every module's PID,
 nothing is published while a module is Idle and data flows again after; a SIGKILL of the critical
 PlutoBase leaves every other module's PID unchanged, and they stay Idle until the base is back in
-Run.  Events are ordered by their DDS source timestamps (the writer's clock when it wrote; every
-process here shares the machine's clock), so "nothing while Idle" is checked exactly, with no
-guessed time window.
+Run.  Data events are ordered by their DDS source timestamps (the writer's clock when it wrote)
+and descriptions by their publish stamps; every process here shares the machine's clock, so
+"nothing while Idle" is checked exactly, with no guessed time window: no data written between a
+module's Idle description and the moment the MCP is told to activate (or, after the kill, the
+restarted base's first description in Run).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import pathlib
 import signal
@@ -25,7 +28,7 @@ from sim_fixture import sim_config
 from wurde_core import CommsManager, RunState, StatusMode
 from wurde_core.interfaces import robot_object_class
 from wurde_core.naming import topic
-from wurde_core.qos import info_qos, stream_qos
+from wurde_core.qos import stream_qos
 from wurde_core.ros_adaptor import take_stamped
 from wurde_testing import ChildProcess, find_executable
 
@@ -34,6 +37,12 @@ STREAMS = {'PlutoBase': ('PlutoBaseMotion', 'Egomotion'), 'PlutoLaser': ('PlutoL
            'PlutoWrist': ('PlutoWrist', 'ActuatorState'), 'PlutoDMU': ('PlutoDMU', 'DMUState'),
            'PlutoGPS': ('PlutoGPS', 'GPS')}
 WAIT_S = 90.0
+
+
+@dataclasses.dataclass(frozen=True)
+class _Description:
+    state: int
+    pid: int
 
 
 class Watcher:
@@ -49,10 +58,14 @@ class Watcher:
         heartbeat = robot_object_class('Heartbeat')
         self.subscriptions: dict[tuple[str, str], Any] = {}
         self.events: dict[tuple[str, str], list[tuple[Any, int]]] = {}
+        #: Each module's heartbeat, consumed as the MCP does (queue mode: every description).
+        self.heartbeats = {}
         for module, (stream, interface) in STREAMS.items():
             kind = robot_object_class(interface)
-            self._add((module, 'info'), heartbeat.info_type, topic(f'heartbeat/{module}', 'info'),
-                      info_qos(True))
+            self.heartbeats[module] = heartbeat(f'heartbeat/{module}')
+            self.heartbeats[module].set_queue_mode(True)
+            self.manager.register_consumer(self.heartbeats[module])
+            self.events[(module, 'info')] = []
             self._add((module, 'beat'), heartbeat.data_type, topic(f'heartbeat/{module}', 'data'),
                       stream_qos(True))
             self._add((module, 'data'), kind.data_type, topic(stream, 'data'), stream_qos(True))
@@ -69,6 +82,14 @@ class Watcher:
         self.manager.step()
         for key, subscription in self.subscriptions.items():
             self.events[key].extend(take_stamped(subscription))
+        # A description is stamped when the module publishes it (auto-timestamp, the module's
+        # wall clock, as the DDS source timestamps of its data are).
+        for module, heartbeat in self.heartbeats.items():
+            while heartbeat.get_next_info():
+                info = heartbeat.info
+                self.events[(module, 'info')].append(
+                    (_Description(info.state.get_value(), info.pid.get_value()),
+                     info.timestamp.get_microseconds() * 1000))
 
     def until(self, predicate: Callable[[], bool], what: str) -> None:
         deadline = time.monotonic() + WAIT_S
@@ -77,12 +98,13 @@ class Watcher:
             if predicate():
                 return
             if time.monotonic() > deadline:
-                raise AssertionError(f'{what}: not within {WAIT_S} s')
+                raise AssertionError(f'{what}: not within {WAIT_S} s; the MCP\'s table: '
+                                     f'{getattr(self, "rows", {})}')
             self.manager.wait(0.02)
 
     def states(self, module: str, after: int = 0) -> list[tuple[int, int, int]]:
         """(state, pid, source stamp) of the module's descriptions written after ``after``."""
-        return [(m.state.value, m.pid, s) for m, s in self.events[(module, 'info')] if s > after]
+        return [(m.state, m.pid, s) for m, s in self.events[(module, 'info')] if s > after]
 
     def first(self, module: str, state: RunState, after: int = 0, pid: int | None = None) -> int | None:
         for value, described_pid, stamp in self.states(module, after):
@@ -163,14 +185,13 @@ def test_deactivate_then_activate_keeps_every_pid_and_silences_data_while_idle(r
     # Alive while Idle: every module goes on beating.
     watcher.until(lambda: all(watcher.beats_after(m, idle[m]) >= 2 for m in STREAMS),
                   'heartbeats from every idle module')
+    activated = time.time_ns()  # nobody is told to Run before this
     watcher.transition(Transition.TRANSITION_ACTIVATE)
-    watcher.until(lambda: all(watcher.first(m, RunState.RUN, idle[m]) for m in STREAMS),
-                  'every module in Run again')
-    run = {m: watcher.first(m, RunState.RUN, idle[m]) for m in STREAMS}
-    watcher.until(lambda: all(watcher.data_after(m, run[m]) >= 1 for m in STREAMS),
-                  'data flowing again from every module')
+    watcher.until(lambda: watcher.all_active() and all(watcher.data_after(m, activated) >= 1
+                                                       for m in STREAMS),
+                  'every module in Run again, with data flowing')
     for module in STREAMS:
-        assert watcher.written_between(module, idle[module], run[module]) == [], module
+        assert watcher.written_between(module, idle[module], activated) == [], module
         assert watcher.pids()[module] == pids[module] and _alive(pids[module]), module
 
 
@@ -190,11 +211,11 @@ def test_killing_the_critical_base_idles_the_others_until_it_runs_again(robot) -
     back = base_back()
     assert back is not None
     idle = {m: watcher.first(m, RunState.IDLE, killed_at) for m in others}
-    watcher.until(lambda: all(watcher.first(m, RunState.RUN, idle[m]) for m in others),
-                  'the others in Run again')
+    watcher.until(lambda: watcher.all_active() and all(watcher.data_after(m, back) >= 1
+                                                       for m in others),
+                  'the others in Run again, with data flowing')
     for module in others:
-        run = watcher.first(module, RunState.RUN, idle[module])
-        assert run is not None and run > back, f'{module} ran again before the base was back'
-        assert watcher.written_between(module, idle[module], run) == [], module
+        # Idle until the restarted base was in Run: nothing written in between.
+        assert watcher.written_between(module, idle[module], back) == [], module
         assert watcher.pids()[module] == pids[module] and _alive(pids[module]), module
     assert mcp.process.poll() is None

@@ -404,11 +404,16 @@ class Supervisor:
 
     def _critical(self) -> None:
         """While a critical module that has run is not up in Run (and was not told to idle),
-        every other module is Idle."""
+        every other module is Idle.  One that is alive and was told to Run only a moment ago is
+        given :data:`RECOMMAND_S` to say so: the command may still be on its way (without this,
+        every activation flipped all modules Run → Idle → Run)."""
+        now = time.monotonic()
         down = next((m.name for m in self.modules.values()
                      if m.spec.managed == ProcessType.CRITICAL and m.ever_active
                      and m.commanded_state == RunState.RUN
-                     and (m.status != StatusMode.ACTIVE or m.run_state != RunState.RUN)), None)
+                     and (m.status != StatusMode.ACTIVE
+                          or (m.run_state != RunState.RUN
+                              and now - m.commanded_at >= RECOMMAND_S))), None)
         if down is not None and self.idled_for is None:
             self.idled_for = down
             g_warn(f'MCP: critical module {down} is down: every other module goes Idle')
