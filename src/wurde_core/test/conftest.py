@@ -57,6 +57,19 @@ def manager(ros_domain: int) -> Iterator[CommsManager]:
         manager.clean_up()
 
 
+@pytest.fixture
+def other(ros_domain: int) -> Iterator[CommsManager]:
+    """A second CommsManager in this process (no sleeping, no heartbeat): the far end of a
+    stream, or a controller commanding the ``manager`` fixture's states."""
+    second = CommsManager('Other')
+    second.set_no_sleep()
+    second.set_no_heartbeat()
+    try:
+        yield second
+    finally:
+        second.clean_up()
+
+
 def until(manager: CommsManager, predicate: Callable[[], bool], timeout: float = 20.0,
           what: str = 'condition') -> None:
     """Step ``manager`` until ``predicate()`` holds; fail after ``timeout`` seconds."""

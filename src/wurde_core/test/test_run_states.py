@@ -105,36 +105,31 @@ def test_idle_keeps_the_module_alive_and_silent_then_data_flows_again(manager, p
     assert worker.process.poll() is None and worker.process.pid == pid
 
 
-def test_reset_by_default_forgets_unread_events_and_returns_to_run(manager: CommsManager) -> None:
-    other = CommsManager('Controller')
-    other.set_no_sleep()
-    other.set_no_heartbeat()
-    try:
-        consumer = Foo('into_reset')
-        consumer.set_queue_mode(True)
-        manager.register_consumer(consumer)
-        supplier = Foo('into_reset')
-        supplier.set_queue_mode(True)
-        other.register_supplier(supplier)
-        heartbeat = robot_object_class('Heartbeat')('heartbeat/Tester')
-        other.register_consumer(heartbeat)
-        manager.step()
-        assert supplier.wait_for_peers(20) and heartbeat.wait_for_peers(20)
-        for value in range(3):
-            supplier.data.ranges = [float(value)]
-            supplier.publish_data()
-        assert supplier.wait_delivered(20)
-        manager.step()  # takes the three events in; the program has not read them
-        assert consumer.new_data()
-        heartbeat.requests.state.set_value(RunState.RESET)
-        heartbeat.publish_request()
-        assert heartbeat.wait_delivered(20)
-        until(manager, lambda: manager.state == RunState.RUN and not consumer.new_data(),
-              what='Reset handled')
-        assert not consumer.get_next_data()
-        assert consumer.received('data') == 3
-    finally:
-        other.clean_up()
+def test_reset_by_default_forgets_unread_events_and_returns_to_run(
+        manager: CommsManager, other: CommsManager) -> None:
+    consumer = Foo('into_reset')
+    consumer.set_queue_mode(True)
+    manager.register_consumer(consumer)
+    supplier = Foo('into_reset')
+    supplier.set_queue_mode(True)
+    other.register_supplier(supplier)
+    heartbeat = robot_object_class('Heartbeat')('heartbeat/Tester')
+    other.register_consumer(heartbeat)
+    manager.step()
+    assert supplier.wait_for_peers(20) and heartbeat.wait_for_peers(20)
+    for value in range(3):
+        supplier.data.ranges = [float(value)]
+        supplier.publish_data()
+    assert supplier.wait_delivered(20)
+    manager.step()  # takes the three events in; the program has not read them
+    assert consumer.new_data()
+    heartbeat.requests.state.set_value(RunState.RESET)
+    heartbeat.publish_request()
+    assert heartbeat.wait_delivered(20)
+    until(manager, lambda: manager.state == RunState.RUN and not consumer.new_data(),
+          what='Reset handled')
+    assert not consumer.get_next_data()
+    assert consumer.received('data') == 3
 
 
 def test_restart_by_default_runs_the_program_again_in_the_same_process(manager, peer,
@@ -156,26 +151,21 @@ def test_restart_by_default_runs_the_program_again_in_the_same_process(manager, 
     until(manager, beat_announces_restart_ttl, what='long TTL announced before the restart')
 
 
-def test_state_callbacks_run_in_order_in_the_loop(manager: CommsManager) -> None:
-    other = CommsManager('Controller')
-    other.set_no_sleep()
-    other.set_no_heartbeat()
-    try:
-        heartbeat = robot_object_class('Heartbeat')('heartbeat/Tester')
-        other.register_consumer(heartbeat)
-        entered: list[str] = []
-        for state in (RunState.IDLE, RunState.RESET, RunState.RUN):
-            manager.on_state(state, lambda state=state: entered.append(state.name))
-        manager.step()
-        assert heartbeat.wait_for_peers(20)
-        for state in (RunState.IDLE, RunState.RESET):
-            heartbeat.requests.state.set_value(state)
-            heartbeat.publish_request()
-            assert heartbeat.wait_delivered(20)
-        until(manager, lambda: entered[-1:] == ['RUN'], what='callbacks')
-        assert entered == ['IDLE', 'RESET', 'RUN']
-        assert manager.state == RunState.RUN
-        with pytest.raises(ValueError, match='Quit ends the loop'):
-            manager.on_state(RunState.QUIT, lambda: None)
-    finally:
-        other.clean_up()
+def test_state_callbacks_run_in_order_in_the_loop(
+        manager: CommsManager, other: CommsManager) -> None:
+    heartbeat = robot_object_class('Heartbeat')('heartbeat/Tester')
+    other.register_consumer(heartbeat)
+    entered: list[str] = []
+    for state in (RunState.IDLE, RunState.RESET, RunState.RUN):
+        manager.on_state(state, lambda state=state: entered.append(state.name))
+    manager.step()
+    assert heartbeat.wait_for_peers(20)
+    for state in (RunState.IDLE, RunState.RESET):
+        heartbeat.requests.state.set_value(state)
+        heartbeat.publish_request()
+        assert heartbeat.wait_delivered(20)
+    until(manager, lambda: entered[-1:] == ['RUN'], what='callbacks')
+    assert entered == ['IDLE', 'RESET', 'RUN']
+    assert manager.state == RunState.RUN
+    with pytest.raises(ValueError, match='Quit ends the loop'):
+        manager.on_state(RunState.QUIT, lambda: None)
