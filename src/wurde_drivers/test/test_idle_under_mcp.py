@@ -52,6 +52,8 @@ class Watcher:
         self.manager = CommsManager('IdleWatcher')
         self.manager.set_no_sleep()
         self.manager.set_no_heartbeat()
+        self.rows: dict[str, tuple[StatusMode, RunState]] = {}
+        self.table_idle: dict[str, int] = {}
         self.table = robot_object_class('SimpleControl')('mcp_control')
         self.manager.register_consumer(self.table)
         node = self.manager.node
@@ -98,8 +100,9 @@ class Watcher:
             if predicate():
                 return
             if time.monotonic() > deadline:
+                self.refresh_table()
                 raise AssertionError(f'{what}: not within {WAIT_S} s; the MCP\'s table: '
-                                     f'{getattr(self, "rows", {})}')
+                                     f'{self.rows}')
             self.manager.wait(0.02)
 
     def states(self, module: str, after: int = 0) -> list[tuple[int, int, int]]:
@@ -133,14 +136,30 @@ class Watcher:
             self.take()
         assert future.result().success
 
-    def all_active(self) -> bool:
-        """Whether the MCP's module table shows every module ACTIVE and in Run."""
+    def refresh_table(self) -> dict[str, tuple[StatusMode, RunState]]:
+        """The MCP's newest module table; notes when it first shows each module Idle."""
         while self.table.get_next_data():
             data = self.table.data
             self.rows = {n: (StatusMode(s), RunState(r)) for n, s, r in zip(
                 data.module_names, data.module_status, data.module_state)}
-        rows = getattr(self, 'rows', {})
+            now = time.time_ns()
+            for name, (_, state) in self.rows.items():
+                if state == RunState.IDLE:
+                    self.table_idle.setdefault(name, now)
+        return self.rows
+
+    def all_active(self) -> bool:
+        """Whether the MCP's module table shows every module ACTIVE and in Run."""
+        rows = self.refresh_table()
         return all(rows.get(m) == (StatusMode.ACTIVE, RunState.RUN) for m in STREAMS)
+
+    def idle_since(self, module: str) -> int | None:
+        """When the module is known to have been Idle: its Idle description's stamp, or else
+        the moment the MCP's table (which reports the module's own descriptions) first showed
+        it Idle — later than the truth, so a check against it is never stricter than the
+        truth.  (A test-side subscriber was seen, rarely and under load, to miss a description
+        the MCP received.)"""
+        return self.first(module, RunState.IDLE) or self.table_idle.get(module)
 
     def pids(self) -> dict[str, int]:
         """Each module's pid, from its newest description."""
@@ -180,8 +199,9 @@ def test_deactivate_then_activate_keeps_every_pid_and_silences_data_while_idle(r
     watcher, _mcp = robot
     pids = watcher.pids()
     watcher.transition(Transition.TRANSITION_DEACTIVATE)
-    watcher.until(lambda: all(watcher.first(m, RunState.IDLE) for m in STREAMS), 'every module Idle')
-    idle = {m: watcher.first(m, RunState.IDLE) for m in STREAMS}
+    watcher.until(lambda: watcher.refresh_table() is not None
+                  and all(watcher.idle_since(m) for m in STREAMS), 'every module Idle')
+    idle = {m: watcher.idle_since(m) for m in STREAMS}
     # Alive while Idle: every module goes on beating.
     watcher.until(lambda: all(watcher.beats_after(m, idle[m]) >= 2 for m in STREAMS),
                   'heartbeats from every idle module')
