@@ -8,12 +8,13 @@ import pathlib
 import sys
 from collections.abc import Callable, Sequence
 
-from wurde_core import CommsManager
+from wurde_core import CommsManager, RunState
 from wurde_idl.errors import ConfigError
 
 from .xml_config import Device, device_named
 
-__all__ = ['MODULE_TTL_S', 'config_file', 'configured_device', 'exit_on_config_error', 'set_loop']
+__all__ = ['MODULE_TTL_S', 'config_file', 'configured_device', 'exit_on_config_error', 'run_loop',
+           'set_loop']
 
 
 def config_file(manager: CommsManager, given: str | None, default_name: str) -> str:
@@ -57,3 +58,18 @@ def configured_device(manager: CommsManager, argv: list[str], file_name: str,
         return device_named(load(path), manager.name, path=path)
     except ConfigError as error:
         raise SystemExit(exit_on_config_error(argv[0], error)) from None
+
+
+def run_loop(manager: CommsManager, step: Callable[[], None], close: Callable[[], None]) -> int:
+    """The guide's loop for a device module: ``step()`` while in Run (``run_update`` keeps the
+    module alive through Idle), then ``close()`` the device and clean up, also on an exception.
+    Returns the exit status (0)."""
+    try:
+        while manager.run_update() == RunState.RUN:
+            step()
+    finally:
+        try:
+            close()
+        finally:
+            manager.clean_up()
+    return 0

@@ -21,10 +21,10 @@ from __future__ import annotations
 import sys
 import time
 
-from wurde_core import CommsManager, Logger, RunState
+from wurde_core import CommsManager, Logger
 
 from ..errors import DriverError
-from ..module_setup import configured_device, set_loop
+from ..module_setup import configured_device, run_loop, set_loop
 from ..ports.serial_link import SerialLink
 from ..streams.dmu import DmuStreams
 from .config import DmuDevice, load_dmu_config
@@ -118,13 +118,7 @@ def main(argv: list[str] | None = None) -> int:
     manager.register_supplier(runner.logger)
     set_loop(manager, SLEEP_S)
     streams.publish_info()
-    try:
-        while manager.run_update() == RunState.RUN:
-            runner.step(SLEEP_S)
-    finally:
-        runner.close()
-        manager.clean_up()
-    return 0
+    return run_loop(manager, lambda: runner.step(SLEEP_S), runner.close)
 
 
 if __name__ == '__main__':

@@ -19,10 +19,10 @@ from __future__ import annotations
 import sys
 import time
 
-from wurde_core import CommsManager, Logger, RunState
+from wurde_core import CommsManager, Logger
 
 from ..errors import DeviceError
-from ..module_setup import configured_device, set_loop
+from ..module_setup import configured_device, run_loop, set_loop
 from ..ports.serial_link import SerialLink
 from ..streams.gps import GpsStreams
 from .config import GpsDevice, load_gps_config
@@ -125,13 +125,7 @@ def main(argv: list[str] | None = None) -> int:
     manager.register_supplier(logger)
     set_loop(manager, LOOP_S)
     module = GpsModule(config, receiver, streams, logger)
-    try:
-        while manager.run_update() == RunState.RUN:
-            module.step()
-    finally:
-        receiver.close()
-        manager.clean_up()
-    return 0
+    return run_loop(manager, module.step, receiver.close)
 
 
 if __name__ == '__main__':

@@ -29,11 +29,11 @@ import math
 import sys
 import time
 
-from wurde_core import CommsManager, LockMode, Logger, RunState, Time
+from wurde_core import CommsManager, LockMode, Logger, Time
 from wurde_core.interfaces import PTUnit
 
 from ..errors import DeviceError, DeviceTimeout
-from ..module_setup import configured_device, set_loop
+from ..module_setup import configured_device, run_loop, set_loop
 from ..ports.serial_link import SerialLink
 from .codec import LimitHit
 from .config import load_ptu_config
@@ -268,13 +268,7 @@ def main(argv: list[str] | None = None) -> int:
     manager.register_supplier(logger)
     set_loop(manager, LOOP_S)
     server = PtuServer(device, stream, logger, period=1.0 / config.rate)
-    try:
-        while manager.run_update() == RunState.RUN:
-            server.step()
-    finally:
-        device.close()
-        manager.clean_up()
-    return 0
+    return run_loop(manager, server.step, device.close)
 
 
 if __name__ == '__main__':

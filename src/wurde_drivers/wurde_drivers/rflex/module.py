@@ -36,7 +36,7 @@ import time
 from wurde_core import CommsManager, Logger, Pose3D, RunState
 
 from ..errors import DeviceError, DeviceTimeout
-from ..module_setup import configured_device, set_loop
+from ..module_setup import configured_device, run_loop, set_loop
 from ..ports.serial_link import SerialLink
 from ..streams.base import BaseLimits, BaseStreams, VelocityCommand
 from . import codec
@@ -280,13 +280,7 @@ def main(argv: list[str] | None = None) -> int:
     manager.on_state(RunState.IDLE, runner.stop)
     streams.publish_all_info()
     publish_sensor_info(streams, robot)
-    try:
-        while manager.run_update() == RunState.RUN:
-            runner.step(SLEEP_S)
-    finally:
-        runner.close()
-        manager.clean_up()
-    return 0
+    return run_loop(manager, lambda: runner.step(SLEEP_S), runner.close)
 
 
 if __name__ == '__main__':

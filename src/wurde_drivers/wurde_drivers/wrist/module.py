@@ -30,11 +30,11 @@ import time
 from typing import Any
 
 import can
-from wurde_core import CommsManager, Logger, RunState, Time
+from wurde_core import CommsManager, Logger, Time
 from wurde_core.interfaces import ActuatorState
 
 from ..errors import CodecError, DeviceTimeout
-from ..module_setup import configured_device, set_loop
+from ..module_setup import configured_device, run_loop, set_loop
 from .config import WristDevice, load_wrist_config
 from .device import WristDriver, WristState
 from .emulator import WristEmulator
@@ -241,13 +241,7 @@ def main(argv: list[str] | None = None) -> int:
     set_loop(manager, SLEEP_S)
     if device.emulate:
         signal.signal(signal.SIGUSR1, lambda _signum, _frame: runner.toggle_emulated_silence())
-    try:
-        while manager.run_update() == RunState.RUN:
-            runner.step(SLEEP_S)
-    finally:
-        runner.close()
-        manager.clean_up()
-    return 0
+    return run_loop(manager, lambda: runner.step(SLEEP_S), runner.close)
 
 
 if __name__ == '__main__':
