@@ -32,16 +32,11 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import Imu, LaserScan, NavSatFix, NavSatStatus
 from wurde_core.naming import stream_segment_path
 from wurde_core.ros_adaptor import take
+from wurde_core.ros_messages import quaternion, set_stamp
 
 __all__ = ['FixPublisher', 'ImuPublisher', 'OdometryPublisher', 'ScanPublisher', 'TwistInbox']
 
 _QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
-
-
-def _stamp(message: Any, seconds: float) -> None:
-    whole = math.floor(seconds)
-    message.header.stamp.sec = int(whole)
-    message.header.stamp.nanosec = int(round((seconds - whole) * 1e9)) % 1_000_000_000
 
 
 class ScanPublisher:
@@ -57,7 +52,7 @@ class ScanPublisher:
 
     def publish(self, ranges: Sequence[float], stamp: float, scan_time: float) -> None:
         msg = LaserScan()
-        _stamp(msg, stamp)
+        set_stamp(msg, stamp)
         msg.header.frame_id = self.frame
         count = len(ranges)
         msg.angle_min = -math.pi / 2
@@ -79,7 +74,7 @@ class OdometryPublisher:
 
     def publish(self, x: float, y: float, theta: float, tv: float, rv: float, stamp: float) -> None:
         msg = Odometry()
-        _stamp(msg, stamp)
+        set_stamp(msg, stamp)
         msg.header.frame_id = 'odom'
         msg.child_frame_id = 'base_link'
         msg.pose.pose.position.x = x
@@ -106,15 +101,6 @@ class TwistInbox:
         return newest
 
 
-def quaternion(theta: float, phi: float, psi: float) -> tuple[float, float, float, float]:
-    """(x, y, z, w) of the rotation theta about z, then phi about y, then psi about x (Pluto 3)."""
-    cz, sz = math.cos(theta / 2), math.sin(theta / 2)
-    cy, sy = math.cos(phi / 2), math.sin(phi / 2)
-    cx, sx = math.cos(psi / 2), math.sin(psi / 2)
-    return (sx * cy * cz - cx * sy * sz, cx * sy * cz + sx * cy * sz,
-            cx * cy * sz - sx * sy * cz, cx * cy * cz + sx * sy * sz)
-
-
 class ImuPublisher:
     """``/S/imu``: orientation, angular velocity and linear acceleration (REP-103, z up)."""
 
@@ -124,7 +110,7 @@ class ImuPublisher:
 
     def publish(self, state: Any, stamp: float) -> None:
         msg = Imu()
-        _stamp(msg, stamp)
+        set_stamp(msg, stamp)
         msg.header.frame_id = self.frame
         q = quaternion(state.theta, state.phi or 0.0, state.psi or 0.0)
         msg.orientation.x, msg.orientation.y, msg.orientation.z, msg.orientation.w = q
@@ -152,7 +138,7 @@ class FixPublisher:
     def publish(self, *, latitude: float, longitude: float, altitude: float, quality: int,
                 stamp: float) -> None:
         msg = NavSatFix()
-        _stamp(msg, stamp)
+        set_stamp(msg, stamp)
         msg.header.frame_id = self.frame
         msg.status.status = _STATUS.get(int(quality), NavSatStatus.STATUS_NO_FIX)
         msg.status.service = NavSatStatus.SERVICE_GPS

@@ -1,0 +1,61 @@
+"""What every shipped module does the same way: find its config file, refuse a bad one, announce
+its loop and run the guide's loop (5.2.1).  Drivers, dummies and the Pluto modules share it, so no
+module writes its own state handling."""
+
+from __future__ import annotations
+
+import os
+import pathlib
+import sys
+from collections.abc import Callable
+
+from wurde_idl.errors import ConfigError
+
+from .comms_manager import CommsManager
+from .enums import RunState
+
+__all__ = ['MODULE_TTL_S', 'config_file', 'exit_on_config_error', 'run_loop', 'set_loop']
+
+#: Heartbeat TTL of modules with short loops (milliseconds): a TTL of twice the loop would make a
+#: busy machine's scheduling look like a hang to the MCP.
+MODULE_TTL_S = 1.0
+
+
+def config_file(manager: CommsManager, given: str | None, default_name: str) -> str:
+    """``given`` (an option such as ``-c``) if set, else ``default_name`` in the role configuration's
+    config directory (``WURDE_CONFIG_DIR``), as the SICKServer's ``-c`` (WURDE 7.5).  A relative
+    ``given`` that does not exist from the working directory is looked up in the config directory."""
+    directory = pathlib.Path(manager.config.get_config_directory())
+    if given:
+        path = pathlib.Path(given)
+        if not path.is_absolute() and not path.exists() and (directory / path).exists():
+            return str(directory / path)
+        return given
+    return str(directory / default_name)
+
+
+def exit_on_config_error(program: str, error: ConfigError) -> int:
+    """Print ``program: file:line: reason`` and return the exit status of a refused config (2)."""
+    print(f'{os.path.basename(program)}: {error}', file=sys.stderr, flush=True)
+    return 2
+
+
+def set_loop(manager: CommsManager, sleep_s: float, ttl_s: float = MODULE_TTL_S) -> None:
+    """Sleep ``sleep_s`` per loop but announce a heartbeat TTL of ``ttl_s``."""
+    manager.set_sleep_only(sleep_s)
+    manager.set_heartbeat_only(ttl_s)
+
+
+def run_loop(manager: CommsManager, step: Callable[[], None], close: Callable[[], None]) -> int:
+    """The guide's loop: ``step()`` while in Run (``run_update`` keeps the module alive through
+    Idle), then ``close()`` the device and clean up, also on an exception.  Returns the exit
+    status (0)."""
+    try:
+        while manager.run_update() == RunState.RUN:
+            step()
+    finally:
+        try:
+            close()
+        finally:
+            manager.clean_up()
+    return 0
