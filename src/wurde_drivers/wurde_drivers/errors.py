@@ -1,12 +1,14 @@
 """Exceptions of wurde_drivers, all rooted in the suite's :class:`WurdeError`.
 
 This module imports only ``wurde_idl.errors`` (pure Python), so codecs and the simulated world may
-use it without pulling in rclpy or wurde_core.
+use it without pulling in rclpy or wurde_core.  :class:`MapError` is the suite's
+(``wurde_idl.errors.MapError``), named here too so that driver code finds every error it may
+raise in one place.
 """
 
 from __future__ import annotations
 
-from wurde_idl.errors import ConfigError, WurdeError
+from wurde_idl.errors import ConfigError, MapError, WurdeError
 
 __all__ = ['CodecError', 'ConfigError', 'DeviceError', 'DeviceTimeout', 'DriverError', 'MapError',
            'WurdeError']
@@ -30,7 +32,3 @@ class DeviceError(DriverError):
 
 class DeviceTimeout(DeviceError):
     """The device did not answer in time (silent line, vanished device)."""
-
-
-class MapError(ConfigError):
-    """A map file is wrong; carries file, line and reason like every configuration error."""

@@ -29,5 +29,10 @@ class InterfaceError(ConfigError):
     """An interface definition file is refused."""
 
 
+class MapError(ConfigError):
+    """A map file (:mod:`wurde_idl.mapfile`, an occupancy grid's YAML) is refused: file, line and
+    reason like every configuration error."""
+
+
 class UnknownInterfaceError(WurdeError, LookupError):
     """No installed package defines an interface of that name."""

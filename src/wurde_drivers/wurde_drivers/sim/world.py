@@ -6,49 +6,24 @@ program may send the robot to; *off-limits regions* are polygons the robot must 
 nothing physical stops it there (the laser sees through them; planners and the simulated base may
 refuse them).  Units are metres and radians, angles counter-clockwise from +x (REP-103).
 
-A :class:`World` is immutable once built; the sensors of the simulated robot share one.  Maps are
-read and written by :mod:`.mapfile` and turned into occupancy grids by :mod:`.grid`.
+A :class:`World` is immutable once built; the sensors of the simulated robot share one.  Map
+files hold a :class:`~wurde_idl.mapfile.MapData` (the format is the suite's, in ``wurde_idl``, so
+Pluto's modules read it too); :meth:`World.from_map_data` and :meth:`World.to_map_data` convert,
+:mod:`.mapfile` reads and writes files, :mod:`.grid` makes occupancy grids.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Mapping
-from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from wurde_idl.mapfile import Bounds, MapData, Place, polygon_area
 
 from .raycast import Segments
 
 __all__ = ['Bounds', 'Place', 'World', 'points_in_polygon', 'polygon_area']
-
-
-class Place(NamedTuple):
-    """A named pose of the place list (CARMEN's ``carmen_place_t``): metres and radians."""
-
-    x: float
-    y: float
-    theta: float = 0.0
-
-
-class Bounds(NamedTuple):
-    """The rectangle the world occupies, in metres."""
-
-    xmin: float
-    ymin: float
-    xmax: float
-    ymax: float
-
-    def contains(self, x: float, y: float) -> bool:
-        return self.xmin <= x <= self.xmax and self.ymin <= y <= self.ymax
-
-
-def polygon_area(polygon: ArrayLike) -> float:
-    """Signed area of a simple polygon ``(K, 2)`` (shoelace formula; positive when CCW)."""
-    points = np.asarray(polygon, dtype=np.float64)
-    x, y = points[:, 0], points[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
 
 
 def points_in_polygon(points: ArrayLike, polygon: ArrayLike) -> NDArray:
@@ -111,6 +86,22 @@ class World:
         if not (self.bounds.xmin < self.bounds.xmax and self.bounds.ymin < self.bounds.ymax):
             raise ValueError(f'empty bounds {tuple(self.bounds)}')
         self.name = name
+
+    @classmethod
+    def from_map_data(cls, data: MapData) -> World:
+        """The world of a map file's contents (bounds from the file, or the box around it all).
+
+        :raises ValueError: as the constructor (a :func:`~wurde_idl.mapfile.load_map_data`
+            result never does).
+        """
+        return cls(data.walls, places=data.places, offlimits=data.offlimits, bounds=data.bounds,
+                   name=data.name)
+
+    def to_map_data(self) -> MapData:
+        """This world as a map file's contents: every number exactly, the bounds always."""
+        return MapData(self.name, tuple(map(tuple, self.walls.tolist())), dict(self.places),
+                       tuple(tuple(map(tuple, polygon.tolist())) for polygon in self.offlimits),
+                       self.bounds)
 
     def _enclosing_box(self) -> Bounds:
         points = [self.walls[:, 0:2], self.walls[:, 2:4], *self.offlimits,
