@@ -18,7 +18,8 @@ Commands (``S`` is a stream name):
 Every run state the module enters is printed from a state callback (``manager.on_state``); the
 callbacks for Reset and Restart replace the defaults, so the peer returns to Run at once.  With
 ``WURDE_PEER_PLAIN=1`` in its environment the peer registers no callbacks and gets the manager's
-default behaviours; it prints ``STARTED <pid>`` when it (re)starts.
+default behaviours; it prints ``STARTED <pid>`` when it (re)starts.  With ``WURDE_PEER_LINGER=1``
+it stays alive after ``BYE`` (its clean-up) until the line ``exit``, like a module whose exit is slow.
 """
 
 from __future__ import annotations
@@ -82,6 +83,9 @@ def main() -> int:
             print(f'OK {line} {result if result is not None else ""}'.rstrip(), flush=True)
     manager.clean_up()
     print('BYE', flush=True)
+    if os.environ.get('WURDE_PEER_LINGER') == '1':   # stay until told, as a slow exit would
+        while commands.get() != 'exit':
+            pass
     return 0
 
 

@@ -7,11 +7,13 @@ heartbeat description that said Idle and the one that said Run again.  No time w
 
 from __future__ import annotations
 
+import os
+import signal
 from typing import Any
 
 import pytest
 
-from conftest import until
+from conftest import HERE, Peer, until
 from wurde_core import CommsManager, RunState
 from wurde_core.interfaces import Foo, robot_object_class
 from wurde_core.naming import topic
@@ -169,3 +171,18 @@ def test_state_callbacks_run_in_order_in_the_loop(
     assert manager.state == RunState.RUN
     with pytest.raises(ValueError, match='Quit ends the loop'):
         manager.on_state(RunState.QUIT, lambda: None)
+
+
+def test_a_module_told_to_quit_is_not_killed_by_a_late_sigint(manager, ros_domain: int) -> None:
+    """The MCP sends Quit, then SIGINT when the exit is slow (a loaded machine): the module, already
+    cleaned up and on its way out, must still end with status 0, not by a KeyboardInterrupt."""
+    env = dict(os.environ, WURDE_PEER_LINGER='1', WURDE_PEER_PLAIN='1')
+    with Peer([str(HERE / 'peer.py'), 'Leaver'], env=env) as leaver:
+        leaver.expect('STATE RUN')
+        _command(manager, _heartbeat(manager, 'Leaver'), RunState.QUIT)
+        leaver.expect('BYE')                       # cleaned up, lingering like a slow exit
+        leaver.process.send_signal(signal.SIGINT)
+        leaver.process.send_signal(signal.SIGINT)
+        leaver.send('exit')
+        assert leaver.process.wait(timeout=30) == 0, leaver.stderr[-2000:]
+    assert 'KeyboardInterrupt' not in leaver.stderr

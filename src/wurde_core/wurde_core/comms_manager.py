@@ -66,6 +66,10 @@ GOODBYE_WAIT_S = 1.0
 StateCallback = Callable[[], None]
 
 
+def _ignore_signal(_signum: int, _frame: Any) -> None:
+    """Installed by :meth:`CommsManager.clean_up` after Quit: the process is already ending."""
+
+
 class CommsManager:
     """The communication manager of one module (process)."""
 
@@ -507,6 +511,7 @@ class CommsManager:
         if self._closed:
             return
         self._closed = True
+        ending = self.state == RunState.QUIT
         if self.node is not None:
             try:
                 if self._heartbeat is not None and goodbye:
@@ -521,7 +526,10 @@ class CommsManager:
                 if self._context is not None:
                     self._context.try_shutdown()
         for signum, handler in self._previous_handlers.items():
-            signal.signal(signum, handler)
+            # A module that quit (told to, or by a signal) is on its way out: a SIGINT/SIGTERM
+            # now (the MCP escalating because the exit is slow on a loaded machine) must not turn
+            # a clean exit into a KeyboardInterrupt.  Otherwise the program goes on: restore.
+            signal.signal(signum, _ignore_signal if ending else handler)
         self._previous_handlers.clear()
         atexit.unregister(self.clean_up)
 
