@@ -20,11 +20,12 @@ __all__ = ['plot_run']
 
 
 def plot_run(world: World, path: str | os.PathLike[str], *, truth: Sequence[tuple[float, float]],
-             odometry: Sequence[tuple[float, float]] = (), scan_pose: tuple[float, float, float] | None = None,
+             odometry: Sequence[tuple[float, float]] = (), estimate: Sequence[tuple[float, float]] = (),
+             scan_pose: tuple[float, float, float] | None = None,
              scan: Sequence[float] = (), scan_fov: float = math.pi, waypoints: Sequence[tuple[float, float]] = (),
              title: str = '') -> None:
-    """Draw walls (black), off-limits (red), the true path (blue), odometry (dashed orange),
-    waypoints (green) and the last scan's hits (red dots) from ``scan_pose``; save as PNG."""
+    """Draw walls (black), off-limits (red), the true path (blue), odometry (dashed orange), a
+    localization's estimate (dotted purple), waypoints (green) and the last scan's hits (red dots) from ``scan_pose``; save as PNG."""
     figure, axes = plt.subplots(figsize=(9, 7), dpi=100)
     for x1, y1, x2, y2 in world.walls:
         axes.plot([x1, x2], [y1, y2], color='black', linewidth=1.5)
@@ -36,6 +37,9 @@ def plot_run(world: World, path: str | os.PathLike[str], *, truth: Sequence[tupl
     if odometry:
         axes.plot([p[0] for p in odometry], [p[1] for p in odometry], '--', color='tab:orange',
                   label='odometry')
+    if estimate:
+        axes.plot([p[0] for p in estimate], [p[1] for p in estimate], ':', color='tab:purple',
+                  linewidth=2, label='localization')
     if waypoints:
         axes.plot([p[0] for p in waypoints], [p[1] for p in waypoints], 'o', color='tab:green',
                   label='waypoints')

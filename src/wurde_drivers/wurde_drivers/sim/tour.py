@@ -9,7 +9,9 @@ odometry, last laser scan) as PNG.
 
 Options: ``-c sim-config.xml`` (the base, laser and map names), ``-w "x,y x,y ..."`` (waypoints in
 the map frame; default: a tour of the office map), ``-p FILE`` (the PNG, default
-``<data dir>/tour.png``), ``-t SECONDS`` (give up after this long, default 300).
+``<data dir>/tour.png``), ``-t SECONDS`` (give up after this long, default 300), ``-L STREAM``
+(steer by a localization's poses, a LocalizationPose stream such as Pluto's ``Localization/Pose``,
+instead of the odometry; the plot then shows its path too).
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from wurde_core import CommsManager, Logger, RunState
 from wurde_core.interfaces import (
     Bumper,
     Egomotion,
+    LocalizationPose,
     RangeFinder,
     RobotDrive,
     SynchroDrive,
@@ -62,8 +65,9 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('Tour')
     manager.set_help_string('  -c FILE  sim-config.xml\n  -w "x,y x,y"  waypoints\n'
-                            '  -p FILE  plot (PNG)\n  -t SECONDS  give up after this long')
-    opts = manager.parse_options(argv, 'c:w:p:t:')
+                            '  -p FILE  plot (PNG)\n  -t SECONDS  give up after this long\n'
+                            '  -L STREAM  steer by this LocalizationPose stream (e.g. Localization/Pose)')
+    opts = manager.parse_options(argv, 'c:w:p:t:L:')
     path = config_file(manager, opts.user.get('c'), 'sim-config.xml')
     try:
         config, world, start = load_sim(path)
@@ -82,14 +86,19 @@ def main(argv: list[str] | None = None) -> int:
     truth = Egomotion(config.base.truth_stream)      # for the plot only, never for steering
     bumpers = Bumper(f'{base}Bumpers')
     laser = RangeFinder(laser_name) if laser_name else None
+    localization = LocalizationPose(opts.user['L']) if opts.user.get('L') else None
     logger = Logger(manager.name)
-    for obj in (drive, odometry, truth, bumpers) + ((laser,) if laser else ()):
+    for obj in (drive, odometry, truth, bumpers) + ((laser,) if laser else ()) + \
+            ((localization,) if localization else ()):
         manager.register_consumer(obj)
     manager.register_supplier(logger)
     manager.set_sleep(LOOP_S)
 
     sx, sy, st = start
     def pose() -> tuple[float, float, float]:
+        if localization is not None:
+            p = localization.data.pose
+            return p.x(), p.y(), p.theta()
         loc = odometry.data.location
         ox, oy, ot = loc.x(), loc.y(), loc.theta()
         return (sx + ox * math.cos(st) - oy * math.sin(st), sy + ox * math.sin(st) + oy * math.cos(st), st + ot)
@@ -106,6 +115,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f'tour: {len(route)} waypoints in {world.name}, from {start}', flush=True)
     truth_path: list[tuple[float, float]] = []
     odo_path: list[tuple[float, float]] = []
+    estimate_path: list[tuple[float, float]] = []
     last_scan: list[float] = []
     scan_pose = None
     target = 0
@@ -118,9 +128,14 @@ def main(argv: list[str] | None = None) -> int:
             loc = truth.data.location
             truth_path.append((loc.x(), loc.y()))
         while odometry.get_next_data():
+            have_odometry = have_odometry or localization is None
+            loc = odometry.data.location
+            ox, oy = loc.x(), loc.y()
+            odo_path.append((sx + ox * math.cos(st) - oy * math.sin(st), sy + ox * math.sin(st) + oy * math.cos(st)))
+        while localization is not None and localization.get_next_data():
             have_odometry = True
             x, y, _ = pose()
-            odo_path.append((x, y))
+            estimate_path.append((x, y))
         if laser is not None:
             while laser.get_next_data():
                 last_scan = list(laser.data.ranges)
@@ -131,8 +146,9 @@ def main(argv: list[str] | None = None) -> int:
                 print('tour: bumper pressed: stopping', flush=True)
         if not have_odometry:
             if time.monotonic() - started > WAIT_FOR_BASE_S:
-                print(f'tour: no odometry from {base}Motion after {WAIT_FOR_BASE_S:.0f} s; is the base '
-                      'running?', file=sys.stderr, flush=True)
+                source = opts.user.get('L') or f'{base}Motion'
+                print(f'tour: no pose from {source} after {WAIT_FOR_BASE_S:.0f} s; is it running?',
+                      file=sys.stderr, flush=True)
                 break
             continue
         if bumped or target >= len(route) or time.monotonic() - started > limit_s:
@@ -168,9 +184,9 @@ def main(argv: list[str] | None = None) -> int:
     if truth_path:
         final = truth_path[-1]
         x, y, _ = pose()
-        print(f'tour: odometry ends at ({x:.2f}, {y:.2f}), truth at ({final[0]:.2f}, {final[1]:.2f})',
-              flush=True)
-    plot_run(world, plot_file, truth=truth_path, odometry=odo_path, scan_pose=scan_pose,
+        print(f'tour: {"localization" if localization else "odometry"} ends at ({x:.2f}, {y:.2f}), '
+              f'truth at ({final[0]:.2f}, {final[1]:.2f})', flush=True)
+    plot_run(world, plot_file, truth=truth_path, odometry=odo_path, estimate=estimate_path, scan_pose=scan_pose,
              scan=last_scan, waypoints=route, title=f'{world.name}: tour of {len(route)} waypoints')
     print(f'tour: plot saved to {plot_file}', flush=True)
     manager.clean_up()
