@@ -74,15 +74,19 @@ class Attributes:
     def error(self, reason: str) -> ConfigError:
         return ConfigError(self.path, self.line, reason)
 
+    def _default(self, name: str, default: Any) -> Any:
+        """What an absent attribute reads as: ``default``, or an error when there is none."""
+        if default is None:
+            raise self.error(f'<{self.tag}> needs attribute {name}')
+        return default
+
     def has(self, name: str) -> bool:
         return name in self.values
 
     def text(self, name: str, default: str | None = None) -> str:
         value = self.values.get(name)
         if value is None:
-            if default is None:
-                raise self.error(f'<{self.tag}> needs attribute {name}')
-            return default
+            return self._default(name, default)
         value = value.strip()
         if not value:
             raise self.error(f'attribute {name} of <{self.tag}> is empty')
@@ -99,9 +103,7 @@ class Attributes:
     def boolean(self, name: str, default: bool | None = None) -> bool:
         raw = self.values.get(name)
         if raw is None:
-            if default is None:
-                raise self.error(f'<{self.tag}> needs attribute {name}')
-            return default
+            return self._default(name, default)
         word = raw.strip().lower()
         if word in _TRUE:
             return True
@@ -113,9 +115,7 @@ class Attributes:
                maximum: float | None = None, integer: bool = False) -> Any:
         raw = self.values.get(name)
         if raw is None:
-            if default is None:
-                raise self.error(f'<{self.tag}> needs attribute {name}')
-            return default
+            return self._default(name, default)
         try:
             value: float = int(raw, 0) if integer else float(raw)
         except ValueError as error:
