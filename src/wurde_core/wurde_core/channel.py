@@ -44,13 +44,14 @@ class Outbox:
 class Inbox:
     """A subscription drained by polling, in latest or queue mode."""
 
-    __slots__ = ('subscription', '_handle', '_type', 'queue', 'latest', 'fresh', 'drops',
+    __slots__ = ('subscription', '_handle', 'pointer', '_type', 'queue', 'latest', 'fresh', 'drops',
                  'received', '_last_seq', 'accept')
 
     def __init__(self, subscription: Any, queue_mode: bool,
                  accept: Callable[[Any], bool] | None = None) -> None:
         self.subscription = subscription
         self._handle = subscription.handle
+        self.pointer = subscription.handle.pointer
         self._type = subscription.msg_type
         self.queue: collections.deque[Any] | None = collections.deque() if queue_mode else None
         self.latest: Any = None

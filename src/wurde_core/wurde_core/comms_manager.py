@@ -470,19 +470,24 @@ class CommsManager:
             self._exchange()
             self._beat()
 
-    def _wait_once(self, seconds: float, *, system_only: bool = False) -> bool:
+    def _waiter(self, system_only: bool) -> SubscriptionWaiter:
         waiter = self._waiters.get(system_only)
         if waiter is None:
             objects = self._system_objects if system_only else self._objects + self._system_objects
             waiter = SubscriptionWaiter(self._context,
                                         [s for o in objects for s in o._subscriptions()])
             self._waiters[system_only] = waiter
-        return waiter.wait(seconds)
+        return waiter
+
+    def _wait_once(self, seconds: float, *, system_only: bool = False) -> bool:
+        return self._waiter(system_only).wait(seconds)
 
     def _exchange(self) -> None:
-        """Take in what arrived: the manager's own channels always, the program's only in Run."""
+        """Take in what arrived: the manager's own channels always, the program's only in Run.
+        Only the subscriptions a wait set poll finds holding something are taken from."""
+        ready = self._waiter(self.state != RunState.RUN).ready()
         for obj in self._system_objects:
-            obj._drain()
+            obj._drain(ready)
         if self._heartbeat is not None:
             for state in self._heartbeat.commands():
                 self._change_state(state)
@@ -491,7 +496,7 @@ class CommsManager:
                 self._connect_assigned(obj, stream)
         if self.state == RunState.RUN:
             for obj in self._objects:
-                obj._drain()
+                obj._drain(ready)
 
     def _beat(self) -> None:
         if self._heartbeat is not None and self._heartbeat_enabled:

@@ -425,11 +425,13 @@ class RobotObject:
         self._inboxes.clear()
         self._outboxes.clear()
 
-    def _drain(self) -> int:
-        """Take in everything that arrived; return how many events."""
+    def _drain(self, ready: set[int] | None = None) -> int:
+        """Take in everything that arrived (only from the subscriptions in ``ready``, pointers of
+        those a wait set found holding something, when given); return how many events."""
         taken = 0
         for inbox in self._inboxes.values():
-            taken += inbox.drain()
+            if ready is None or inbox.pointer in ready:
+                taken += inbox.drain()
         if taken:
             self._arrivals += taken
         return taken

@@ -81,3 +81,11 @@ class SubscriptionWaiter:
             wait_set.add_subscription(sub.handle)
         wait_set.wait(int(max(0.0, seconds) * 1e9))
         return bool(wait_set.get_ready_entities('subscription'))
+
+    def ready(self) -> set[int]:
+        """The subscriptions (their handles' pointers) that hold something now, without waiting:
+        one wait set poll is far cheaper than a ``take`` attempt on every channel."""
+        if self._wait_set is None:
+            return set()
+        self.wait(0.0)
+        return set(self._wait_set.get_ready_entities('subscription'))
