@@ -66,10 +66,6 @@ GOODBYE_WAIT_S = 1.0
 StateCallback = Callable[[], None]
 
 
-def _ignore_signal(_signum: int, _frame: Any) -> None:
-    """Installed by :meth:`CommsManager.clean_up` after Quit: the process is already ending."""
-
-
 class CommsManager:
     """The communication manager of one module (process)."""
 
@@ -101,6 +97,9 @@ class CommsManager:
         self._signals = 0
         self._hooks: dict[RunState, list[StateCallback]] = {}
         self._entered: list[RunState] = []
+        # From here on SIGINT/SIGTERM mean Quit, also while the node is being created (seconds on
+        # a loaded machine: a module stopped then must still end cleanly, not by KeyboardInterrupt).
+        self._install_signal_handlers()
 
     @property
     def context(self) -> Context | None:
@@ -294,14 +293,13 @@ class CommsManager:
         stream_segment_path(self.name)  # refuses names that can not be a stream segment
         node_name = stream_segment_path(self.name).replace('/', '_')
         self._context, self.node = open_node(node_name, self.options.ros_arguments)
-        self._install_signal_handlers()
         atexit.register(self.clean_up)
         if self._heartbeat_enabled:
             self._heartbeat = ModuleHeartbeat(self.name)
             self._register_system(self._heartbeat.obj, SUPPLIER)
 
     def _install_signal_handlers(self) -> None:
-        if threading.current_thread() is not threading.main_thread():
+        if threading.current_thread() is not threading.main_thread() or self._previous_handlers:
             return
         for signum in (signal.SIGINT, signal.SIGTERM):
             self._previous_handlers[signum] = signal.signal(signum, self._on_signal)
@@ -533,8 +531,11 @@ class CommsManager:
         for signum, handler in self._previous_handlers.items():
             # A module that quit (told to, or by a signal) is on its way out: a SIGINT/SIGTERM
             # now (the MCP escalating because the exit is slow on a loaded machine) must not turn
-            # a clean exit into a KeyboardInterrupt.  Otherwise the program goes on: restore.
-            signal.signal(signum, _ignore_signal if ending else handler)
+            # a clean exit into a KeyboardInterrupt or a death by the signal.  SIG_IGN, not a
+            # Python handler: the interpreter's finalization resets Python handlers to SIG_DFL
+            # (and so would die of the signal) but leaves SIG_IGN alone.  SIGKILL still ends it.
+            # Otherwise the program goes on: restore what was there.
+            signal.signal(signum, signal.SIG_IGN if ending else handler)
         self._previous_handlers.clear()
         atexit.unregister(self.clean_up)
 
