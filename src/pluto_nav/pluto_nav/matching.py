@@ -1,0 +1,221 @@
+"""Data association for Pluto's poseModule (Pluto 7.1): which map wall each extracted line is.
+
+For a predicted laser pose with covariance ``P``, every wall the laser could see
+(:meth:`WallMap.visible`) is predicted in the laser frame, ``h = (gamma', rho')`` with Jacobian
+``H`` (:func:`geometry.line_to_frame`).  An observed line ``z`` with covariance ``R`` is a
+*candidate* for a wall when both hold:
+
+- *gate*: the squared Mahalanobis distance ``v^T S^-1 v`` of the innovation ``v = z - h``
+  (``gamma`` wrapped) with ``S = H P H^T + R`` is inside the chi-square gate of 2 degrees of
+  freedom at ``gate_probability``;
+- *overlap*: the observed segment, put in the map at the predicted pose and projected onto the
+  wall's line, lies at least ``min_coverage`` of its length within the extent of the wall's chain
+  (:attr:`WallMap.chain_extent`: collinear walls that touch look like one wall) widened by
+  ``overlap_tolerance`` plus three standard deviations of where the pose puts it; and, whatever
+  the pose, the segment is no longer than that chain plus twice ``overlap_tolerance`` (a long
+  line is not a short wall, even when the pose is too uncertain for the overlap to tell).
+
+A line with no candidate at ``gate_probability`` gets a second chance with the gate widened to
+``fallback_gate_probability`` (its matches are flagged ``fallback``): the prediction may be off
+by more than its covariance says (an odometry slip), and the line that would show it must not be
+the one thrown away; the filter accepts such matches only when they agree with the others.
+
+Each observed line goes to at most one wall.  When several walls are candidates:
+
+1. *Same line*: walls on one infinite line (:attr:`WallMap.line`: a wall drawn in pieces, the
+   pieces of a corridor wall between doors) give the same measurement; the one the segment covers
+   best stands for them.
+2. *Hidden*: of two parallel candidates on the same side of the laser (the two faces of a thin
+   wall, a cupboard before a wall) the nearer hides the farther wherever it covers the segment at
+   least as well, so the farther one is dropped.
+3. *Ambiguous*: if two different lines are still left and the second's distance is within
+   ``ambiguity_margin`` of the best's, the line is not used at all (a wrong match does more harm
+   than a missing one); otherwise the nearest in Mahalanobis distance wins.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .geometry import line_to_frame, line_to_frame_jacobian
+from .lines import LineFeature
+from .wall_map import WallMap
+
+__all__ = ['Match', 'MatchSettings', 'Matching', 'chi2_gate', 'match_lines']
+
+
+def chi2_gate(probability: float) -> float:
+    """The chi-square quantile of 2 degrees of freedom: ``-2 ln(1 - probability)``."""
+    if not 0.0 < probability < 1.0:
+        raise ValueError(f'a gate probability must be in (0, 1), not {probability}')
+    return -2.0 * math.log1p(-probability)
+
+
+@dataclasses.dataclass(frozen=True)
+class MatchSettings:
+    """Tunables of :func:`match_lines` (defaults in brackets)."""
+
+    #: Probability mass of the 2-dof chi-square gate [0.99: 9.21].
+    gate_probability: float = 0.99
+    #: The gate for lines that fit no wall within the first [0.99999: 23.0].
+    fallback_gate_probability: float = 0.99999
+    #: m: walls beyond this are not expected in a scan [81.82: a SICK LMS in cm mode].
+    max_range: float = 81.82
+    #: m: slack at the ends of a wall for the overlap test [0.2].
+    overlap_tolerance: float = 0.2
+    #: Fraction of an observed segment that must lie on the wall [0.5].
+    min_coverage: float = 0.5
+    #: rad: two lines this close in direction are parallel (for hiding) [0.1].
+    parallel_angle: float = 0.1
+    #: Squared-distance lead the best wall needs over a different second one [4.0].
+    ambiguity_margin: float = 4.0
+
+    def __post_init__(self) -> None:
+        if chi2_gate(self.fallback_gate_probability) < chi2_gate(self.gate_probability):
+            raise ValueError('fallback_gate_probability must not be below gate_probability')
+        if not 0.0 <= self.min_coverage <= 1.0:
+            raise ValueError(f'min_coverage must be in [0, 1], not {self.min_coverage}')
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Match:
+    """An observed line matched to a map wall.
+
+    :ivar line: index into the observed lines.
+    :ivar wall: index into the map's walls.
+    :ivar innovation: ``z - h(pose)``: ``(dgamma, drho)``, ``dgamma`` wrapped to ``(-pi, pi]``.
+    :ivar innovation_covariance: ``S = H P H^T + R``, 2x2.
+    :ivar jacobian: ``H = dh/d(x, y, theta)``, 2x3.
+    :ivar measurement_covariance: ``R``, the observed line's 2x2 covariance.
+    :ivar distance: squared Mahalanobis distance ``v^T S^-1 v``.
+    :ivar fallback: matched only within the widened fallback gate.
+    """
+
+    line: int
+    wall: int
+    innovation: NDArray
+    innovation_covariance: NDArray
+    jacobian: NDArray
+    measurement_covariance: NDArray
+    distance: float
+    fallback: bool = False
+
+
+@dataclasses.dataclass(frozen=True)
+class Matching:
+    """What :func:`match_lines` made of the observed lines."""
+
+    matches: list[Match]
+    #: Lines left out because two different walls fitted them about equally well.
+    ambiguous: list[int]
+    #: Lines that fitted no wall.
+    unmatched: list[int]
+
+
+def match_lines(lines: Sequence[LineFeature], wall_map: WallMap, pose: ArrayLike,
+                covariance: ArrayLike, settings: MatchSettings = MatchSettings()) -> Matching:
+    """Match observed ``lines`` (laser frame) to ``wall_map`` for a laser at ``pose`` (see the
+    module's description).
+
+    :param pose: predicted laser pose ``(x, y, theta)`` in the map frame.
+    :param covariance: its 3x3 covariance.
+    """
+    pose = np.asarray(pose, dtype=np.float64).reshape(3)
+    cov = np.asarray(covariance, dtype=np.float64).reshape(3, 3)
+    if not lines:
+        return Matching([], [], [])
+    sigma_xy = math.sqrt(max(cov[0, 0] + cov[1, 1], 0.0))
+    sigma_theta = math.sqrt(max(cov[2, 2], 0.0))
+    walls = wall_map.visible(pose, settings.max_range, margin=3.0 * sigma_xy)
+    if len(walls) == 0:
+        return Matching([], [], list(range(len(lines))))
+    g_map, r_map = wall_map.gamma[walls], wall_map.rho[walls]
+    h_gamma, h_rho = line_to_frame(g_map, r_map, pose)
+    jac = line_to_frame_jacobian(g_map, r_map, pose)                   # (W, 2, 3)
+    hph = jac @ cov @ jac.transpose(0, 2, 1)                          # (W, 2, 2)
+    z = np.array([(line.gamma, line.rho) for line in lines])           # (L, 2)
+    meas = np.array([line.covariance for line in lines])               # (L, 2, 2)
+    v_gamma = np.mod(z[:, 0:1] - h_gamma[None, :] + math.pi, 2.0 * math.pi) - math.pi
+    v_rho = z[:, 1:2] - h_rho[None, :]
+    s = meas[:, None, :, :] + hph[None, :, :, :]                       # (L, W, 2, 2)
+    a, b, d = s[..., 0, 0], s[..., 0, 1], s[..., 1, 1]
+    distance = (d * v_gamma * v_gamma - 2.0 * b * v_gamma * v_rho + a * v_rho * v_rho) / \
+        (a * d - b * b)
+    coverage = _coverage(lines, wall_map, walls, pose, sigma_xy, sigma_theta, settings)
+    overlaps = coverage >= settings.min_coverage
+    candidate = (distance < chi2_gate(settings.gate_probability)) & overlaps
+    wide = (distance < chi2_gate(settings.fallback_gate_probability)) & overlaps
+    matches, ambiguous, unmatched = [], [], []
+    for k in range(len(lines)):
+        options = np.flatnonzero(candidate[k])
+        fallback = len(options) == 0
+        if fallback:
+            options = np.flatnonzero(wide[k])
+        if len(options) == 0:
+            unmatched.append(k)
+            continue
+        best = options[0] if len(options) == 1 else _resolve(
+            options, distance[k], coverage[k], h_gamma, h_rho, wall_map.line[walls], settings)
+        if best is None:
+            ambiguous.append(k)
+            continue
+        matches.append(Match(
+            line=k, wall=int(walls[best]),
+            innovation=np.array([v_gamma[k, best], v_rho[k, best]]),
+            innovation_covariance=s[k, best].copy(), jacobian=jac[best].copy(),
+            measurement_covariance=meas[k], distance=float(distance[k, best]),
+            fallback=fallback))
+    return Matching(matches, ambiguous, unmatched)
+
+
+def _coverage(lines: Sequence[LineFeature], wall_map: WallMap, walls: NDArray, pose: NDArray,
+              sigma_xy: float, sigma_theta: float, settings: MatchSettings) -> NDArray:
+    """``(L, W)``: the fraction of each observed segment that lies along each wall's chain; 0
+    where the segment is too long for the chain."""
+    x, y, theta = pose
+    c, s = math.cos(theta), math.sin(theta)
+    ends = np.array([(*line.start, *line.end) for line in lines]).reshape(-1, 2, 2)  # (L, 2, 2)
+    map_x = x + c * ends[..., 0] - s * ends[..., 1]
+    map_y = y + s * ends[..., 0] + c * ends[..., 1]
+    gamma = wall_map.gamma[walls]
+    along = (-np.sin(gamma)[None, None, :] * map_x[..., None]
+             + np.cos(gamma)[None, None, :] * map_y[..., None])         # (L, 2, W)
+    low, high = along.min(axis=1), along.max(axis=1)                    # (L, W)
+    reach = np.hypot(ends[..., 0], ends[..., 1]).max(axis=1)            # (L,)
+    slack = settings.overlap_tolerance + 3.0 * (sigma_xy + sigma_theta * reach)
+    extent = wall_map.chain_extent[walls]
+    overlap = np.minimum(high, extent[None, :, 1] + slack[:, None]) - \
+        np.maximum(low, extent[None, :, 0] - slack[:, None])
+    length = np.array([line.length for line in lines])
+    too_long = length[:, None] > extent[None, :, 1] - extent[None, :, 0] + \
+        2.0 * settings.overlap_tolerance
+    return np.where(too_long, 0.0, np.clip(overlap, 0.0, None) / np.maximum(high - low, 1e-9))
+
+
+def _resolve(options: NDArray, distance: NDArray, coverage: NDArray, h_gamma: NDArray,
+             h_rho: NDArray, line_of: NDArray, settings: MatchSettings) -> int | None:
+    """The one wall (column) an observed line with several candidates is, or None if ambiguous."""
+    # 2. Hidden: a nearer parallel candidate on the same side that covers at least as well.
+    kept = []
+    for c in options:
+        turn = np.abs(np.mod(h_gamma[options] - h_gamma[c] + math.pi, 2.0 * math.pi) - math.pi)
+        hides = (turn < settings.parallel_angle) & (h_rho[options] < h_rho[c]) & \
+            (line_of[options] != line_of[c]) & (coverage[options] >= coverage[c])
+        if not hides.any():
+            kept.append(c)
+    # 1. Same line: one representative per line, the best covered.
+    by_line: dict[int, int] = {}
+    for c in kept:
+        line = int(line_of[c])
+        if line not in by_line or coverage[c] > coverage[by_line[line]]:
+            by_line[line] = c
+    ranked = sorted(by_line.values(), key=lambda c: distance[c])
+    # 3. Ambiguous: two different lines about equally close.
+    if len(ranked) > 1 and distance[ranked[1]] - distance[ranked[0]] < settings.ambiguity_margin:
+        return None
+    return int(ranked[0])
