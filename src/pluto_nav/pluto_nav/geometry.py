@@ -28,6 +28,8 @@ _TWO_PI = 2.0 * math.pi
 
 def wrap(angle: ArrayLike) -> NDArray | float:
     """``angle`` (radians, scalar or array) wrapped to ``(-pi, pi]``; a scalar gives a float."""
+    if isinstance(angle, (float, int)):
+        return _wrap1(float(angle))
     wrapped = math.pi - np.mod(math.pi - np.asarray(angle, dtype=np.float64), _TWO_PI)
     return float(wrapped) if wrapped.ndim == 0 else wrapped
 
@@ -37,18 +39,23 @@ def _wrap1(angle: float) -> float:
     return math.pi - math.fmod(math.fmod(math.pi - angle, _TWO_PI) + _TWO_PI, _TWO_PI)
 
 
+def _xyt(pose: ArrayLike) -> list[float]:
+    """``[x, y, theta]`` as Python floats (the pose functions compute with ``math``)."""
+    return np.asarray(pose, dtype=np.float64).reshape(3).tolist()
+
+
 def compose(a: ArrayLike, b: ArrayLike) -> NDArray:
     """``a ⊕ b``: pose ``b``, given in the frame of ``a``, in ``a``'s parent frame."""
-    ax, ay, at = (float(v) for v in np.asarray(a, dtype=np.float64).reshape(3))
-    bx, by, bt = (float(v) for v in np.asarray(b, dtype=np.float64).reshape(3))
+    ax, ay, at = _xyt(a)
+    bx, by, bt = _xyt(b)
     c, s = math.cos(at), math.sin(at)
     return np.array([ax + c * bx - s * by, ay + s * bx + c * by, _wrap1(at + bt)])
 
 
 def compose_jacobians(a: ArrayLike, b: ArrayLike) -> tuple[NDArray, NDArray]:
     """``(d(a⊕b)/da, d(a⊕b)/db)``, each 3x3."""
-    at = float(np.asarray(a, dtype=np.float64).reshape(3)[2])
-    bx, by, _ = (float(v) for v in np.asarray(b, dtype=np.float64).reshape(3))
+    at = _xyt(a)[2]
+    bx, by, _ = _xyt(b)
     c, s = math.cos(at), math.sin(at)
     ja = np.array([[1.0, 0.0, -s * bx - c * by],
                    [0.0, 1.0, c * bx - s * by],
@@ -61,14 +68,14 @@ def compose_jacobians(a: ArrayLike, b: ArrayLike) -> tuple[NDArray, NDArray]:
 
 def inverse(a: ArrayLike) -> NDArray:
     """``⊖a``: the parent frame's origin as seen from pose ``a``."""
-    ax, ay, at = (float(v) for v in np.asarray(a, dtype=np.float64).reshape(3))
+    ax, ay, at = _xyt(a)
     c, s = math.cos(at), math.sin(at)
     return np.array([-c * ax - s * ay, s * ax - c * ay, _wrap1(-at)])
 
 
 def inverse_jacobian(a: ArrayLike) -> NDArray:
     """``d(⊖a)/da``, 3x3."""
-    ax, ay, at = (float(v) for v in np.asarray(a, dtype=np.float64).reshape(3))
+    ax, ay, at = _xyt(a)
     c, s = math.cos(at), math.sin(at)
     return np.array([[-c, -s, s * ax - c * ay],
                      [s, -c, c * ax + s * ay],
@@ -77,8 +84,8 @@ def inverse_jacobian(a: ArrayLike) -> NDArray:
 
 def relative(a: ArrayLike, b: ArrayLike) -> NDArray:
     """``⊖a ⊕ b``: pose ``b`` as seen from pose ``a`` (both in the same parent frame)."""
-    ax, ay, at = (float(v) for v in np.asarray(a, dtype=np.float64).reshape(3))
-    bx, by, bt = (float(v) for v in np.asarray(b, dtype=np.float64).reshape(3))
+    ax, ay, at = _xyt(a)
+    bx, by, bt = _xyt(b)
     c, s = math.cos(at), math.sin(at)
     dx, dy = bx - ax, by - ay
     return np.array([c * dx + s * dy, -s * dx + c * dy, _wrap1(bt - at)])
@@ -86,8 +93,8 @@ def relative(a: ArrayLike, b: ArrayLike) -> NDArray:
 
 def relative_jacobians(a: ArrayLike, b: ArrayLike) -> tuple[NDArray, NDArray]:
     """``(d(⊖a⊕b)/da, d(⊖a⊕b)/db)``, each 3x3."""
-    ax, ay, at = (float(v) for v in np.asarray(a, dtype=np.float64).reshape(3))
-    bx, by, _ = (float(v) for v in np.asarray(b, dtype=np.float64).reshape(3))
+    ax, ay, at = _xyt(a)
+    bx, by, _ = _xyt(b)
     c, s = math.cos(at), math.sin(at)
     dx, dy = bx - ax, by - ay
     ja = np.array([[-c, -s, -s * dx + c * dy],
@@ -101,7 +108,7 @@ def relative_jacobians(a: ArrayLike, b: ArrayLike) -> tuple[NDArray, NDArray]:
 
 def transform_points(pose: ArrayLike, points: ArrayLike) -> NDArray:
     """``(N, 2)`` points given in the frame at ``pose``, expressed in its parent frame."""
-    x, y, t = (float(v) for v in np.asarray(pose, dtype=np.float64).reshape(3))
+    x, y, t = _xyt(pose)
     xy = np.asarray(points, dtype=np.float64).reshape(-1, 2)
     c, s = math.cos(t), math.sin(t)
     return np.column_stack([x + c * xy[:, 0] - s * xy[:, 1], y + s * xy[:, 0] + c * xy[:, 1]])
@@ -117,7 +124,7 @@ def line_to_frame(gamma: ArrayLike, rho: ArrayLike, pose: ArrayLike) -> tuple[ND
     :returns: ``(gamma', rho')`` arrays, ``gamma'`` wrapped, ``rho' >= 0``.
     """
     g = np.asarray(gamma, dtype=np.float64)
-    x, y, t = (float(v) for v in np.asarray(pose, dtype=np.float64).reshape(3))
+    x, y, t = _xyt(pose)
     r = np.asarray(rho, dtype=np.float64) - x * np.cos(g) - y * np.sin(g)
     flip = r < 0.0
     return wrap(g - t + np.where(flip, math.pi, 0.0)), np.abs(r)
@@ -129,7 +136,7 @@ def line_to_frame_jacobian(gamma: ArrayLike, rho: ArrayLike, pose: ArrayLike) ->
     The flip changes the sign of the ``rho'`` row only (``gamma' + pi`` moves with theta the same).
     """
     g = np.atleast_1d(np.asarray(gamma, dtype=np.float64))
-    x, y, _ = (float(v) for v in np.asarray(pose, dtype=np.float64).reshape(3))
+    x, y, _ = _xyt(pose)
     cg, sg = np.cos(g), np.sin(g)
     sign = np.where(np.atleast_1d(np.asarray(rho, dtype=np.float64)) - x * cg - y * sg < 0.0,
                     1.0, -1.0)

@@ -154,7 +154,8 @@ def extract_lines(ranges: ArrayLike, *, angles: ArrayLike | None = None,
     pieces = _split(runs, x, y, split_distance, min_points)
     if not pieces:
         return []
-    fit = _merge(pieces, _PrefixSums(r, x, y), x, y, split_distance)
+    run_starts = np.array([run[0] for run in runs])
+    fit = _merge(pieces, run_starts, _PrefixSums(r, x, y), x, y, split_distance)
     return _features(fit, index, x, y, range_sigma, min_length)
 
 
@@ -242,10 +243,10 @@ def _fit(sums: _PrefixSums, pieces: list[tuple[int, int]]) -> tuple[NDArray, ...
     return (i, j, s, *_tls(s))
 
 
-def _merge(pieces: list[tuple[int, int]], sums: _PrefixSums, x: NDArray, y: NDArray,
-           split_distance: float) -> tuple[NDArray, ...]:
-    """Join neighbouring pieces (at most one dropped point apart) that make one straight line;
-    :returns: the :func:`_fit` of the pieces after merging.
+def _merge(pieces: list[tuple[int, int]], run_starts: NDArray, sums: _PrefixSums, x: NDArray,
+           y: NDArray, split_distance: float) -> tuple[NDArray, ...]:
+    """Join neighbouring pieces of one run (at most one dropped point apart) that make one
+    straight line; :returns: the :func:`_fit` of the pieces after merging.
 
     Only pairs whose own fits are nearly the same line are checked point by point.
     """
@@ -254,7 +255,9 @@ def _merge(pieces: list[tuple[int, int]], sums: _PrefixSums, x: NDArray, y: NDAr
         return fit
     i, j, _, gamma, rho = fit
     turn = np.abs(np.mod(gamma[1:] - gamma[:-1] + math.pi, 2.0 * math.pi) - math.pi)
-    close = (i[1:] - j[:-1] <= 1) & (turn < _MERGE_ANGLE) & \
+    same_run = np.searchsorted(run_starts, i[1:], 'right') == \
+        np.searchsorted(run_starts, j[:-1] - 1, 'right')
+    close = same_run & (i[1:] - j[:-1] <= 1) & (turn < _MERGE_ANGLE) & \
         (np.abs(rho[1:] - rho[:-1]) < _MERGE_SHIFT)
     if not close.any():
         return fit

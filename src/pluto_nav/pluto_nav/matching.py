@@ -26,8 +26,9 @@ Each observed line goes to at most one wall.  When several walls are candidates:
    pieces of a corridor wall between doors) give the same measurement; the one the segment covers
    best stands for them.
 2. *Hidden*: of two parallel candidates on the same side of the laser (the two faces of a thin
-   wall, a cupboard before a wall) the nearer hides the farther wherever it covers the segment at
-   least as well, so the farther one is dropped.
+   wall, a cupboard before a wall) the nearer hides the farther if, at the predicted pose and
+   with only ``overlap_tolerance`` as slack, it covers the segment at least as well: then the
+   farther one is dropped.
 3. *Ambiguous*: if two different lines are still left and the second's distance is within
    ``ambiguity_margin`` of the best's, the line is not used at all (a wrong match does more harm
    than a missing one); otherwise the nearest in Mahalanobis distance wins.
@@ -125,79 +126,95 @@ def match_lines(lines: Sequence[LineFeature], wall_map: WallMap, pose: ArrayLike
     :param pose: predicted laser pose ``(x, y, theta)`` in the map frame.
     :param covariance: its 3x3 covariance.
     """
-    pose = np.asarray(pose, dtype=np.float64).reshape(3)
-    cov = np.asarray(covariance, dtype=np.float64).reshape(3, 3)
+    x, y, theta = np.asarray(pose, dtype=np.float64).reshape(3).tolist()
+    p = np.asarray(covariance, dtype=np.float64).reshape(3, 3)
     if not lines:
         return Matching([], [], [])
-    sigma_xy = math.sqrt(max(cov[0, 0] + cov[1, 1], 0.0))
-    sigma_theta = math.sqrt(max(cov[2, 2], 0.0))
-    walls = wall_map.visible(pose, settings.max_range, margin=3.0 * sigma_xy)
+    sigma_xy = math.sqrt(max(p[0, 0] + p[1, 1], 0.0))
+    walls = wall_map.visible((x, y, theta), settings.max_range, margin=3.0 * sigma_xy)
     if len(walls) == 0:
         return Matching([], [], list(range(len(lines))))
+    # Predicted lines h = (gamma', rho') and the rows of H = [[0, 0, -1], [hx, hy, 0]].
     g_map, r_map = wall_map.gamma[walls], wall_map.rho[walls]
-    h_gamma, h_rho = line_to_frame(g_map, r_map, pose)
-    jac = line_to_frame_jacobian(g_map, r_map, pose)                   # (W, 2, 3)
-    hph = jac @ cov @ jac.transpose(0, 2, 1)                          # (W, 2, 2)
-    z = np.array([(line.gamma, line.rho) for line in lines])           # (L, 2)
-    meas = np.array([line.covariance for line in lines])               # (L, 2, 2)
-    v_gamma = np.mod(z[:, 0:1] - h_gamma[None, :] + math.pi, 2.0 * math.pi) - math.pi
-    v_rho = z[:, 1:2] - h_rho[None, :]
-    s = meas[:, None, :, :] + hph[None, :, :, :]                       # (L, W, 2, 2)
-    a, b, d = s[..., 0, 0], s[..., 0, 1], s[..., 1, 1]
+    h_gamma, h_rho = line_to_frame(g_map, r_map, (x, y, theta))
+    jac = line_to_frame_jacobian(g_map, r_map, (x, y, theta))
+    hx, hy = jac[:, 1, 0], jac[:, 1, 1]
+    # H P H^T, per wall.
+    p_gg = p[2, 2]
+    p_gr = -(hx * p[2, 0] + hy * p[2, 1])
+    p_rr = hx * hx * p[0, 0] + 2.0 * hx * hy * p[0, 1] + hy * hy * p[1, 1]
+    data = np.array([(line.gamma, line.rho, line.covariance[0, 0], line.covariance[0, 1],
+                      line.covariance[1, 1]) for line in lines])
+    v_gamma = np.mod(data[:, 0:1] - h_gamma + math.pi, 2.0 * math.pi) - math.pi   # (L, W)
+    v_rho = data[:, 1:2] - h_rho
+    a = data[:, 2:3] + p_gg
+    b = data[:, 3:4] + p_gr
+    d = data[:, 4:5] + p_rr
     distance = (d * v_gamma * v_gamma - 2.0 * b * v_gamma * v_rho + a * v_rho * v_rho) / \
         (a * d - b * b)
-    coverage = _coverage(lines, wall_map, walls, pose, sigma_xy, sigma_theta, settings)
+    coverage, strict = _coverage(lines, wall_map, walls, (x, y, theta), sigma_xy,
+                                 math.sqrt(max(p[2, 2], 0.0)), settings)
     overlaps = coverage >= settings.min_coverage
     candidate = (distance < chi2_gate(settings.gate_probability)) & overlaps
     wide = (distance < chi2_gate(settings.fallback_gate_probability)) & overlaps
+    counts, wide_counts = candidate.sum(axis=1).tolist(), wide.sum(axis=1).tolist()
     matches, ambiguous, unmatched = [], [], []
     for k in range(len(lines)):
-        options = np.flatnonzero(candidate[k])
-        fallback = len(options) == 0
-        if fallback:
-            options = np.flatnonzero(wide[k])
-        if len(options) == 0:
+        fallback = counts[k] == 0
+        if fallback and wide_counts[k] == 0:
             unmatched.append(k)
             continue
-        best = options[0] if len(options) == 1 else _resolve(
-            options, distance[k], coverage[k], h_gamma, h_rho, wall_map.line[walls], settings)
+        row = wide[k] if fallback else candidate[k]
+        if (wide_counts[k] if fallback else counts[k]) == 1:
+            best: int | None = int(row.argmax())
+        else:
+            best = _resolve(np.flatnonzero(row), distance[k], strict[k], h_gamma, h_rho,
+                            wall_map.line[walls], settings)
         if best is None:
             ambiguous.append(k)
             continue
         matches.append(Match(
             line=k, wall=int(walls[best]),
             innovation=np.array([v_gamma[k, best], v_rho[k, best]]),
-            innovation_covariance=s[k, best].copy(), jacobian=jac[best].copy(),
-            measurement_covariance=meas[k], distance=float(distance[k, best]),
+            innovation_covariance=np.array([[a[k, 0], b[k, best]], [b[k, best], d[k, best]]]),
+            jacobian=jac[best],
+            measurement_covariance=lines[k].covariance, distance=float(distance[k, best]),
             fallback=fallback))
     return Matching(matches, ambiguous, unmatched)
 
 
-def _coverage(lines: Sequence[LineFeature], wall_map: WallMap, walls: NDArray, pose: NDArray,
-              sigma_xy: float, sigma_theta: float, settings: MatchSettings) -> NDArray:
-    """``(L, W)``: the fraction of each observed segment that lies along each wall's chain; 0
+def _coverage(lines: Sequence[LineFeature], wall_map: WallMap, walls: NDArray,
+              pose: tuple[float, float, float], sigma_xy: float, sigma_theta: float,
+              settings: MatchSettings) -> tuple[NDArray, NDArray]:
+    """``(L, W)`` twice: the fraction of each observed segment that lies along each wall's
+    chain, with the slack for the pose's uncertainty and with ``overlap_tolerance`` only; 0
     where the segment is too long for the chain."""
     x, y, theta = pose
     c, s = math.cos(theta), math.sin(theta)
-    ends = np.array([(*line.start, *line.end) for line in lines]).reshape(-1, 2, 2)  # (L, 2, 2)
-    map_x = x + c * ends[..., 0] - s * ends[..., 1]
-    map_y = y + s * ends[..., 0] + c * ends[..., 1]
-    gamma = wall_map.gamma[walls]
-    along = (-np.sin(gamma)[None, None, :] * map_x[..., None]
-             + np.cos(gamma)[None, None, :] * map_y[..., None])         # (L, 2, W)
-    low, high = along.min(axis=1), along.max(axis=1)                    # (L, W)
-    reach = np.hypot(ends[..., 0], ends[..., 1]).max(axis=1)            # (L,)
-    slack = settings.overlap_tolerance + 3.0 * (sigma_xy + sigma_theta * reach)
+    ends = np.array([(line.start[0], line.start[1], line.end[0], line.end[1], line.length)
+                     for line in lines])                                            # (L, 5)
+    ex, ey = ends[:, 0:4:2], ends[:, 1:4:2]                                         # (L, 2)
+    map_x = x + c * ex - s * ey
+    map_y = y + s * ex + c * ey
+    # Position along each wall, (-sin gamma, cos gamma), of both ends: (L, W) each.
+    along_x, along_y = -wall_map.sin_gamma[walls], wall_map.cos_gamma[walls]
+    t0 = map_x[:, 0:1] * along_x + map_y[:, 0:1] * along_y
+    t1 = map_x[:, 1:2] * along_x + map_y[:, 1:2] * along_y
+    low, high = np.minimum(t0, t1), np.maximum(t0, t1)
+    reach = np.sqrt(np.maximum(ex[:, 0] ** 2 + ey[:, 0] ** 2, ex[:, 1] ** 2 + ey[:, 1] ** 2))
+    slack = (settings.overlap_tolerance + 3.0 * (sigma_xy + sigma_theta * reach))[:, None]
     extent = wall_map.chain_extent[walls]
-    overlap = np.minimum(high, extent[None, :, 1] + slack[:, None]) - \
-        np.maximum(low, extent[None, :, 0] - slack[:, None])
-    length = np.array([line.length for line in lines])
-    too_long = length[:, None] > extent[None, :, 1] - extent[None, :, 0] + \
-        2.0 * settings.overlap_tolerance
-    return np.where(too_long, 0.0, np.clip(overlap, 0.0, None) / np.maximum(high - low, 1e-9))
+    span = np.maximum(high - low, 1e-9)
+    too_long = ends[:, 4:5] > wall_map.chain_length[walls] + 2.0 * settings.overlap_tolerance
+    out = []
+    for margin in (slack, settings.overlap_tolerance):
+        overlap = np.minimum(high, extent[:, 1] + margin) - np.maximum(low, extent[:, 0] - margin)
+        overlap[too_long] = 0.0
+        out.append(np.maximum(overlap, 0.0) / span)
+    return out[0], out[1]
 
 
-def _resolve(options: NDArray, distance: NDArray, coverage: NDArray, h_gamma: NDArray,
+def _resolve(options: NDArray, distance: NDArray, strict: NDArray, h_gamma: NDArray,
              h_rho: NDArray, line_of: NDArray, settings: MatchSettings) -> int | None:
     """The one wall (column) an observed line with several candidates is, or None if ambiguous."""
     # 2. Hidden: a nearer parallel candidate on the same side that covers at least as well.
@@ -205,14 +222,15 @@ def _resolve(options: NDArray, distance: NDArray, coverage: NDArray, h_gamma: ND
     for c in options:
         turn = np.abs(np.mod(h_gamma[options] - h_gamma[c] + math.pi, 2.0 * math.pi) - math.pi)
         hides = (turn < settings.parallel_angle) & (h_rho[options] < h_rho[c]) & \
-            (line_of[options] != line_of[c]) & (coverage[options] >= coverage[c])
+            (line_of[options] != line_of[c]) & (strict[options] >= strict[c]) & \
+            (strict[options] > 0.0)
         if not hides.any():
             kept.append(c)
     # 1. Same line: one representative per line, the best covered.
     by_line: dict[int, int] = {}
     for c in kept:
         line = int(line_of[c])
-        if line not in by_line or coverage[c] > coverage[by_line[line]]:
+        if line not in by_line or strict[c] > strict[by_line[line]]:
             by_line[line] = c
     ranked = sorted(by_line.values(), key=lambda c: distance[c])
     # 3. Ambiguous: two different lines about equally close.

@@ -59,7 +59,7 @@ def increment_covariance(increment: ArrayLike,
                          model: OdometryNoiseModel = OdometryNoiseModel()) -> NDArray:
     """The 3x3 covariance of an odometry ``increment`` ``(dx, dy, dtheta)`` in the frame it
     started in (metres, radians; driving backwards has ``dx < 0``)."""
-    dx, dy, dtheta = (float(v) for v in np.asarray(increment, dtype=np.float64).reshape(3))
+    dx, dy, dtheta = np.asarray(increment, dtype=np.float64).reshape(3).tolist()
     distance = math.copysign(math.hypot(dx, dy), dx)
     travel = abs(distance)
     var_distance = model.trans ** 2 * travel

@@ -227,16 +227,37 @@ def _inverse_spd(m: NDArray) -> NDArray:
 
 
 def _check_spd(matrix: NDArray, name: str, *, semi: bool = False) -> None:
-    if not np.isfinite(matrix).all() or not np.allclose(matrix, matrix.T, rtol=1e-9, atol=1e-12):
+    """Raise ValueError unless the 3x3 ``matrix`` is finite, symmetric and positive definite
+    (``semi``: semi-definite, allowing round-off), by its principal minors."""
+    (a, b, c), (b2, d, e), (c2, e2, f) = matrix.tolist()
+    scale = max(abs(a), abs(d), abs(f), 1e-300)
+    if not all(math.isfinite(v) for v in (a, b, c, d, e, f, b2, c2, e2)) or \
+            max(abs(b - b2), abs(c - c2), abs(e - e2)) > 1e-9 * scale:
         raise ValueError(f'{name} must be finite and symmetric, not {matrix.tolist()}')
-    smallest = float(np.linalg.eigvalsh(0.5 * (matrix + matrix.T))[0])
-    if smallest < 0.0 or (not semi and smallest == 0.0):
-        raise ValueError(f'{name} must be positive {"semi-" if semi else ""}definite; its '
-                         f'smallest eigenvalue is {smallest}')
+    minors = (a, d, f, a * d - b * b, a * f - c * c, d * f - e * e,
+              a * (d * f - e * e) - b * (b * f - c * e) + c * (b * e - c * d))
+    if semi:
+        tolerance = (-1e-12 * scale, -1e-12 * scale ** 2, -1e-12 * scale ** 3)
+        ok = all(m >= tolerance[0] for m in minors[0:3]) and \
+            all(m >= tolerance[1] for m in minors[3:6]) and minors[6] >= tolerance[2]
+    else:
+        ok = minors[0] > 0.0 and minors[3] > 0.0 and minors[6] > 0.0
+    if not ok:
+        raise ValueError(f'{name} must be positive {"semi-" if semi else ""}definite, not '
+                         f'{matrix.tolist()}')
 
 
 def _floored(cov: NDArray) -> NDArray:
-    """``cov`` with no eigenvalue below :data:`COVARIANCE_FLOOR`."""
+    """``cov`` (SPD) with no eigenvalue below :data:`COVARIANCE_FLOOR`.
+
+    The smallest eigenvalue of an SPD 3x3 matrix is at least ``4 det / trace²``, which settles
+    the common case without an eigendecomposition.
+    """
+    (a, b, c), (_, d, e), (_, _, f) = cov.tolist()
+    det = a * (d * f - e * e) - b * (b * f - c * e) + c * (b * e - c * d)
+    trace = a + d + f
+    if 4.0 * det >= COVARIANCE_FLOOR * trace * trace:
+        return cov
     values, vectors = np.linalg.eigh(cov)
     if values[0] >= COVARIANCE_FLOOR:
         return cov

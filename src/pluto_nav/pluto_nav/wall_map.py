@@ -56,6 +56,9 @@ class WallMap:
         #: ``(N,)`` normal direction (rad) and distance (m) of each wall's line from the origin.
         self.gamma: NDArray = np.arctan2(normal[:, 1], normal[:, 0])
         self.rho: NDArray = np.abs(rho)
+        #: ``(N,)`` ``cos(gamma)``, ``sin(gamma)``: the unit normal.
+        self.cos_gamma: NDArray = normal[:, 0].copy()
+        self.sin_gamma: NDArray = normal[:, 1].copy()
         #: ``(N,)`` m: length of each wall.
         self.length: NDArray = length
         #: ``(N, 2)`` extent ``[t_min, t_max]`` of each wall along ``(-sin gamma, cos gamma)``.
@@ -70,6 +73,8 @@ class WallMap:
         #: ``(N, 2)`` extent, like :attr:`extent`, of the chain of collinear walls that touch
         #: (less than ``CHAIN_GAP`` apart) the wall: what a laser sees as one straight wall.
         self.chain_extent: NDArray = _chains(self.line, along, self.extent, segments)
+        #: ``(N,)`` m: length of that chain.
+        self.chain_length: NDArray = self.chain_extent[:, 1] - self.chain_extent[:, 0]
 
     def __len__(self) -> int:
         return len(self.walls)
@@ -89,7 +94,7 @@ class WallMap:
 
         :param margin: m, slack for the uncertainty of ``pose``.
         """
-        x, y, theta = (float(v) for v in np.asarray(pose, dtype=np.float64).reshape(3))
+        x, y, theta = np.asarray(pose, dtype=np.float64).reshape(3).tolist()
         c, s = math.cos(theta), math.sin(theta)
         w = self.walls
         ax, ay, bx, by = w[:, 0] - x, w[:, 1] - y, w[:, 2] - x, w[:, 3] - y
@@ -98,13 +103,15 @@ class WallMap:
         t = np.clip(-(ax * dx + ay * dy) / (self.length * self.length), 0.0, 1.0)
         near = np.hypot(ax + t * dx, ay + t * dy)
         ahead = np.maximum(c * ax + s * ay, c * bx + s * by)
-        off_line = np.abs(self.rho - x * np.cos(self.gamma) - y * np.sin(self.gamma))
+        off_line = np.abs(self.rho - x * self.cos_gamma - y * self.sin_gamma)
         return np.flatnonzero((near < max_range + margin) & (ahead > -margin)
                               & (off_line >= min_distance))
 
 
 def _collinear_groups(gamma: NDArray, rho: NDArray) -> NDArray:
     """Label walls whose lines coincide (connected components of "collinear"), ``0..K-1``."""
+    if len(gamma) == 0:
+        return np.zeros(0, dtype=np.int64)
     turn = np.abs(np.mod(gamma[:, None] - gamma[None, :] + math.pi, 2.0 * math.pi) - math.pi)
     same = (turn < COLLINEAR_ANGLE) & (np.abs(rho[:, None] - rho[None, :]) < COLLINEAR_DISTANCE)
     # A line through the origin may come out with either normal: gamma and gamma + pi.

@@ -42,7 +42,7 @@ GRID = 0.1                 # m, planning grid
 
 @dataclasses.dataclass
 class RunResult:
-    """Errors of one run, one row per scan."""
+    """Errors of one run: one row for the start, then one per scan (after its update)."""
 
     name: str
     distance: np.ndarray           # m driven (truth) at each scan
@@ -130,11 +130,13 @@ def _grid_graph(region: np.ndarray, clearance: np.ndarray):
 
 def run(world: World, *, length_m: float, seed: int, offset: tuple[float, float, float] = (0, 0, 0),
         start_sigma: tuple[float, float] = (0.02, math.radians(1.0)),
-        noise: OdometryNoise = NOISE) -> RunResult:
+        noise: OdometryNoise = NOISE, record: list | None = None) -> RunResult:
     """Drive ``length_m`` metres from the place ``start`` and localize with a PoseFilter.
 
     :param offset: the filter starts at the true laser pose composed with this (x, y, theta).
     :param start_sigma: standard deviations (m, rad) of the filter's initial covariance.
+    :param record: if given, gets ``(increment, covariance, lines)`` of every scan appended (what
+        the filter was fed, for replaying it).
     """
     rng = np.random.default_rng(seed)
     start = world.place('start')
@@ -150,7 +152,9 @@ def run(world: World, *, length_m: float, seed: int, offset: tuple[float, float,
     sxy, sth = start_sigma
     filt.set_pose(compose(truth_laser, offset), np.diag([sxy ** 2, sxy ** 2, sth ** 2]))
     last_odo = (0.0, 0.0, 0.0)
-    rows: list[tuple] = []
+    est = filt.pose                                     # the first row: where the filter starts
+    rows: list[tuple] = [(0.0, math.dist(est[:2], truth_laser[:2]),
+                          abs(wrap(est[2] - truth_laser[2])), 0.0, 0.0, 0, math.nan)]
     target, step = 1, 0
     max_steps = int(10 * length_m / (SPEED * DT))
     while robot.distance < length_m and step < max_steps:
@@ -172,6 +176,8 @@ def run(world: World, *, length_m: float, seed: int, offset: tuple[float, float,
         lines = extract_lines(laser.scan(world, t.x, t.y, t.theta), range_sigma=range_sigma,
                               max_range=geometry.max_range)
         result = filt.update(lines, wall_map)
+        if record is not None:
+            record.append((u_laser, q_laser, lines))
         true_laser = compose((t.x, t.y, t.theta), MOUNT)
         dead = compose(compose(tuple(start), odo), MOUNT)
         est = filt.pose
