@@ -77,7 +77,8 @@ def main(argv: list[str] | None = None) -> int:
     print()
     print('Wrong start: 0.5 m and 10 deg off (initial sigma 0.5 m, 10 deg); metres driven until '
           'the error stays under 10 cm')
-    print(f'{"map":<15}{"0 deg":>8}{"90 deg":>8}{"180 deg":>8}{"270 deg":>8}{"rmse after 5 m cm":>19}')
+    print(f'{"map":<15}{"0 deg":>8}{"90 deg":>8}{"180 deg":>8}{"270 deg":>8}'
+          f'{"rmse after 5 m cm":>19}')
     for index, world in enumerate(worlds):
         recovered, after = [], []
         for k in range(4):

@@ -1,4 +1,4 @@
-"""Benchmark: pluto_nav's line extraction (scans/s) and pose filter (predict + update per s), one core.
+"""Benchmark: pluto_nav's line extraction (scans/s) and pose filter (updates/s), on one core.
 
 Line extraction: 361-beam scans (0.5 degree, 1 cm noise) of the office map, cast by the simulator
 from 64 poses along its corridor and rooms, extracted in turn.  Pose filter: a recorded drive of

@@ -4,11 +4,11 @@ The poseModule answers ``element[1] = 2`` with the number of scan points in the 
 parameters: ``gamma``, ``rho`` and their 2x2 covariance.  Pluto's pose_i uses it to calibrate the
 odometry (drive at a wall, turn in front of it) and to measure a wall's angle and distance.
 
-*In front* means here: the wall faces the laser within ``front_angle`` of straight ahead, i.e. the
-perpendicular from the laser to the wall's line, ``gamma``, is within ``±front_angle`` of the
-laser's x axis (so the wall is ahead, never beside or behind), and the laser's line of sight
-straight ahead would meet the wall's line.  *Longest* means the most scan points, as the seed
-counts it; a tie goes to the nearer wall.
+*In front* means here: the wall faces the laser within ``front_angle`` (45 degrees) of straight
+ahead, i.e. the perpendicular from the laser to the wall's line, ``gamma``, is within
+``±front_angle`` of the laser's x axis.  Such a wall is ahead of the laser, never beside or
+behind it, and the laser's straight-ahead beam meets its line, at ``rho / cos(gamma)``.
+*Longest* means the most scan points, as the seed counts them; a tie goes to the nearer wall.
 """
 
 from __future__ import annotations
@@ -17,7 +17,6 @@ import dataclasses
 import math
 from collections.abc import Sequence
 
-import numpy as np
 from numpy.typing import NDArray
 
 from .lines import LineFeature

@@ -20,7 +20,8 @@ from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     'compose', 'compose_jacobians', 'inverse', 'inverse_jacobian', 'line_to_frame',
-    'line_to_frame_jacobian', 'relative', 'relative_jacobians', 'transform_points', 'wrap',
+    'line_to_frame_jacobian', 'lines_in_frame', 'relative', 'relative_jacobians',
+    'transform_points', 'wrap',
 ]
 
 _TWO_PI = 2.0 * math.pi
@@ -123,25 +124,37 @@ def line_to_frame(gamma: ArrayLike, rho: ArrayLike, pose: ArrayLike) -> tuple[ND
 
     :returns: ``(gamma', rho')`` arrays, ``gamma'`` wrapped, ``rho' >= 0``.
     """
-    g = np.asarray(gamma, dtype=np.float64)
-    x, y, t = _xyt(pose)
-    r = np.asarray(rho, dtype=np.float64) - x * np.cos(g) - y * np.sin(g)
-    flip = r < 0.0
-    return wrap(g - t + np.where(flip, math.pi, 0.0)), np.abs(r)
+    g, r, _, _ = lines_in_frame(gamma, rho, pose)
+    return wrap(g), r
 
 
 def line_to_frame_jacobian(gamma: ArrayLike, rho: ArrayLike, pose: ArrayLike) -> NDArray:
-    """``d(gamma', rho')/d(x, y, theta)`` of :func:`line_to_frame`: ``(N, 2, 3)``.
+    """``d(gamma', rho')/d(x, y, theta)`` of :func:`line_to_frame`: ``(N, 2, 3)``, each
+    ``[[0, 0, -1], [hx, hy, 0]]``.
 
     The flip changes the sign of the ``rho'`` row only (``gamma' + pi`` moves with theta the same).
     """
-    g = np.atleast_1d(np.asarray(gamma, dtype=np.float64))
-    x, y, _ = _xyt(pose)
-    cg, sg = np.cos(g), np.sin(g)
-    sign = np.where(np.atleast_1d(np.asarray(rho, dtype=np.float64)) - x * cg - y * sg < 0.0,
-                    1.0, -1.0)
-    jac = np.zeros((len(g), 2, 3))
+    _, _, hx, hy = lines_in_frame(np.atleast_1d(gamma), np.atleast_1d(rho), pose)
+    jac = np.zeros((len(hx), 2, 3))
     jac[:, 0, 2] = -1.0
-    jac[:, 1, 0] = sign * cg
-    jac[:, 1, 1] = sign * sg
+    jac[:, 1, 0] = hx
+    jac[:, 1, 1] = hy
     return jac
+
+
+def lines_in_frame(gamma: ArrayLike, rho: ArrayLike, pose: ArrayLike, *,
+                   cos_gamma: NDArray | None = None,
+                   sin_gamma: NDArray | None = None) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """:func:`line_to_frame` and its Jacobian in one pass, for the matcher's inner loop.
+
+    :param cos_gamma: ``cos(gamma)`` and ``sin_gamma`` if already known.
+    :returns: ``(gamma', rho', hx, hy)``: ``gamma'`` *not* wrapped, and the Jacobian's second row
+        ``[hx, hy, 0]`` (its first is always ``[0, 0, -1]``).
+    """
+    g = np.asarray(gamma, dtype=np.float64)
+    x, y, t = _xyt(pose)
+    cg = np.cos(g) if cos_gamma is None else cos_gamma
+    sg = np.sin(g) if sin_gamma is None else sin_gamma
+    r = np.asarray(rho, dtype=np.float64) - x * cg - y * sg
+    sign = np.where(r < 0.0, 1.0, -1.0)
+    return g - t + (sign + 1.0) * (0.5 * math.pi), np.abs(r), sign * cg, sign * sg

@@ -51,7 +51,7 @@ DEFAULT_SPLIT_DISTANCE = 0.05
 DEFAULT_GAP_DISTANCE = 0.2
 DEFAULT_GAP_RATIO = 5.0
 #: A line needs at least this many points and this length (m).
-DEFAULT_MIN_POINTS = 8
+DEFAULT_MIN_POINTS = 5
 DEFAULT_MIN_LENGTH = 0.4
 #: Neighbouring pieces whose fits differ by less than this (rad, m) are checked for a merge.
 _MERGE_ANGLE = 0.2
@@ -200,7 +200,8 @@ def _split(runs: list[tuple[int, int]], x: NDArray, y: NDArray, split_distance: 
 
 
 class _PrefixSums:
-    """Prefix sums of ``1, x, y, x², xy, y²`` and the same weighted by ``1/r²``, over the points."""
+    """Prefix sums of ``1, x, y, x², xy, y²``, and the same weighted by ``1/r²``, over the
+    points."""
 
     def __init__(self, r: NDArray, x: NDArray, y: NDArray) -> None:
         table = np.empty((12, len(x) + 1))
@@ -287,7 +288,8 @@ def _features(fit: tuple[NDArray, ...], index: NDArray, x: NDArray, y: NDArray,
     off = x[j] * c + y[j] * sn - rho
     ends[2], ends[3] = x[j] - off * c, y[j] - off * sn
     length = np.hypot(ends[2] - ends[0], ends[3] - ends[1])
-    # Position t along the line (direction (-sin, cos)): sums of t and t², plain and 1/r² weighted.
+    # Position t along the line (direction (-sin, cos)): sums of t and t², plain and weighted
+    # by 1/r².
     n, w = s[0], s[6]
     ss, cc, sc2 = sn * sn, c * c, 2.0 * sn * c
     st = c * s[2] - sn * s[1]

@@ -27,8 +27,8 @@ Each observed line goes to at most one wall.  When several walls are candidates:
    best stands for them.
 2. *Hidden*: of two parallel candidates on the same side of the laser (the two faces of a thin
    wall, a cupboard before a wall) the nearer hides the farther if, at the predicted pose and
-   with only ``overlap_tolerance`` as slack, it covers the segment at least as well: then the
-   farther one is dropped.
+   with only ``overlap_tolerance`` as slack, it covers the segment at all and at least as well:
+   then the farther one is dropped.
 3. *Ambiguous*: if two different lines are still left and the second's distance is within
    ``ambiguity_margin`` of the best's, the line is not used at all (a wrong match does more harm
    than a missing one); otherwise the nearest in Mahalanobis distance wins.
@@ -39,15 +39,16 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Sequence
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .geometry import line_to_frame, line_to_frame_jacobian
+from .geometry import lines_in_frame, wrap
 from .lines import LineFeature
 from .wall_map import WallMap
 
-__all__ = ['Match', 'MatchSettings', 'Matching', 'chi2_gate', 'match_lines']
+__all__ = ['Match', 'MatchArrays', 'MatchSettings', 'Matching', 'chi2_gate', 'match_lines']
 
 
 def chi2_gate(probability: float) -> float:
@@ -107,6 +108,24 @@ class Match:
     fallback: bool = False
 
 
+class MatchArrays(NamedTuple):
+    """The matches of a :class:`Matching` as arrays, one row per match (for the filter).
+
+    ``H = [[0, 0, -1], [hx, hy, 0]]``; ``r`` holds ``R``'s ``(gamma-gamma, gamma-rho, rho-rho)``
+    entries; ``v`` the innovations.
+    """
+
+    hx: NDArray
+    hy: NDArray
+    r: NDArray
+    v: NDArray
+    fallback: NDArray
+
+
+_NO_ARRAYS = MatchArrays(np.zeros(0), np.zeros(0), np.zeros((0, 3)), np.zeros((0, 2)),
+                         np.zeros(0, dtype=bool))
+
+
 @dataclasses.dataclass(frozen=True)
 class Matching:
     """What :func:`match_lines` made of the observed lines."""
@@ -116,6 +135,8 @@ class Matching:
     ambiguous: list[int]
     #: Lines that fitted no wall.
     unmatched: list[int]
+    #: ``matches`` as arrays.
+    arrays: MatchArrays = _NO_ARRAYS
 
 
 def match_lines(lines: Sequence[LineFeature], wall_map: WallMap, pose: ArrayLike,
@@ -135,17 +156,16 @@ def match_lines(lines: Sequence[LineFeature], wall_map: WallMap, pose: ArrayLike
     if len(walls) == 0:
         return Matching([], [], list(range(len(lines))))
     # Predicted lines h = (gamma', rho') and the rows of H = [[0, 0, -1], [hx, hy, 0]].
-    g_map, r_map = wall_map.gamma[walls], wall_map.rho[walls]
-    h_gamma, h_rho = line_to_frame(g_map, r_map, (x, y, theta))
-    jac = line_to_frame_jacobian(g_map, r_map, (x, y, theta))
-    hx, hy = jac[:, 1, 0], jac[:, 1, 1]
+    h_gamma, h_rho, hx, hy = lines_in_frame(
+        wall_map.gamma[walls], wall_map.rho[walls], (x, y, theta),
+        cos_gamma=wall_map.cos_gamma[walls], sin_gamma=wall_map.sin_gamma[walls])
     # H P H^T, per wall.
     p_gg = p[2, 2]
     p_gr = -(hx * p[2, 0] + hy * p[2, 1])
     p_rr = hx * hx * p[0, 0] + 2.0 * hx * hy * p[0, 1] + hy * hy * p[1, 1]
     data = np.array([(line.gamma, line.rho, line.covariance[0, 0], line.covariance[0, 1],
                       line.covariance[1, 1]) for line in lines])
-    v_gamma = np.mod(data[:, 0:1] - h_gamma + math.pi, 2.0 * math.pi) - math.pi   # (L, W)
+    v_gamma = wrap(data[:, 0:1] - h_gamma)                                       # (L, W)
     v_rho = data[:, 1:2] - h_rho
     a = data[:, 2:3] + p_gg
     b = data[:, 3:4] + p_gr
@@ -157,30 +177,44 @@ def match_lines(lines: Sequence[LineFeature], wall_map: WallMap, pose: ArrayLike
     overlaps = coverage >= settings.min_coverage
     candidate = (distance < chi2_gate(settings.gate_probability)) & overlaps
     wide = (distance < chi2_gate(settings.fallback_gate_probability)) & overlaps
-    counts, wide_counts = candidate.sum(axis=1).tolist(), wide.sum(axis=1).tolist()
-    matches, ambiguous, unmatched = [], [], []
-    for k in range(len(lines)):
-        fallback = counts[k] == 0
-        if fallback and wide_counts[k] == 0:
+    # A line with no candidate in the gate takes those of the fallback gate.
+    counts = candidate.sum(axis=1)
+    fallbacks = counts == 0
+    options = np.where(fallbacks[:, None], wide, candidate)
+    numbers = np.where(fallbacks, wide.sum(axis=1), counts).tolist()
+    firsts = options.argmax(axis=1).tolist()
+    chosen, ambiguous, unmatched = [], [], []
+    for k, (number, best) in enumerate(zip(numbers, firsts)):
+        if number == 0:
             unmatched.append(k)
             continue
-        row = wide[k] if fallback else candidate[k]
-        if (wide_counts[k] if fallback else counts[k]) == 1:
-            best: int | None = int(row.argmax())
-        else:
-            best = _resolve(np.flatnonzero(row), distance[k], strict[k], h_gamma, h_rho,
+        if number > 1:
+            best = _resolve(options[k].nonzero()[0], distance[k], strict[k], h_gamma, h_rho,
                             wall_map.line[walls], settings)
-        if best is None:
-            ambiguous.append(k)
-            continue
-        matches.append(Match(
-            line=k, wall=int(walls[best]),
-            innovation=np.array([v_gamma[k, best], v_rho[k, best]]),
-            innovation_covariance=np.array([[a[k, 0], b[k, best]], [b[k, best], d[k, best]]]),
-            jacobian=jac[best],
-            measurement_covariance=lines[k].covariance, distance=float(distance[k, best]),
-            fallback=fallback))
-    return Matching(matches, ambiguous, unmatched)
+            if best is None:
+                ambiguous.append(k)
+                continue
+        chosen.append((k, best))
+    if not chosen:
+        return Matching([], ambiguous, unmatched)
+    ks, bs = np.array(chosen).T
+    m_hx, m_hy = hx[bs], hy[bs]
+    arrays = MatchArrays(m_hx, m_hy, data[ks, 2:5],
+                         np.column_stack([v_gamma[ks, bs], v_rho[ks, bs]]), fallbacks[ks])
+    innovation_cov = np.empty((len(ks), 2, 2))
+    innovation_cov[:, 0, 0] = a[ks, 0]
+    innovation_cov[:, 0, 1] = innovation_cov[:, 1, 0] = b[ks, bs]
+    innovation_cov[:, 1, 1] = d[ks, bs]
+    jacobian = np.zeros((len(ks), 2, 3))
+    jacobian[:, 0, 2] = -1.0
+    jacobian[:, 1, 0], jacobian[:, 1, 1] = m_hx, m_hy
+    wall_of, fallback_of, d2 = walls[bs].tolist(), fallbacks[ks].tolist(), distance[ks, bs].tolist()
+    matches = [Match(line=k, wall=wall_of[n], innovation=arrays.v[n],
+                     innovation_covariance=innovation_cov[n], jacobian=jacobian[n],
+                     measurement_covariance=lines[k].covariance, distance=d2[n],
+                     fallback=fallback_of[n])
+               for n, (k, _) in enumerate(chosen)]
+    return Matching(matches, ambiguous, unmatched, arrays)
 
 
 def _coverage(lines: Sequence[LineFeature], wall_map: WallMap, walls: NDArray,
@@ -191,27 +225,21 @@ def _coverage(lines: Sequence[LineFeature], wall_map: WallMap, walls: NDArray,
     where the segment is too long for the chain."""
     x, y, theta = pose
     c, s = math.cos(theta), math.sin(theta)
-    ends = np.array([(line.start[0], line.start[1], line.end[0], line.end[1], line.length)
-                     for line in lines])                                            # (L, 5)
-    ex, ey = ends[:, 0:4:2], ends[:, 1:4:2]                                         # (L, 2)
-    map_x = x + c * ex - s * ey
-    map_y = y + s * ex + c * ey
-    # Position along each wall, (-sin gamma, cos gamma), of both ends: (L, W) each.
-    along_x, along_y = -wall_map.sin_gamma[walls], wall_map.cos_gamma[walls]
-    t0 = map_x[:, 0:1] * along_x + map_y[:, 0:1] * along_y
-    t1 = map_x[:, 1:2] * along_x + map_y[:, 1:2] * along_y
-    low, high = np.minimum(t0, t1), np.maximum(t0, t1)
-    reach = np.sqrt(np.maximum(ex[:, 0] ** 2 + ey[:, 0] ** 2, ex[:, 1] ** 2 + ey[:, 1] ** 2))
+    ends = np.array([(line.start, line.end) for line in lines])                   # (L, 2, 2)
+    in_map = ends @ np.array([[c, s], [-s, c]]) + (x, y)
+    along = in_map @ wall_map.along[:, walls]          # (L, 2, W): both ends' places on each wall
+    low, high = along.min(axis=1), along.max(axis=1)
+    reach = np.sqrt((ends * ends).sum(axis=2).max(axis=1))
     slack = (settings.overlap_tolerance + 3.0 * (sigma_xy + sigma_theta * reach))[:, None]
-    extent = wall_map.chain_extent[walls]
+    first, last = wall_map.chain_extent[walls].T
     span = np.maximum(high - low, 1e-9)
-    too_long = ends[:, 4:5] > wall_map.chain_length[walls] + 2.0 * settings.overlap_tolerance
-    out = []
-    for margin in (slack, settings.overlap_tolerance):
-        overlap = np.minimum(high, extent[:, 1] + margin) - np.maximum(low, extent[:, 0] - margin)
-        overlap[too_long] = 0.0
-        out.append(np.maximum(overlap, 0.0) / span)
-    return out[0], out[1]
+    fits = np.array([line.length for line in lines])[:, None] <= \
+        wall_map.chain_length[walls] + 2.0 * settings.overlap_tolerance
+    loose = np.minimum(high, last + slack) - np.maximum(low, first - slack)
+    strict = np.minimum(high, last + settings.overlap_tolerance) - \
+        np.maximum(low, first - settings.overlap_tolerance)
+    return (np.where(fits, np.maximum(loose, 0.0) / span, 0.0),
+            np.where(fits, np.maximum(strict, 0.0) / span, 0.0))
 
 
 def _resolve(options: NDArray, distance: NDArray, strict: NDArray, h_gamma: NDArray,

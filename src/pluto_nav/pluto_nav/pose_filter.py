@@ -29,10 +29,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from .geometry import compose, compose_jacobians, wrap
 from .lines import LineFeature
-from .matching import Match, MatchSettings, chi2_gate, match_lines
+from .matching import Match, Matching, MatchSettings, chi2_gate, match_lines
 from .wall_map import WallMap
 
-__all__ = ['COVARIANCE_FLOOR', 'FALLBACK_MIN_MATCHES', 'REMATCH_STEP', 'PoseFilter', 'UpdateResult']
+__all__ = ['COVARIANCE_FLOOR', 'FALLBACK_MIN_MATCHES', 'RECOVERY_INFLATION', 'RECOVERY_MIN_MATCHES',
+           'REMATCH_STEP', 'PoseFilter', 'UpdateResult']
 
 #: Smallest variance (m², rad²) the filter lets any direction of the covariance shrink to:
 #: a floor against overconfidence and numerical collapse (1 mm, 0.06 degree).
@@ -41,6 +42,10 @@ COVARIANCE_FLOOR = 1e-6
 REMATCH_STEP = 1.0
 #: Matches a correction needs when all of them come from the matcher's widened fallback gate.
 FALLBACK_MIN_MATCHES = 2
+#: When no line fits, the prediction's covariance is multiplied by this (standard deviations
+#: doubled) for one more try, which needs this many lines to agree.
+RECOVERY_INFLATION = 4.0
+RECOVERY_MIN_MATCHES = 3
 
 
 @dataclasses.dataclass(frozen=True)
@@ -54,7 +59,7 @@ class UpdateResult:
     :ivar rejected: matches dropped as inconsistent with the others.
     :ivar ambiguous: lines left out as ambiguous by the matcher.
     :ivar lines: number of lines offered.
-    :ivar used: the matches used, nearest first.
+    :ivar used: the matches used.
     """
 
     matches: int
@@ -127,19 +132,31 @@ class PoseFilter:
 
         The prediction may be off by more than its covariance says (an odometry slip).  Matches
         found only in the matcher's widened fallback gate count if they agree with the others,
-        and alone only if at least :data:`FALLBACK_MIN_MATCHES` of them agree.  A correction
-        that moves the pose by more than one standard deviation while some lines found no wall
-        matches the lines again at the corrected pose and keeps whichever uses more lines.
+        and alone only if at least :data:`FALLBACK_MIN_MATCHES` of them agree.  If no line fits
+        at all, the prediction itself is suspect: the lines are matched once more with its
+        covariance times :data:`RECOVERY_INFLATION`, and that correction (from the inflated
+        prediction) counts if at least :data:`RECOVERY_MIN_MATCHES` lines agree on it.  A
+        correction that moves the pose by more than one standard deviation while some lines
+        found no wall matches the lines again at the corrected pose and keeps whichever uses
+        more lines.
         """
-        prior_info = _inverse_spd(self._cov)
+        prior_info = np.linalg.inv(self._cov)
         matching = match_lines(lines, wall_map, self._pose, self._cov, self.settings)
-        best = self._solve(matching.matches, self._pose, prior_info)
+        best = self._solve(matching, self._pose, prior_info)
+        if not matching.matches and len(lines) >= RECOVERY_MIN_MATCHES:
+            wide = self._cov * RECOVERY_INFLATION
+            again = match_lines(lines, wall_map, self._pose, wide, self.settings)
+            if len(again.matches) >= RECOVERY_MIN_MATCHES:
+                prior_info = np.linalg.inv(wide)
+                found = self._solve(again, self._pose, prior_info)
+                if found is not None and len(found.used) >= RECOVERY_MIN_MATCHES:
+                    best, matching = found, again
         if best is not None and (matching.unmatched or matching.ambiguous):
             delta = _difference(best.pose, self._pose)
             if float(delta @ prior_info @ delta) > REMATCH_STEP:
                 again = match_lines(lines, wall_map, best.pose, self._cov, self.settings)
                 if len(again.matches) > len(best.used):
-                    second = self._solve(again.matches, best.pose, prior_info)
+                    second = self._solve(again, best.pose, prior_info)
                     if second is not None and len(second.used) > len(best.used):
                         best, matching = second, again
         ambiguous = len(matching.ambiguous)
@@ -149,53 +166,112 @@ class PoseFilter:
         return UpdateResult(len(best.used), best.nis, True, best.rejected, ambiguous, len(lines),
                             best.used)
 
-    def _solve(self, matches: Sequence[Match], at: NDArray,
-               prior_info: NDArray) -> _Solution | None:
-        """The correction from ``matches`` (innovations taken at pose ``at``), dropping the
-        match least consistent with the others while one is beyond the joint test; None if no
-        match is left (or the last one disagrees with the prediction).
+    def _solve(self, matching: Matching, at: NDArray, prior_info: NDArray) -> _Solution | None:
+        """The correction from the matches (innovations taken at pose ``at``), dropping the
+        match least consistent with the others while one fails the consistency test; None if
+        no match is left (or the last one disagrees with the prediction).
 
         One Gauss-Newton step of the MAP problem, exact for the linear line model:
-        ``x+ = at + P+ (sum H^T R^-1 v - P^-1 (at - x))`` with ``P+ = (P^-1 + sum H^T R^-1 H)^-1``.
+        ``x+ = at + P+ (sum H^T R^-1 v - P^-1 (at - x))`` with ``P+ = (P^-1 + sum H^T R^-1 H)^-1``,
+        written out for ``H = [[0, 0, -1], [hx, hy, 0]]``.  A scan has a handful of matches, so
+        this runs on Python floats: numpy's cost per call would dominate.
         """
-        used = list(matches)
-        limit = self._limit
-        offset = _difference(at, self._pose)
+        arrays = matching.arrays
+        rows = [_Row(*values) for values in zip(
+            arrays.hx.tolist(), arrays.hy.tolist(), *arrays.r.T.tolist(), *arrays.v.T.tolist(),
+            arrays.fallback.tolist(), range(len(arrays.hx)))]
+        ox, oy, ot = _difference(at, self._pose).tolist()
+        prior = prior_info.tolist()
+        prior_step = [prior[i][0] * ox + prior[i][1] * oy + prior[i][2] * ot for i in range(3)]
         rejected = 0
-        while used:
-            h = np.array([m.jacobian for m in used])                           # (m, 2, 3)
-            r = np.array([m.measurement_covariance for m in used])             # (m, 2, 2)
-            v = np.array([m.innovation for m in used])                         # (m, 2)
-            r_inv = _inverse_2x2(r)
-            ht_rinv = h.transpose(0, 2, 1) @ r_inv                              # (m, 3, 2)
-            info = prior_info + (ht_rinv @ h).sum(axis=0)
-            cov = _inverse_spd(info)
-            step = cov @ ((ht_rinv @ v[:, :, None]).sum(axis=0)[:, 0] - prior_info @ offset)
-            # Each match's residual after the correction, against its own expected spread.
-            residual = v - h @ step
-            spread = r - h @ cov @ h.transpose(0, 2, 1)
-            a, b, d = spread[:, 0, 0], spread[:, 0, 1], spread[:, 1, 1]
-            det = a * d - b * b
-            e0, e1 = residual[:, 0], residual[:, 1]
-            misfit = np.where(det > 1e-18 * np.maximum(a * d, 1e-300),
-                              (d * e0 * e0 - 2.0 * b * e0 * e1 + a * e1 * e1) /
-                              np.where(det > 0.0, det, 1.0), 0.0)
-            worst = int(np.argmax(misfit))
-            if misfit[worst] > limit:
-                if len(used) == 1:
+        while rows:
+            info = [row[:] for row in prior]
+            gain = [-prior_step[0], -prior_step[1], -prior_step[2]]
+            for row in rows:
+                row.add_to(info, gain, row.v0, row.v1)
+            cov = _inverse_3x3(info)
+            sx, sy, st = (cov[i][0] * gain[0] + cov[i][1] * gain[1] + cov[i][2] * gain[2]
+                          for i in range(3))
+            misfits = [row.misfit(sx, sy, st, cov) for row in rows]
+            worst = max(range(len(rows)), key=misfits.__getitem__)
+            if misfits[worst] > self._limit:
+                if len(rows) == 1:
                     return None
-                used.pop(worst)
+                rows.pop(worst)
                 rejected += 1
                 continue
-            # NIS of the innovations at the prior pose (v + H offset), by Woodbury.
-            v0 = v + h @ offset
-            g0 = (ht_rinv @ v0[:, :, None]).sum(axis=0)[:, 0]
-            nis = float(np.einsum('mi,mij,mj->', v0, r_inv, v0) - g0 @ cov @ g0)
-            if len(used) < FALLBACK_MIN_MATCHES and all(m.fallback for m in used):
+            if len(rows) < FALLBACK_MIN_MATCHES and all(row.fallback for row in rows):
                 return None
-            pose = np.array([at[0] + step[0], at[1] + step[1], wrap(at[2] + step[2])])
-            return _Solution(pose, _floored(cov), tuple(used), nis / (2 * len(used)), rejected)
+            # NIS of the innovations at the prior pose (v + H offset), by Woodbury.
+            scratch = [[0.0] * 3 for _ in range(3)]
+            g0 = [0.0, 0.0, 0.0]
+            plain = 0.0
+            for row in rows:
+                plain += row.add_to(scratch, g0, row.v0 - ot, row.v1 + row.hx * ox + row.hy * oy)
+            nis = plain - sum(g0[i] * cov[i][j] * g0[j] for i in range(3) for j in range(3))
+            pose = np.array([at[0] + sx, at[1] + sy, wrap(float(at[2]) + st)])
+            used = tuple(matching.matches[row.index] for row in rows)
+            return _Solution(pose, _floored(np.array(cov)), used, nis / (2 * len(rows)),
+                             rejected)
         return None
+
+
+class _Row:
+    """One match for :meth:`PoseFilter._solve`: ``H = [[0, 0, -1], [hx, hy, 0]]``, ``R``,
+    ``v``, as floats."""
+
+    __slots__ = ('hx', 'hy', 'r00', 'r01', 'r11', 'v0', 'v1', 'fallback', 'index',
+                 'ia', 'ib', 'id')
+
+    def __init__(self, hx: float, hy: float, r00: float, r01: float, r11: float, v0: float,
+                 v1: float, fallback: bool, index: int) -> None:
+        self.hx, self.hy, self.r00, self.r01, self.r11 = hx, hy, r00, r01, r11
+        self.v0, self.v1, self.fallback, self.index = v0, v1, fallback, index
+        det = r00 * r11 - r01 * r01
+        self.ia, self.ib, self.id = r11 / det, -r01 / det, r00 / det        # R^-1
+
+    def add_to(self, info: list[list[float]], gain: list[float], v0: float, v1: float) -> float:
+        """Add ``H^T R^-1 H`` to ``info`` and ``H^T R^-1 v`` to ``gain``.
+
+        :returns: ``v^T R^-1 v``.
+        """
+        hx, hy, ia, ib, idd = self.hx, self.hy, self.ia, self.ib, self.id
+        info[0][0] += idd * hx * hx
+        info[1][1] += idd * hy * hy
+        info[2][2] += ia
+        info[0][1] += idd * hx * hy
+        info[0][2] -= ib * hx
+        info[1][2] -= ib * hy
+        info[1][0], info[2][0], info[2][1] = info[0][1], info[0][2], info[1][2]
+        gamma_part, rho_part = ia * v0 + ib * v1, ib * v0 + idd * v1
+        gain[0] += hx * rho_part
+        gain[1] += hy * rho_part
+        gain[2] -= gamma_part
+        return v0 * gamma_part + v1 * rho_part
+
+    def misfit(self, sx: float, sy: float, st: float, cov: list[list[float]]) -> float:
+        """Squared residual after the step ``(sx, sy, st)`` over its spread ``R - H P+ H^T``;
+        0 where the spread vanishes (this match alone decided that direction)."""
+        hx, hy = self.hx, self.hy
+        e0 = self.v0 + st
+        e1 = self.v1 - (hx * sx + hy * sy)
+        s00 = self.r00 - cov[2][2]
+        s01 = self.r01 + hx * cov[0][2] + hy * cov[1][2]
+        s11 = self.r11 - (hx * hx * cov[0][0] + 2.0 * hx * hy * cov[0][1] + hy * hy * cov[1][1])
+        det = s00 * s11 - s01 * s01
+        if det <= 1e-12 * abs(s00 * s11):
+            return 0.0
+        return (s11 * e0 * e0 - 2.0 * s01 * e0 * e1 + s00 * e1 * e1) / det
+
+
+def _inverse_3x3(m: list[list[float]]) -> list[list[float]]:
+    """Inverse of a symmetric 3x3 matrix (by cofactors), symmetric."""
+    (a, b, c), (_, d, e), (_, _, f) = m
+    c00, c01, c02 = d * f - e * e, c * e - b * f, b * e - c * d
+    c11, c12, c22 = a * f - c * c, b * c - a * e, a * d - b * b
+    det = a * c00 + b * c01 + c * c02
+    return [[c00 / det, c01 / det, c02 / det], [c01 / det, c11 / det, c12 / det],
+            [c02 / det, c12 / det, c22 / det]]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -210,20 +286,6 @@ class _Solution:
 def _difference(a: NDArray, b: NDArray) -> NDArray:
     """``a - b`` for poses, the angle wrapped."""
     return np.array([a[0] - b[0], a[1] - b[1], wrap(a[2] - b[2])])
-
-
-def _inverse_2x2(m: NDArray) -> NDArray:
-    """Inverses of ``(k, 2, 2)`` symmetric positive definite matrices, in closed form."""
-    a, b, d = m[:, 0, 0], m[:, 0, 1], m[:, 1, 1]
-    det = a * d - b * b
-    out = np.empty_like(m)
-    out[:, 0, 0], out[:, 0, 1], out[:, 1, 0], out[:, 1, 1] = d / det, -b / det, -b / det, a / det
-    return out
-
-
-def _inverse_spd(m: NDArray) -> NDArray:
-    inv = np.linalg.inv(m)
-    return 0.5 * (inv + inv.T)
 
 
 def _check_spd(matrix: NDArray, name: str, *, semi: bool = False) -> None:
@@ -248,19 +310,17 @@ def _check_spd(matrix: NDArray, name: str, *, semi: bool = False) -> None:
 
 
 def _floored(cov: NDArray) -> NDArray:
-    """``cov`` (SPD) with no eigenvalue below :data:`COVARIANCE_FLOOR`.
+    """``cov`` (SPD) with no eigenvalue below :data:`COVARIANCE_FLOOR`: if the smallest is
+    short of it, the shortfall is added to the diagonal (every direction gains at most that).
 
-    The smallest eigenvalue of an SPD 3x3 matrix is at least ``4 det / trace²``, which settles
-    the common case without an eigendecomposition.
+    The smallest eigenvalue of an SPD 3x3 matrix is at least ``det`` over the sum of its
+    principal 2x2 minors (``1 / sum(1 / eigenvalue)``), which settles the common case without
+    an eigendecomposition.
     """
     (a, b, c), (_, d, e), (_, _, f) = cov.tolist()
     det = a * (d * f - e * e) - b * (b * f - c * e) + c * (b * e - c * d)
-    trace = a + d + f
-    if 4.0 * det >= COVARIANCE_FLOOR * trace * trace:
+    minors = (a * d - b * b) + (a * f - c * c) + (d * f - e * e)
+    if det >= COVARIANCE_FLOOR * minors:
         return cov
-    values, vectors = np.linalg.eigh(cov)
-    if values[0] >= COVARIANCE_FLOOR:
-        return cov
-    values = np.maximum(values, COVARIANCE_FLOOR)
-    floored = (vectors * values) @ vectors.T
-    return 0.5 * (floored + floored.T)
+    shortfall = COVARIANCE_FLOOR - float(np.linalg.eigvalsh(cov)[0])
+    return cov + np.eye(3) * shortfall if shortfall > 0.0 else cov

@@ -4,6 +4,9 @@ Each wall is kept as its infinite line in normal form ``(gamma, rho)`` (``rho >=
 the map's origin) and its extent along that line: positions ``t`` along the direction
 ``(-sin gamma, cos gamma)``, measured from the foot of the perpendicular from the origin.  Walls
 are two-sided (a map segment has no inside), so a sensor on either side can see one.
+
+Building a map compares every wall with every other to find collinear ones: quadratic, meant for
+maps of up to a few thousand walls.
 """
 
 from __future__ import annotations
@@ -13,7 +16,8 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ['CHAIN_GAP', 'COLLINEAR_ANGLE', 'COLLINEAR_DISTANCE', 'DEFAULT_MIN_FACING_DISTANCE', 'WallMap']
+__all__ = ['CHAIN_GAP', 'COLLINEAR_ANGLE', 'COLLINEAR_DISTANCE', 'DEFAULT_MIN_FACING_DISTANCE',
+           'WallMap']
 
 #: m: a sensor closer than this to a wall's line sees it edge-on, not facing it.
 DEFAULT_MIN_FACING_DISTANCE = 0.05
@@ -61,10 +65,12 @@ class WallMap:
         self.sin_gamma: NDArray = normal[:, 1].copy()
         #: ``(N,)`` m: length of each wall.
         self.length: NDArray = length
-        #: ``(N, 2)`` extent ``[t_min, t_max]`` of each wall along ``(-sin gamma, cos gamma)``.
         along = np.column_stack([-normal[:, 1], normal[:, 0]])
+        #: ``(2, N)`` the direction ``(-sin gamma, cos gamma)`` of each wall, as columns.
+        self.along: NDArray = along.T.copy()
         t1 = np.einsum('ij,ij->i', segments[:, 0:2], along)
         t2 = np.einsum('ij,ij->i', segments[:, 2:4], along)
+        #: ``(N, 2)`` extent ``[t_min, t_max]`` of each wall along ``(-sin gamma, cos gamma)``.
         self.extent: NDArray = np.column_stack([np.minimum(t1, t2), np.maximum(t1, t2)])
         #: ``(N,)`` walls on one infinite line (within ``COLLINEAR_*``) share a number: a line
         #: seen on any of them is the same measurement (a wall drawn in pieces, a row of walls
@@ -75,6 +81,11 @@ class WallMap:
         self.chain_extent: NDArray = _chains(self.line, along, self.extent, segments)
         #: ``(N,)`` m: length of that chain.
         self.chain_length: NDArray = self.chain_extent[:, 1] - self.chain_extent[:, 0]
+        self._ends_x = segments[:, 0::2].copy()
+        self._ends_y = segments[:, 1::2].copy()
+        xs, ys = self._ends_x.reshape(-1), self._ends_y.reshape(-1)
+        self._box = (float(xs.min()), float(ys.min()), float(xs.max()), float(ys.max())) \
+            if len(xs) else (0.0, 0.0, 0.0, 0.0)
 
     def __len__(self) -> int:
         return len(self.walls)
@@ -96,16 +107,22 @@ class WallMap:
         """
         x, y, theta = np.asarray(pose, dtype=np.float64).reshape(3).tolist()
         c, s = math.cos(theta), math.sin(theta)
-        w = self.walls
-        ax, ay, bx, by = w[:, 0] - x, w[:, 1] - y, w[:, 2] - x, w[:, 3] - y
-        # Distance from the laser to the segment: clamp the projection onto it.
-        dx, dy = bx - ax, by - ay
-        t = np.clip(-(ax * dx + ay * dy) / (self.length * self.length), 0.0, 1.0)
-        near = np.hypot(ax + t * dx, ay + t * dy)
-        ahead = np.maximum(c * ax + s * ay, c * bx + s * by)
-        off_line = np.abs(self.rho - x * self.cos_gamma - y * self.sin_gamma)
-        return np.flatnonzero((near < max_range + margin) & (ahead > -margin)
-                              & (off_line >= min_distance))
+        # x of both ends in the laser frame: the ends' projections on (c, s) less the laser's.
+        forward = self._ends_x * c + self._ends_y * s - (x * c + y * s)
+        plausible = (forward.max(axis=1) > -margin) & \
+            (np.abs(self.rho - x * self.cos_gamma - y * self.sin_gamma) >= min_distance)
+        if self._farthest(x, y) >= max_range + margin:
+            # Some walls may be out of range: the distance from the laser to each segment.
+            w = self.walls
+            ax, ay, dx, dy = w[:, 0] - x, w[:, 1] - y, w[:, 2] - w[:, 0], w[:, 3] - w[:, 1]
+            t = np.clip(-(ax * dx + ay * dy) / (self.length * self.length), 0.0, 1.0)
+            plausible &= np.hypot(ax + t * dx, ay + t * dy) < max_range + margin
+        return plausible.nonzero()[0]
+
+    def _farthest(self, x: float, y: float) -> float:
+        """Distance from ``(x, y)`` to the farthest corner of the box around all walls."""
+        xmin, ymin, xmax, ymax = self._box
+        return math.hypot(max(x - xmin, xmax - x), max(y - ymin, ymax - y))
 
 
 def _collinear_groups(gamma: NDArray, rho: NDArray) -> NDArray:

@@ -45,7 +45,7 @@ class RunResult:
     """Errors of one run: one row for the start, then one per scan (after its update)."""
 
     name: str
-    distance: np.ndarray           # m driven (truth) at each scan
+    distance: np.ndarray           # m driven at each scan (the base's odometer)
     error_xy: np.ndarray           # m, filter vs truth
     error_theta: np.ndarray        # rad
     odo_xy: np.ndarray             # m, dead reckoning vs truth
@@ -97,7 +97,8 @@ def plan_route(world: World, start: tuple[float, float], length_m: float,
         steps = [goal]
         while steps[-1] != here:
             steps.append(int(pred[steps[-1]]))
-        xy = grid.centers(cells[steps[::-1]] % region.shape[1], cells[steps[::-1]] // region.shape[1])
+        flat = cells[steps[::-1]]
+        xy = grid.centers(flat % region.shape[1], flat // region.shape[1])
         xy = xy[::3] if len(xy) > 3 else xy
         total += float(np.sum(np.hypot(*np.diff(np.vstack([path[-1], xy]), axis=0).T)))
         path.extend(xy)

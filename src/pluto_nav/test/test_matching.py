@@ -31,7 +31,8 @@ def scans(world, count, seed):
             continue
         theta = rng.uniform(-math.pi, math.pi)
         ranges = laser.scan(world, x, y, theta)
-        out.append((compose((x, y, theta), MOUNT), ranges, extract_lines(ranges, range_sigma=SIGMA)))
+        lines = extract_lines(ranges, range_sigma=SIGMA)
+        out.append((compose((x, y, theta), MOUNT), ranges, lines))
     return out
 
 
