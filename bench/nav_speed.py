@@ -1,7 +1,8 @@
 """Benchmark: pluto_nav's line extraction (scans/s) and pose filter (updates/s), on one core.
 
 Line extraction: 361-beam scans (0.5 degree, 1 cm noise) of the office map, cast by the simulator
-from 64 poses along its corridor and rooms, extracted in turn.  Pose filter: a recorded drive of
+from 64 free poses, extracted in turn; for information also scans of ``bench/raycast.py``'s 200
+random segments (clutter: many short pieces).  Pose filter: a recorded drive of
 about 40 m through the office map (odometry increments with their covariances, and the lines of
 each scan), replayed through ``PoseFilter.predict`` + ``PoseFilter.update`` from the true start;
 the line extraction is not part of this figure.  Each figure is the median of 5 runs of about
@@ -35,6 +36,7 @@ for _path in ('src/pluto_nav', 'src/pluto_nav/test', 'src/wurde_drivers'):
 import numpy as np  # noqa: E402
 from wurde_drivers.sim.laser import LaserGeometry, LaserModel  # noqa: E402
 from wurde_drivers.sim.mapfile import load_map  # noqa: E402
+from wurde_drivers.sim.world import World  # noqa: E402
 
 import nav_sim  # noqa: E402
 from pluto_nav.geometry import compose  # noqa: E402
@@ -47,17 +49,28 @@ OFFICE = ROOT / 'config' / 'maps' / 'office.xml'
 RANGE_SIGMA = math.hypot(0.01, 0.01 / math.sqrt(12.0))
 
 
-def office_scans(count: int = 64, seed: int = 1) -> list[np.ndarray]:
-    """``count`` noisy 361-beam scans from free poses of the office map."""
-    world = load_map(OFFICE)
+def office_scans(count: int = 64, seed: int = 1, world: World | None = None) -> list[np.ndarray]:
+    """``count`` noisy 361-beam scans from free poses of the office map (or ``world``)."""
+    world = load_map(OFFICE) if world is None else world
+    box = world.bounds
     rng = np.random.default_rng(seed)
     laser = LaserModel(LaserGeometry(noise_sigma=0.01, mount_x=0.2), rng)
     scans = []
     while len(scans) < count:
-        x, y = rng.uniform((0.5, 0.5), (19.5, 14.5))
+        x, y = rng.uniform((box.xmin, box.ymin), (box.xmax, box.ymax))
         if world.is_free((x, y), 0.4):
             scans.append(laser.scan(world, x, y, rng.uniform(-math.pi, math.pi)))
     return scans
+
+
+def clutter(segments: int = 200, seed: int = 2005) -> World:
+    """``segments`` random walls 0.5-3 m long in a 20 m square (``bench/raycast.py``'s case)."""
+    rng = np.random.default_rng(seed)
+    centres = rng.uniform(0.0, 20.0, (segments, 2))
+    headings = rng.uniform(0.0, 2 * math.pi, segments)
+    half = 0.5 * rng.uniform(0.5, 3.0, segments)[:, None] * np.column_stack(
+        [np.cos(headings), np.sin(headings)])
+    return World(np.hstack([centres - half, centres + half]))
 
 
 def rate(work: Callable[[], int], seconds: float = 0.5, runs: int = 5) -> tuple[float, float]:
@@ -94,6 +107,15 @@ def main() -> int:
         return 1
 
     extract_wall, extract_cpu = rate(extract_one)
+    cluttered = office_scans(world=clutter())
+    clutter_counts = [len(extract_lines(s, range_sigma=RANGE_SIGMA)) for s in cluttered]
+
+    def extract_clutter() -> int:
+        extract_lines(cluttered[state['k'] % len(cluttered)], range_sigma=RANGE_SIGMA)
+        state['k'] += 1
+        return 1
+
+    clutter_wall, clutter_cpu = rate(extract_clutter)
     record, start, wall_map = recorded_drive()
     lines_per_scan = statistics.mean(len(step[2]) for step in record)
     cov0 = np.diag([0.02 ** 2, 0.02 ** 2, math.radians(1.0) ** 2])
@@ -118,8 +140,11 @@ def main() -> int:
           f'{GOAL:>6.0f}')
     print(f'{"PoseFilter predict + update":<44} {update_wall:>13.0f} {update_cpu:>12.0f} '
           f'{GOAL:>6.0f}')
-    print(f'(scans: {statistics.mean(counts):.1f} lines each on average; drive: {len(record)} '
-          f'scans, {lines_per_scan:.1f} lines and {statistics.mean(matched):.1f} matches each)')
+    print(f'{"extract_lines, 200 random segments (info)":<44} {clutter_wall:>13.0f} '
+          f'{clutter_cpu:>12.0f} {"-":>6}')
+    print(f'(office scans: {statistics.mean(counts):.1f} lines each on average, random segments: '
+          f'{statistics.mean(clutter_counts):.1f}; drive: {len(record)} scans, '
+          f'{lines_per_scan:.1f} lines and {statistics.mean(matched):.1f} matches each)')
     return 0 if min(extract_cpu, update_cpu) >= GOAL else 1
 
 

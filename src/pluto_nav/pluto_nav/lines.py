@@ -39,13 +39,16 @@ from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     'DEFAULT_GAP_DISTANCE', 'DEFAULT_GAP_RATIO', 'DEFAULT_MIN_LENGTH', 'DEFAULT_MIN_POINTS',
-    'DEFAULT_RANGE_SIGMA', 'DEFAULT_SPLIT_DISTANCE', 'LineFeature', 'extract_lines', 'scan_points',
+    'DEFAULT_RANGE_SIGMA', 'DEFAULT_SPLIT_DISTANCE', 'SPLIT_SIGMAS', 'LineFeature', 'extract_lines',
+    'scan_points',
 ]
 
 #: m: standard deviation of one range reading (a SICK LMS in cm mode: about 1 cm).
 DEFAULT_RANGE_SIGMA = 0.01
-#: m: a point farther than this from its piece's chord splits the piece.
+#: m: a point farther than this from its piece's chord splits the piece (or ``SPLIT_SIGMAS``
+#: range standard deviations, if more: noise alone must not split a wall).
 DEFAULT_SPLIT_DISTANCE = 0.05
+SPLIT_SIGMAS = 5.0
 #: m, and a multiple of the beam spacing ``r * dphi``: neighbours farther apart break the run
 #: (5 spacings: a wall seen at up to about 78 degrees incidence stays one run).
 DEFAULT_GAP_DISTANCE = 0.2
@@ -129,7 +132,7 @@ def _beam_table(count: int, start: float, step: float) -> tuple[NDArray, NDArray
 def extract_lines(ranges: ArrayLike, *, angles: ArrayLike | None = None,
                   start_angle: float = -math.pi / 2, angle_step: float | None = None,
                   range_sigma: float = DEFAULT_RANGE_SIGMA, min_range: float = 0.0,
-                  max_range: float = math.inf, split_distance: float = DEFAULT_SPLIT_DISTANCE,
+                  max_range: float = math.inf, split_distance: float | None = None,
                   gap_distance: float = DEFAULT_GAP_DISTANCE, gap_ratio: float = DEFAULT_GAP_RATIO,
                   min_points: int = DEFAULT_MIN_POINTS, min_length: float = DEFAULT_MIN_LENGTH
                   ) -> list[LineFeature]:
@@ -139,12 +142,16 @@ def extract_lines(ranges: ArrayLike, *, angles: ArrayLike | None = None,
         ``>= max_range`` are no reading.
     :param angles: beam directions, or ``start_angle`` and ``angle_step`` (see :func:`scan_points`).
     :param range_sigma: m, standard deviation of one range reading; sets the lines' covariances.
+    :param split_distance: m; by default the larger of :data:`DEFAULT_SPLIT_DISTANCE` and
+        :data:`SPLIT_SIGMAS` times ``range_sigma``.
     :raises ValueError: on a malformed scan, a non-positive ``range_sigma`` or ``min_points < 2``.
     """
     if not range_sigma > 0.0:
         raise ValueError(f'range_sigma must be positive, not {range_sigma}')
     if min_points < 2:
         raise ValueError(f'min_points must be 2 or more, not {min_points}')
+    if split_distance is None:
+        split_distance = max(DEFAULT_SPLIT_DISTANCE, SPLIT_SIGMAS * range_sigma)
     index, r, x, y, dphi = scan_points(ranges, angles=angles, start_angle=start_angle,
                                        angle_step=angle_step, min_range=min_range,
                                        max_range=max_range)

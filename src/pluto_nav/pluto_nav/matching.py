@@ -163,8 +163,7 @@ def match_lines(lines: Sequence[LineFeature], wall_map: WallMap, pose: ArrayLike
     p_gg = p[2, 2]
     p_gr = -(hx * p[2, 0] + hy * p[2, 1])
     p_rr = hx * hx * p[0, 0] + 2.0 * hx * hy * p[0, 1] + hy * hy * p[1, 1]
-    data = np.array([(line.gamma, line.rho, line.covariance[0, 0], line.covariance[0, 1],
-                      line.covariance[1, 1]) for line in lines])
+    data = _line_table(lines)            # (L, 10): gamma, rho, R entries, ends, length
     v_gamma = wrap(data[:, 0:1] - h_gamma)                                       # (L, W)
     v_rho = data[:, 1:2] - h_rho
     a = data[:, 2:3] + p_gg
@@ -172,7 +171,7 @@ def match_lines(lines: Sequence[LineFeature], wall_map: WallMap, pose: ArrayLike
     d = data[:, 4:5] + p_rr
     distance = (d * v_gamma * v_gamma - 2.0 * b * v_gamma * v_rho + a * v_rho * v_rho) / \
         (a * d - b * b)
-    coverage, strict = _coverage(lines, wall_map, walls, (x, y, theta), sigma_xy,
+    coverage, strict = _coverage(data, wall_map, walls, (x, y, theta), sigma_xy,
                                  math.sqrt(max(p[2, 2], 0.0)), settings)
     overlaps = coverage >= settings.min_coverage
     candidate = (distance < chi2_gate(settings.gate_probability)) & overlaps
@@ -217,7 +216,19 @@ def match_lines(lines: Sequence[LineFeature], wall_map: WallMap, pose: ArrayLike
     return Matching(matches, ambiguous, unmatched, arrays)
 
 
-def _coverage(lines: Sequence[LineFeature], wall_map: WallMap, walls: NDArray,
+def _line_table(lines: Sequence[LineFeature]) -> NDArray:
+    """``(L, 10)``: each line's ``gamma, rho``, its covariance's ``gg, gr, rr``, its ends'
+    ``x1, y1, x2, y2`` and its length (one array from Python floats: cheaper than numpy's
+    conversion of many small arrays)."""
+    rows = []
+    for line in lines:
+        c = line.covariance.ravel().tolist()
+        rows.append((line.gamma, line.rho, c[0], c[1], c[3], *line.start.tolist(),
+                     *line.end.tolist(), line.length))
+    return np.array(rows)
+
+
+def _coverage(data: NDArray, wall_map: WallMap, walls: NDArray,
               pose: tuple[float, float, float], sigma_xy: float, sigma_theta: float,
               settings: MatchSettings) -> tuple[NDArray, NDArray]:
     """``(L, W)`` twice: the fraction of each observed segment that lies along each wall's
@@ -225,7 +236,7 @@ def _coverage(lines: Sequence[LineFeature], wall_map: WallMap, walls: NDArray,
     where the segment is too long for the chain."""
     x, y, theta = pose
     c, s = math.cos(theta), math.sin(theta)
-    ends = np.array([(line.start, line.end) for line in lines])                   # (L, 2, 2)
+    ends = data[:, 5:9].reshape(-1, 2, 2)                                          # (L, 2, 2)
     in_map = ends @ np.array([[c, s], [-s, c]]) + (x, y)
     along = in_map @ wall_map.along[:, walls]          # (L, 2, W): both ends' places on each wall
     low, high = along.min(axis=1), along.max(axis=1)
@@ -233,7 +244,7 @@ def _coverage(lines: Sequence[LineFeature], wall_map: WallMap, walls: NDArray,
     slack = (settings.overlap_tolerance + 3.0 * (sigma_xy + sigma_theta * reach))[:, None]
     first, last = wall_map.chain_extent[walls].T
     span = np.maximum(high - low, 1e-9)
-    fits = np.array([line.length for line in lines])[:, None] <= \
+    fits = data[:, 9:10] <= \
         wall_map.chain_length[walls] + 2.0 * settings.overlap_tolerance
     loose = np.minimum(high, last + slack) - np.maximum(low, first - slack)
     strict = np.minimum(high, last + settings.overlap_tolerance) - \

@@ -18,7 +18,9 @@ add up along the path: over an increment that drives ``d`` metres and turns ``dt
   covariance is never zero, not even standing still.
 
 The errors in distance and heading are mapped to ``(x, y, theta)`` through the increment's arc:
-``(d cos(dtheta/2), d sin(dtheta/2), dtheta)``.
+``(d cos(dtheta/2), d sin(dtheta/2), dtheta)``.  Only the measured increment is known, so an
+increment the odometry under-reports gets a slightly small covariance; the pose filter's
+widened gates take such slips.
 """
 
 from __future__ import annotations

@@ -56,7 +56,8 @@ class UpdateResult:
     :ivar nis: normalised innovation squared of the matches used, at the predicted pose,
         divided by its degrees of freedom (about 1 for a consistent filter); NaN without matches.
     :ivar accepted: whether the pose was corrected.
-    :ivar rejected: matches dropped as inconsistent with the others.
+    :ivar rejected: matches found but not used: inconsistent with the others, or too few when
+        they came from a widened gate only.
     :ivar ambiguous: lines left out as ambiguous by the matcher.
     :ivar lines: number of lines offered.
     :ivar used: the matches used.

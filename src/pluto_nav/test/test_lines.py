@@ -42,6 +42,20 @@ def test_a_noise_free_wall_is_recovered_exactly(gamma, rho, start, length):
     assert np.all(np.linalg.eigvalsh(line.covariance) > 0)
 
 
+@settings(max_examples=80, deadline=None, derandomize=True)
+@given(st.floats(-1.2, 1.2), st.floats(0.5, 8.0), st.floats(-2.0, 0.0), st.floats(0.8, 3.0),
+       st.floats(0.002, 0.03), st.integers(0, 2 ** 32 - 1))
+def test_one_noisy_fit_lies_within_its_covariance(gamma, rho, start, length, sigma, seed):
+    clean = wall_ranges(gamma, rho, (start, start + length))
+    _, _, x, y, _ = scan_points(clean)
+    assume(len(x) >= 10 and math.hypot(x[-1] - x[0], y[-1] - y[0]) >= 0.5)   # in view
+    noisy = clean + np.random.default_rng(seed).normal(0.0, sigma, BEAMS)
+    lines = extract_lines(noisy, range_sigma=sigma)
+    assert len(lines) == 1
+    e = np.array([lines[0].gamma - gamma, lines[0].rho - rho])
+    assert float(e @ np.linalg.solve(lines[0].covariance, e)) < 27.6     # chi2(2) at 1 - 1e-6
+
+
 @pytest.mark.parametrize('gamma, rho, span', [(0.0, 3.0, (-1.5, 1.5)), (0.9, 2.0, (-0.5, 2.5)),
                                               (-0.6, 6.0, (-3.0, 1.0)), (1.0, 1.2, (-1.0, 0.3))])
 def test_fits_of_noisy_walls_are_within_their_covariance(gamma, rho, span):

@@ -47,7 +47,7 @@ def test_the_model_fits_the_simulated_base(tv, rv):
     for _ in range(40):
         robot.step(0.05)
     errors = []
-    for _ in range(1500):
+    for _ in range(600):
         t0, o0 = _pose(robot.truth), _pose(robot.odometry)
         for _ in range(4):
             robot.step(0.05)
