@@ -45,7 +45,7 @@ FALLBACK_MIN_MATCHES = 2
 #: When no line fits, the prediction's covariance is multiplied by this (standard deviations
 #: doubled) for one more try, which needs this many lines to agree.
 RECOVERY_INFLATION = 4.0
-RECOVERY_MIN_MATCHES = 3
+RECOVERY_MIN_MATCHES = 2
 
 
 @dataclasses.dataclass(frozen=True)
