@@ -84,46 +84,70 @@ class MatchSettings:
             raise ValueError(f'min_coverage must be in [0, 1], not {self.min_coverage}')
 
 
-@dataclasses.dataclass(frozen=True, eq=False)
-class Match:
-    """An observed line matched to a map wall.
-
-    :ivar line: index into the observed lines.
-    :ivar wall: index into the map's walls.
-    :ivar innovation: ``z - h(pose)``: ``(dgamma, drho)``, ``dgamma`` wrapped to ``(-pi, pi]``.
-    :ivar innovation_covariance: ``S = H P H^T + R``, 2x2.
-    :ivar jacobian: ``H = dh/d(x, y, theta)``, 2x3.
-    :ivar measurement_covariance: ``R``, the observed line's 2x2 covariance.
-    :ivar distance: squared Mahalanobis distance ``v^T S^-1 v``.
-    :ivar fallback: matched only within the widened fallback gate.
-    """
-
-    line: int
-    wall: int
-    innovation: NDArray
-    innovation_covariance: NDArray
-    jacobian: NDArray
-    measurement_covariance: NDArray
-    distance: float
-    fallback: bool = False
-
-
 class MatchArrays(NamedTuple):
-    """The matches of a :class:`Matching` as arrays, one row per match (for the filter).
+    """The matches of a :class:`Matching` as arrays, one row per match (what the filter uses).
 
-    ``H = [[0, 0, -1], [hx, hy, 0]]``; ``r`` holds ``R``'s ``(gamma-gamma, gamma-rho, rho-rho)``
-    entries; ``v`` the innovations.
+    ``H = [[0, 0, -1], [hx, hy, 0]]``; ``r`` and ``s`` hold the ``(gamma-gamma, gamma-rho,
+    rho-rho)`` entries of ``R`` and ``S``; ``v`` the innovations.
     """
 
     hx: NDArray
     hy: NDArray
     r: NDArray
+    s: NDArray
     v: NDArray
     fallback: NDArray
 
 
-_NO_ARRAYS = MatchArrays(np.zeros(0), np.zeros(0), np.zeros((0, 3)), np.zeros((0, 2)),
-                         np.zeros(0, dtype=bool))
+class Match:
+    """An observed line matched to a map wall (a view of one row of :class:`MatchArrays`).
+
+    :ivar line: index into the observed lines.
+    :ivar wall: index into the map's walls.
+    :ivar distance: squared Mahalanobis distance ``v^T S^-1 v``.
+    :ivar fallback: matched only within the widened fallback gate.
+    """
+
+    __slots__ = ('line', 'wall', 'distance', 'fallback', '_arrays', '_row')
+
+    def __init__(self, line: int, wall: int, distance: float, fallback: bool,
+                 arrays: MatchArrays, row: int) -> None:
+        self.line, self.wall, self.distance, self.fallback = line, wall, distance, fallback
+        self._arrays, self._row = arrays, row
+
+    def __repr__(self) -> str:
+        return (f'Match(line={self.line}, wall={self.wall}, distance={self.distance:.3g}, '
+                f'fallback={self.fallback})')
+
+    @property
+    def innovation(self) -> NDArray:
+        """``z - h(pose)``: ``(dgamma, drho)``, ``dgamma`` wrapped to ``(-pi, pi]``."""
+        return self._arrays.v[self._row].copy()
+
+    @property
+    def innovation_covariance(self) -> NDArray:
+        """``S = H P H^T + R``, 2x2."""
+        return _symmetric(self._arrays.s[self._row])
+
+    @property
+    def measurement_covariance(self) -> NDArray:
+        """``R``, the observed line's 2x2 covariance."""
+        return _symmetric(self._arrays.r[self._row])
+
+    @property
+    def jacobian(self) -> NDArray:
+        """``H = dh/d(x, y, theta)``, 2x3."""
+        return np.array([[0.0, 0.0, -1.0],
+                         [self._arrays.hx[self._row], self._arrays.hy[self._row], 0.0]])
+
+
+def _symmetric(entries: NDArray) -> NDArray:
+    a, b, d = entries.tolist()
+    return np.array([[a, b], [b, d]])
+
+
+_NO_ARRAYS = MatchArrays(np.zeros(0), np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3)),
+                         np.zeros((0, 2)), np.zeros(0, dtype=bool))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -171,8 +195,8 @@ def match_lines(lines: Sequence[LineFeature], wall_map: WallMap, pose: ArrayLike
     d = data[:, 4:5] + p_rr
     distance = (d * v_gamma * v_gamma - 2.0 * b * v_gamma * v_rho + a * v_rho * v_rho) / \
         (a * d - b * b)
-    coverage, strict = _coverage(data, wall_map, walls, (x, y, theta), sigma_xy,
-                                 math.sqrt(max(p[2, 2], 0.0)), settings)
+    coverage, low, high = _coverage(data, wall_map, walls, (x, y, theta), sigma_xy,
+                                    math.sqrt(max(p[2, 2], 0.0)), settings)
     overlaps = coverage >= settings.min_coverage
     candidate = (distance < chi2_gate(settings.gate_probability)) & overlaps
     wide = (distance < chi2_gate(settings.fallback_gate_probability)) & overlaps
@@ -188,8 +212,11 @@ def match_lines(lines: Sequence[LineFeature], wall_map: WallMap, pose: ArrayLike
             unmatched.append(k)
             continue
         if number > 1:
-            best = _resolve(options[k].nonzero()[0], distance[k], strict[k], h_gamma, h_rho,
-                            wall_map.line[walls], settings)
+            columns = options[k].nonzero()[0]
+            strict = _strict_coverage(low[k, columns], high[k, columns],
+                                      wall_map.chain_extent[walls[columns]], settings)
+            best = _resolve(columns, distance[k, columns], strict, h_gamma[columns],
+                            h_rho[columns], wall_map.line[walls[columns]], settings)
             if best is None:
                 ambiguous.append(k)
                 continue
@@ -197,21 +224,12 @@ def match_lines(lines: Sequence[LineFeature], wall_map: WallMap, pose: ArrayLike
     if not chosen:
         return Matching([], ambiguous, unmatched)
     ks, bs = np.array(chosen).T
-    m_hx, m_hy = hx[bs], hy[bs]
-    arrays = MatchArrays(m_hx, m_hy, data[ks, 2:5],
+    arrays = MatchArrays(hx[bs], hy[bs], data[ks, 2:5],
+                         np.column_stack([a[ks, 0], b[ks, bs], d[ks, bs]]),
                          np.column_stack([v_gamma[ks, bs], v_rho[ks, bs]]), fallbacks[ks])
-    innovation_cov = np.empty((len(ks), 2, 2))
-    innovation_cov[:, 0, 0] = a[ks, 0]
-    innovation_cov[:, 0, 1] = innovation_cov[:, 1, 0] = b[ks, bs]
-    innovation_cov[:, 1, 1] = d[ks, bs]
-    jacobian = np.zeros((len(ks), 2, 3))
-    jacobian[:, 0, 2] = -1.0
-    jacobian[:, 1, 0], jacobian[:, 1, 1] = m_hx, m_hy
-    wall_of, fallback_of, d2 = walls[bs].tolist(), fallbacks[ks].tolist(), distance[ks, bs].tolist()
-    matches = [Match(line=k, wall=wall_of[n], innovation=arrays.v[n],
-                     innovation_covariance=innovation_cov[n], jacobian=jacobian[n],
-                     measurement_covariance=lines[k].covariance, distance=d2[n],
-                     fallback=fallback_of[n])
+    wall_of, fallback_of, d2 = walls[bs].tolist(), arrays.fallback.tolist(), \
+        distance[ks, bs].tolist()
+    matches = [Match(k, wall_of[n], d2[n], fallback_of[n], arrays, n)
                for n, (k, _) in enumerate(chosen)]
     return Matching(matches, ambiguous, unmatched, arrays)
 
@@ -230,10 +248,10 @@ def _line_table(lines: Sequence[LineFeature]) -> NDArray:
 
 def _coverage(data: NDArray, wall_map: WallMap, walls: NDArray,
               pose: tuple[float, float, float], sigma_xy: float, sigma_theta: float,
-              settings: MatchSettings) -> tuple[NDArray, NDArray]:
-    """``(L, W)`` twice: the fraction of each observed segment that lies along each wall's
-    chain, with the slack for the pose's uncertainty and with ``overlap_tolerance`` only; 0
-    where the segment is too long for the chain."""
+              settings: MatchSettings) -> tuple[NDArray, NDArray, NDArray]:
+    """``(coverage, low, high)``, each ``(L, W)``: the fraction of each observed segment that
+    lies along each wall's chain, with the slack for the pose's uncertainty (0 where the segment
+    is too long for the chain), and where the segment's ends fall along the wall."""
     x, y, theta = pose
     c, s = math.cos(theta), math.sin(theta)
     ends = data[:, 5:9].reshape(-1, 2, 2)                                          # (L, 2, 2)
@@ -243,28 +261,29 @@ def _coverage(data: NDArray, wall_map: WallMap, walls: NDArray,
     reach = np.sqrt((ends * ends).sum(axis=2).max(axis=1))
     slack = (settings.overlap_tolerance + 3.0 * (sigma_xy + sigma_theta * reach))[:, None]
     first, last = wall_map.chain_extent[walls].T
-    span = np.maximum(high - low, 1e-9)
-    fits = data[:, 9:10] <= \
-        wall_map.chain_length[walls] + 2.0 * settings.overlap_tolerance
     loose = np.minimum(high, last + slack) - np.maximum(low, first - slack)
-    strict = np.minimum(high, last + settings.overlap_tolerance) - \
-        np.maximum(low, first - settings.overlap_tolerance)
-    return (np.where(fits, np.maximum(loose, 0.0) / span, 0.0),
-            np.where(fits, np.maximum(strict, 0.0) / span, 0.0))
+    loose[data[:, 9:10] > wall_map.chain_length[walls] + 2.0 * settings.overlap_tolerance] = 0.0
+    return np.maximum(loose, 0.0) / np.maximum(high - low, 1e-9), low, high
 
 
-def _resolve(options: NDArray, distance: NDArray, strict: NDArray, h_gamma: NDArray,
+def _strict_coverage(low: NDArray, high: NDArray, extent: NDArray,
+                     settings: MatchSettings) -> NDArray:
+    """The coverage of one segment on some walls with only ``overlap_tolerance`` as slack."""
+    overlap = np.minimum(high, extent[:, 1] + settings.overlap_tolerance) - \
+        np.maximum(low, extent[:, 0] - settings.overlap_tolerance)
+    return np.maximum(overlap, 0.0) / np.maximum(high - low, 1e-9)
+
+
+def _resolve(columns: NDArray, distance: NDArray, strict: NDArray, h_gamma: NDArray,
              h_rho: NDArray, line_of: NDArray, settings: MatchSettings) -> int | None:
-    """The one wall (column) an observed line with several candidates is, or None if ambiguous."""
-    # 2. Hidden: a nearer parallel candidate on the same side that covers at least as well.
-    kept = []
-    for c in options:
-        turn = np.abs(np.mod(h_gamma[options] - h_gamma[c] + math.pi, 2.0 * math.pi) - math.pi)
-        hides = (turn < settings.parallel_angle) & (h_rho[options] < h_rho[c]) & \
-            (line_of[options] != line_of[c]) & (strict[options] >= strict[c]) & \
-            (strict[options] > 0.0)
-        if not hides.any():
-            kept.append(c)
+    """The one wall (of ``columns``, the candidates; the other arrays are theirs) an observed
+    line with several candidates is, or None if ambiguous."""
+    # 2. Hidden: a nearer parallel candidate on the same side that covers at all and as well.
+    turn = np.abs(wrap(h_gamma[:, None] - h_gamma[None, :]))
+    hides = (turn < settings.parallel_angle) & (h_rho[:, None] < h_rho[None, :]) & \
+        (line_of[:, None] != line_of[None, :]) & (strict[:, None] >= strict[None, :]) & \
+        (strict[:, None] > 0.0)                         # [i, j]: candidate i hides candidate j
+    kept = (~hides.any(axis=0)).nonzero()[0].tolist()
     # 1. Same line: one representative per line, the best covered.
     by_line: dict[int, int] = {}
     for c in kept:
@@ -275,4 +294,4 @@ def _resolve(options: NDArray, distance: NDArray, strict: NDArray, h_gamma: NDAr
     # 3. Ambiguous: two different lines about equally close.
     if len(ranked) > 1 and distance[ranked[1]] - distance[ranked[0]] < settings.ambiguity_margin:
         return None
-    return int(ranked[0])
+    return int(columns[ranked[0]])
