@@ -42,6 +42,7 @@ def assert_pose_close(a, b, tol=1e-9):
     assert abs(wrap(a[2] - b[2])) < tol
 
 
+@settings(deadline=None)
 @given(st.floats(-1e4, 1e4))
 def test_wrap_is_in_half_open_interval_and_keeps_the_direction(a):
     w = wrap(a)
@@ -58,6 +59,7 @@ def test_wrap_maps_minus_pi_to_pi_and_works_on_arrays():
     assert np.allclose(out, [math.pi, math.pi, 0.5, -7.0 + 2 * math.pi])
 
 
+@settings(deadline=None)
 @given(poses, poses)
 def test_compose_inverse_and_relative_agree(a, b):
     assert_pose_close(compose(a, inverse(a)), (0.0, 0.0, 0.0), 1e-9)
@@ -66,7 +68,7 @@ def test_compose_inverse_and_relative_agree(a, b):
     assert -math.pi < compose(a, b)[2] <= math.pi
 
 
-@settings(max_examples=100)
+@settings(max_examples=100, deadline=None)
 @given(poses, poses)
 def test_compose_jacobians_match_numeric(a, b):
     ja, jb = compose_jacobians(a, b)
@@ -74,7 +76,7 @@ def test_compose_jacobians_match_numeric(a, b):
     assert np.allclose(jb, numeric_jacobian(lambda p: _unwrapped_compose(a, p), b), atol=1e-5)
 
 
-@settings(max_examples=100)
+@settings(max_examples=100, deadline=None)
 @given(poses)
 def test_inverse_jacobian_matches_numeric(a):
     def unwrapped(p):
@@ -84,7 +86,7 @@ def test_inverse_jacobian_matches_numeric(a):
     assert np.allclose(inverse_jacobian(a), numeric_jacobian(unwrapped, a), atol=1e-5)
 
 
-@settings(max_examples=100)
+@settings(max_examples=100, deadline=None)
 @given(poses, poses)
 def test_relative_jacobians_match_numeric(a, b):
     def unwrapped(p, q):
@@ -102,6 +104,7 @@ def _unwrapped_compose(a, b):
     return out
 
 
+@settings(deadline=None)
 @given(poses, st.floats(-math.pi, math.pi), st.floats(0.0, 60.0), st.floats(-20.0, 20.0))
 def test_line_to_frame_keeps_the_points_of_the_line(pose, gamma, rho, t):
     # A point of the map line, seen from the sensor, lies on the transformed line.
@@ -114,7 +117,7 @@ def test_line_to_frame_keeps_the_points_of_the_line(pose, gamma, rho, t):
     assert abs(local[0] * math.cos(g) + local[1] * math.sin(g) - r) < 1e-7 * (1 + rho + abs(t))
 
 
-@settings(max_examples=100)
+@settings(max_examples=100, deadline=None)
 @given(poses, st.floats(-math.pi, math.pi), st.floats(0.0, 60.0))
 def test_line_to_frame_jacobian_matches_numeric_on_both_sides(pose, gamma, rho):
     g, r = line_to_frame(gamma, rho, pose)
