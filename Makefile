@@ -52,3 +52,5 @@ bench: build
 	$(IN_ENV) python bench/mcp_load.py
 	$(IN_ENV) python bench/raycast.py
 	$(IN_ENV) python bench/sick_driver.py
+	$(IN_ENV) python bench/nav_speed.py
+	$(IN_ENV) python bench/nav_offline.py
