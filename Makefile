@@ -54,3 +54,10 @@ bench: build
 	$(IN_ENV) python bench/sick_driver.py
 	$(IN_ENV) python bench/nav_speed.py
 	$(IN_ENV) python bench/nav_offline.py
+	$(IN_ENV) python bench/local_module_cpu.py
+
+# The full localization accuracy benchmark (issue 11's table): the simulated Pluto under the MCP on
+# the shipped maps and generated ones, 200 m each, against the simulator's truth (about an hour).
+.PHONY: bench-nav
+bench-nav: build
+	$(IN_ENV) python bench/nav_accuracy.py

@@ -18,5 +18,9 @@ setup(
     description="Pluto's localization: localModule with its five pose streams, poseModule, slamModule and the loc proxy.",
     license='BSD-3-Clause',
     tests_require=['pytest'],
-    entry_points={'console_scripts': []},
+    entry_points={'console_scripts': [
+        'local_module = pluto_nav.local_module:main',
+        'pose_module = pluto_nav.pose_module:main',
+        'pose_i = pluto_nav.pose_i:main',
+    ]},
 )

@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
-    'compose', 'compose_jacobians', 'inverse', 'inverse_jacobian', 'line_to_frame',
+    'compose', 'compose_jacobians', 'interpolate', 'inverse', 'inverse_jacobian', 'line_to_frame',
     'line_to_frame_jacobian', 'lines_in_frame', 'relative', 'relative_jacobians',
     'transform_points', 'wrap',
 ]
@@ -158,3 +158,9 @@ def lines_in_frame(gamma: ArrayLike, rho: ArrayLike, pose: ArrayLike, *,
     r = np.asarray(rho, dtype=np.float64) - x * cg - y * sg
     sign = np.where(r < 0.0, 1.0, -1.0)
     return g - t + (sign + 1.0) * (0.5 * math.pi), np.abs(r), sign * cg, sign * sg
+
+
+def interpolate(a: ArrayLike, b: ArrayLike, f: float) -> NDArray:
+    """The pose a fraction ``f`` of the way from ``a`` to ``b`` (the angle the short way round)."""
+    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+    return np.array([a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), _wrap1(a[2] + f * _wrap1(b[2] - a[2]))])

@@ -1,0 +1,227 @@
+"""Dead reckoning of Pluto's localModule: odometry for translation, the DMU for rotation.
+
+Pluto 3: the localization service "uses the odometry, dmu and wrist orientation data along with
+timing information from the sick" and fuses "the odometer and inertial data".  The rule here:
+
+- Translation always comes from the odometry: each odometry sample's increment (dx, dy) in the
+  frame of the previous sample.
+- Rotation comes from the DMU's integrated heading (its filtered state's theta, Pluto 8.2) when the
+  DMU is fresh, i.e. its samples cover the odometry sample's time; from the odometry's own heading
+  change when it is not (no DMU, or its latest sample is older than ``dmu_stale_s``).  Pitch and
+  roll come from the DMU when fresh, else 0 (flat floor).
+- An odometry increment no robot could make (faster than ``MAX_SPEED`` / ``MAX_TURN_RATE``) is
+  the base's odometry starting again from zero (its module restarted): it counts as no motion.
+- An odometry sample waits (at most ``dmu_stale_s`` of odometry time) for the DMU to cover it, so
+  both sources are used at the same instants.
+
+The pose starts at ``start`` and never jumps: it is the continuous estimate of stream (0).  Its
+covariance grows by :func:`pluto_nav.odometry_model.increment_covariance` of each step (with the
+heading part of a DMU step from ``dmu_sigma``).  A history of a few seconds lets the laser's scan
+time be interpolated (stream 1) and a Post_Pose of the recent past be related to the present.
+"""
+
+from __future__ import annotations
+
+import bisect
+import collections
+import dataclasses
+import math
+
+import numpy as np
+
+from .geometry import compose, compose_jacobians, interpolate, relative, wrap
+from .odometry_model import OdometryNoiseModel, increment_covariance
+
+__all__ = ['DeadReckoning', 'DrSample']
+
+#: Seconds of history kept for interpolation at scan times and past Post_Pose stamps.
+HISTORY_S = 5.0
+#: An odometry increment faster than this (m/s, rad/s) is a reset of the odometry, not motion.
+MAX_SPEED = 5.0
+MAX_TURN_RATE = 10.0
+
+
+@dataclasses.dataclass(frozen=True)
+class DrSample:
+    """The dead-reckoned robot pose at one odometry time."""
+
+    stamp: float
+    pose: np.ndarray          # (x, y, theta)
+    phi: float
+    psi: float
+    covariance: np.ndarray    # 3x3 over (x, y, theta), absolute since start
+    dmu_used: bool
+    increment: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))   # from the sample before
+    increment_cov: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((3, 3)))
+
+
+class DeadReckoning:
+    """Fuses odometry and DMU samples into the dead-reckoned pose of the robot centre.
+
+    :param start: the starting pose (x, y, theta) in the map frame.
+    :param start_covariance: its 3x3 covariance.
+    :param noise: the odometry error model (tunable).
+    :param dmu_sigma: rad/sqrt(s), heading random walk of the DMU's integrated heading.
+    :param dmu_stale_s: s of odometry time after which a DMU that has not covered a sample is
+        considered absent for it.
+    """
+
+    def __init__(self, start: tuple[float, float, float], *, start_covariance: np.ndarray | None = None,
+                 noise: OdometryNoiseModel | None = None, dmu_sigma: float = 0.002,
+                 dmu_stale_s: float = 0.25) -> None:
+        self.noise = noise or OdometryNoiseModel()
+        self.dmu_sigma = dmu_sigma
+        self.dmu_stale_s = dmu_stale_s
+        self.start = np.asarray(start, dtype=float)
+        cov = np.zeros((3, 3)) if start_covariance is None else np.asarray(start_covariance, dtype=float)
+        self.history: collections.deque[DrSample] = collections.deque()
+        self._initial_cov = cov
+        self._last_odometry: tuple[float, np.ndarray] | None = None
+        self._pending: collections.deque[tuple[float, np.ndarray]] = collections.deque()
+        self._dmu: collections.deque[tuple[float, float, float, float]] = collections.deque()
+        self._dmu_unwrapped = 0.0
+        self._dmu_theta: float | None = None
+        self.odometry_samples = 0
+        self.odometry_resets = 0
+        self.dmu_steps = 0
+        self.odometry_steps = 0
+
+    # -- input -----------------------------------------------------------------------------------
+    def add_odometry(self, stamp: float, x: float, y: float, theta: float) -> list[DrSample]:
+        """Take an odometry sample; returns the dead-reckoned samples it (and the DMU) completed."""
+        if self._pending and stamp <= self._pending[-1][0]:
+            return []
+        if not self._pending and self._last_odometry is not None and stamp <= self._last_odometry[0]:
+            return []
+        self.odometry_samples += 1
+        self._pending.append((stamp, np.array([x, y, theta], dtype=float)))
+        return self._advance()
+
+    def add_dmu(self, stamp: float, theta: float, phi: float, psi: float) -> list[DrSample]:
+        """Take a DMU sample (filtered state: integrated heading, pitch, roll)."""
+        if self._dmu and stamp <= self._dmu[-1][0]:
+            return []
+        last = self._dmu_theta
+        self._dmu_unwrapped = theta if last is None else self._dmu_unwrapped + wrap(theta - last)
+        self._dmu_theta = theta
+        self._dmu.append((stamp, self._dmu_unwrapped, phi, psi))
+        while len(self._dmu) > 2 and self._dmu[1][0] < stamp - HISTORY_S:
+            self._dmu.popleft()
+        return self._advance()
+
+    # -- fusion ----------------------------------------------------------------------------------
+    def _advance(self) -> list[DrSample]:
+        done = []
+        while self._pending:
+            stamp, odo = self._pending[0]
+            covered = bool(self._dmu) and self._dmu[-1][0] >= stamp
+            newest = self._pending[-1][0]
+            stale = not self._dmu or newest - self._dmu[-1][0] > self.dmu_stale_s
+            if not covered and not stale:
+                break
+            self._pending.popleft()
+            done.append(self._step(stamp, odo, use_dmu=covered))
+        return done
+
+    def _step(self, stamp: float, odo: np.ndarray, *, use_dmu: bool) -> DrSample:
+        if self._last_odometry is None:
+            self._last_odometry = (stamp, odo)
+            phi, psi = self._attitude(stamp) if use_dmu else (0.0, 0.0)
+            sample = DrSample(stamp, self.start.copy(), phi, psi, self._initial_cov.copy(), use_dmu)
+            self.history.append(sample)
+            return sample
+        last_stamp, last_odo = self._last_odometry
+        self._last_odometry = (stamp, odo)
+        increment = relative(last_odo, odo)
+        dt = max(stamp - last_stamp, 1e-6)
+        if math.hypot(increment[0], increment[1]) > MAX_SPEED * dt + 0.05 or abs(increment[2]) > MAX_TURN_RATE * dt + 0.05:
+            # The base's odometry jumped (its module restarted and counts from zero again): no
+            # robot moves like that.  Dead reckoning never jumps: take it as no motion.
+            self.odometry_resets += 1
+            increment = np.zeros(3)
+        q = increment_covariance(increment, self.noise)
+        dmu_turn = self._dmu_turn(last_stamp, stamp) if use_dmu else None
+        if dmu_turn is not None:
+            increment = increment.copy()
+            increment[2] = dmu_turn
+            q = q.copy()
+            q[2, :] = q[:, 2] = 0.0
+            q[2, 2] = self.dmu_sigma ** 2 * (stamp - last_stamp) + 1e-12
+            self.dmu_steps += 1
+        else:
+            self.odometry_steps += 1
+        previous = self.history[-1]
+        pose = compose(previous.pose, increment)
+        j_pose, j_increment = compose_jacobians(previous.pose, increment)
+        cov = j_pose @ previous.covariance @ j_pose.T + j_increment @ q @ j_increment.T
+        phi, psi = self._attitude(stamp) if dmu_turn is not None else (0.0, 0.0)
+        sample = DrSample(stamp, pose, phi, psi, 0.5 * (cov + cov.T), dmu_turn is not None, increment, q)
+        self.history.append(sample)
+        while len(self.history) > 2 and self.history[1].stamp < stamp - HISTORY_S:
+            self.history.popleft()
+        return sample
+
+    def _dmu_value(self, stamp: float) -> tuple[float, float, float] | None:
+        """Unwrapped heading, pitch, roll of the DMU interpolated at ``stamp``."""
+        stamps = [s[0] for s in self._dmu]
+        i = bisect.bisect_left(stamps, stamp)
+        if i == 0:
+            return None if stamps[0] > stamp else self._dmu[0][1:]
+        if i >= len(stamps):
+            return None
+        (t0, *a), (t1, *b) = self._dmu[i - 1], self._dmu[i]
+        f = (stamp - t0) / (t1 - t0)
+        return tuple(u + f * (v - u) for u, v in zip(a, b))  # type: ignore[return-value]
+
+    def _dmu_turn(self, t0: float, t1: float) -> float | None:
+        a, b = self._dmu_value(t0), self._dmu_value(t1)
+        if a is None or b is None:
+            return None
+        return b[0] - a[0]
+
+    def _attitude(self, stamp: float) -> tuple[float, float]:
+        value = self._dmu_value(stamp)
+        return (0.0, 0.0) if value is None else (value[1], value[2])
+
+    # -- output ----------------------------------------------------------------------------------
+    @property
+    def latest(self) -> DrSample | None:
+        return self.history[-1] if self.history else None
+
+    def at(self, stamp: float) -> DrSample | None:
+        """The dead-reckoned pose interpolated at ``stamp`` (None when the history does not reach
+        it: before the first sample or after the latest)."""
+        history = self.history
+        if not history or stamp > history[-1].stamp:
+            return None
+        stamps = [s.stamp for s in history]
+        i = bisect.bisect_left(stamps, stamp)
+        if i == 0:
+            return history[0] if math.isclose(stamp, history[0].stamp) or stamp >= history[0].stamp \
+                else None
+        a, b = history[i - 1], history[i]
+        f = (stamp - a.stamp) / (b.stamp - a.stamp)
+        pose = interpolate(a.pose, b.pose, f)
+        cov = a.covariance + f * (b.covariance - a.covariance)
+        return DrSample(stamp, pose, a.phi + f * (b.phi - a.phi), a.psi + f * (b.psi - a.psi), cov,
+                        b.dmu_used)
+
+    def increment_between(self, t0: float, t1: float) -> tuple[np.ndarray, np.ndarray] | None:
+        """The relative pose from the robot at ``t0`` to the robot at ``t1`` (in the frame at ``t0``)
+        and its covariance, accumulated over the dead-reckoning steps in between (so a DMU heading
+        counts as such); None when the history does not cover both."""
+        a, b = self.at(t0), self.at(t1)
+        if a is None or b is None:
+            return None
+        increment = relative(a.pose, b.pose)
+        cov = np.zeros((3, 3))
+        relative_pose = np.zeros(3)
+        for sample in self.history:
+            if sample.stamp <= t0 or sample.stamp > t1:
+                continue
+            j_pose, j_increment = compose_jacobians(relative_pose, sample.increment)
+            cov = j_pose @ cov @ j_pose.T + j_increment @ sample.increment_cov @ j_increment.T
+            relative_pose = compose(relative_pose, sample.increment)
+        if not np.any(cov):     # both times between the same two samples: a share of that step
+            cov = increment_covariance(increment, self.noise)
+        return increment, 0.5 * (cov + cov.T)

@@ -1,0 +1,98 @@
+"""LocProxy: Pluto's ``loc_proxy`` for WURDE programs — read the localization's poses, set a pose.
+
+Pluto 3: "When one creates a loc_proxy one must specify which interface(s) one plans on using.
+This is done by passing an integer equal to the sum of 2^n for each interface. So if you want
+interfaces 0 and 3 you pass 9"; thereafter ``get_pose(n)`` reads interface ``n``.  Setting a pose
+(Pluto 7.1): stop the estimator, ``set_pose(pose, -1)`` (a robot pose), wait until the setter has
+changed, start the estimator again — ``pose_i`` shows it.
+
+The setter is the cmdFlags of the localModule's Post_Pose info, which it publishes on every
+accepted write (transient local: a proxy started late knows it at once).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+from wurde_core import CommsManager, RunState
+from wurde_core.interfaces import LocalizationPose
+
+from .streams import POST_POSE, STREAMS, USER_SETTER, LocPose, read_pose, write_pose
+
+__all__ = ['LocProxy']
+
+
+class LocProxy:
+    """The streams of ``mask`` (sum of 2**n) as consumers of ``manager``; queue mode optional."""
+
+    def __init__(self, manager: CommsManager, mask: int, *, queue_mode: bool = False) -> None:
+        if not 0 < mask < 2 ** len(STREAMS):
+            raise ValueError(f'mask {mask}: the sum of 2**n for the interfaces n = 0..4 used (1..31)')
+        self.manager = manager
+        self.mask = mask
+        self.streams: dict[int, LocalizationPose] = {}
+        self._latest: dict[int, LocPose] = {}
+        for n in [*(n for n in range(len(STREAMS)) if mask & (1 << n)), POST_POSE]:
+            if n in self.streams:
+                continue
+            obj = LocalizationPose(STREAMS[n])
+            obj.set_queue_mode(queue_mode)
+            manager.register_consumer(obj)
+            self.streams[n] = obj
+        self.streams[POST_POSE].set_auto_timestamp(False)
+        self._setter: int | None = None
+
+    def _check(self, n: int) -> LocalizationPose:
+        if not 0 <= n < len(STREAMS) or not self.mask & (1 << n):
+            raise ValueError(f'interface {n} is not in the mask {self.mask}')
+        return self.streams[n]
+
+    def get_pose(self, n: int) -> LocPose | None:
+        """The newest pose of interface ``n`` taken in so far (None before the first)."""
+        obj = self._check(n)
+        while obj.get_next_data():
+            self._latest[n] = read_pose(obj.data)
+        return self._latest.get(n)
+
+    def get_poses(self, n: int) -> list[LocPose]:
+        """Every pose of interface ``n`` taken in since the last call (queue mode keeps them all)."""
+        obj = self._check(n)
+        poses = []
+        while obj.get_next_data():
+            poses.append(read_pose(obj.data))
+        if poses:
+            self._latest[n] = poses[-1]
+        return poses
+
+    @property
+    def setter(self) -> int | None:
+        """The localization's current setter (None until the localModule has been heard)."""
+        posts = self.streams[POST_POSE]
+        while posts.get_next_info():
+            self._setter = int(posts.info.cmd_flags.get_value())
+        return self._setter
+
+    def set_pose(self, pose: tuple[float, float, float], setter: int = USER_SETTER, *,
+                 covariance: np.ndarray | None = None, stamp: float = 0.0) -> bool:
+        """Write ``pose`` (x, y, theta) to Post_Pose: a robot pose when ``setter`` < 0, else a laser
+        pose at ``stamp`` (0: now).  The localModule refuses a setter that is not allowed now."""
+        value = LocPose(pose=(pose[0], pose[1], 0.0, pose[2], 0.0, 0.0), setter=setter, stamp=stamp,
+                        covariance=np.zeros((3, 3)) if covariance is None else np.asarray(covariance))
+        posts = self.streams[POST_POSE]
+        write_pose(posts.requests, value)
+        return posts.publish_request()
+
+    def wait_for_setter(self, accept: int | Callable[[int], bool], timeout: float) -> bool:
+        """Run the manager's loop until the setter is ``accept`` (or ``accept(setter)`` holds), at
+        most ``timeout`` seconds; False on timeout or Quit."""
+        test = accept if callable(accept) else (lambda value: value == accept)
+        deadline = time.monotonic() + timeout
+        while True:
+            current = self.setter
+            if current is not None and test(current):
+                return True
+            if time.monotonic() >= deadline or self.manager.run_update() != RunState.RUN:
+                return False

@@ -1,0 +1,269 @@
+"""local_module: Pluto's localization service, localModule (Pluto 3).
+
+Inputs (any subset may be missing; what is present is used):
+
+- the base's odometry, Egomotion ``<base>Motion`` (``-b BASE``, default PlutoBase),
+- the DMU's filtered state, DMUState ``<dmu>`` (``-d DMU``, default PlutoDMU): heading, pitch, roll,
+- the wrist's state, ActuatorState ``<wrist>`` (``-w WRIST``, default PlutoWrist): pan and tilt,
+- the laser's timing interface, FVectorState ``<laser>/Timing`` (``-s LASER``, default PlutoLaser),
+  stamped at the scan's centre, and the laser's RangeFinder info for its mounting on the robot.
+
+Outputs: the five LocalizationPose streams of :mod:`pluto_nav.streams`, a status stream
+``Localization/Status`` (FVectorState, below), and the standard topics of :mod:`pluto_nav.ros_std`.
+(0) and (3) go out at the odometry's rate, (1) and (4) once per scan, interpolated at the scan's time.
+
+Start: ``-p POSE_FILE`` (:mod:`pluto_nav.start_pose`), else the place ``start`` of the map
+``-m MAP`` (default ``map.xml`` in the config directory, WURDE_CONFIG_DIR), else the origin.
+
+``Localization/Status``: element = [odometry fresh (1/0), DMU fresh (1/0), setter, refused Post_Pose
+writes]; data = [seconds since the last odometry (wall clock), the Pose's position standard deviation
+in m].  When the odometry stops (no sample for ``ODOMETRY_STALE_S`` of wall time) element[0] turns 0
+and the Pose's covariance grows by ``STALE_GROWTH`` per second until it comes back.
+
+Clocks: stamps are the inputs' (the robot's clock: the odometry's, the scan's); the staleness
+watchdog and the status rate use the wall clock (monotonic).
+"""
+
+from __future__ import annotations
+
+import collections
+import os
+import sys
+import time
+
+import numpy as np
+
+from wurde_core import CommsManager, Logger
+from wurde_core.interfaces import ActuatorState, DMUState, Egomotion, FVectorState, LocalizationPose, RangeFinder
+from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, set_loop
+from wurde_idl.errors import ConfigError
+
+from .adjustment import Adjuster
+from .dead_reckoning import DeadReckoning, DrSample
+from .geometry import compose, compose_jacobians
+from .odometry_model import laser_increment
+from .ros_std import LocalizationPublisher
+from .start_pose import start_pose
+from .streams import (DEAD_RECKONING, LASER_DEAD_RECKONING, LASER_POSE, POSE, POST_POSE, STREAMS, LocPose,
+                      read_pose, write_pose)
+
+__all__ = ['main']
+
+LOOP_S = 0.02
+#: Wall seconds without odometry after which it is called stale.
+ODOMETRY_STALE_S = 1.0
+#: Variance per second added to the Pose's covariance while the odometry is stale.
+STALE_GROWTH = np.diag([0.1 ** 2, 0.1 ** 2, 0.05 ** 2])
+#: Scan times waiting for the odometry to reach them; older ones are dropped.
+MAX_PENDING_SCANS = 10
+STATUS_PERIOD_S = 1.0
+HELP = ('  -m MAP    map file (start place; default map.xml in the config directory)\n'
+        '  -p FILE   starting pose file "x y theta" (default: the map\'s place "start")\n'
+        '  -b BASE   base module (odometry <BASE>Motion; default PlutoBase)\n'
+        '  -d DMU    DMU module (default PlutoDMU)\n'
+        '  -w WRIST  wrist module (default PlutoWrist)\n'
+        '  -s LASER  laser module (timing <LASER>/Timing; default PlutoLaser)')
+
+
+class LocalModule:
+    """The localModule's state between loops; :meth:`step` is one pass of the guide's loop."""
+
+    def __init__(self, manager: CommsManager, logger: Logger, start: tuple[float, float, float], *,
+                 base: str, dmu: str, wrist: str, laser: str) -> None:
+        self.manager, self.logger = manager, logger
+        self.dr = DeadReckoning(start)
+        self.adjuster = Adjuster()
+        self.odometry = Egomotion(f'{base}Motion')
+        self.dmu = DMUState(dmu)
+        self.wrist = ActuatorState(wrist)
+        self.timing = FVectorState(f'{laser}/Timing')
+        self.laser = RangeFinder(laser)
+        for obj in (self.odometry, self.dmu, self.timing):
+            obj.set_queue_mode(True)
+        self.poses = [LocalizationPose(name) for name in STREAMS]
+        for obj in self.poses:
+            obj.set_queue_mode(True)
+            obj.set_auto_timestamp(False)
+        self.status = FVectorState('Localization/Status')
+        for obj in (self.odometry, self.dmu, self.wrist, self.timing, self.laser):
+            manager.register_consumer(obj)
+        for obj in (*self.poses, self.status):
+            manager.register_supplier(obj)
+        self.ros = LocalizationPublisher(manager.node)
+        self.pending_scans: collections.deque[float] = collections.deque()
+        self.last_scan: tuple[float, np.ndarray] | None = None
+        self.pan = self.tilt = 0.0
+        self.mount_z = 0.0
+        self.tv = self.rv = 0.0
+        self.last_odometry_wall = -np.inf      # fresh only once odometry came
+
+        self.last_dmu_wall = -np.inf
+        self.last_status_wall = -np.inf
+        self.stale = True                     # no odometry yet
+        self.resets_seen = 0
+        self._publish_start(start)
+
+    def _publish_start(self, start: tuple[float, float, float]) -> None:
+        value = LocPose(pose=(start[0], start[1], 0.0, start[2], 0.0, 0.0))
+        for obj in self.poses:
+            write_pose(obj.info, value)
+            obj.publish_info()
+
+    # -- one loop --------------------------------------------------------------------------------
+    def step(self) -> None:
+        self._take_mounting()
+        while self.wrist.get_next_data():
+            position = list(self.wrist.data.position)
+            if len(position) >= 2:
+                self.pan, self.tilt = float(position[0]), float(position[1])
+        completed: list[DrSample] = []
+        while self.dmu.get_next_data():
+            d = self.dmu.data
+            self.last_dmu_wall = time.monotonic()
+            completed += self.dr.add_dmu(d.timestamp.get_seconds(), d.theta, d.phi, d.psi)
+        while self.odometry.get_next_data():
+            d = self.odometry.data
+            self.last_odometry_wall = time.monotonic()
+            self.tv, self.rv = d.tv, d.rv
+            location = d.location
+            completed += self.dr.add_odometry(d.timestamp.get_seconds(), location.x(), location.y(),
+                                              location.theta())
+        if self.dr.odometry_resets != self.resets_seen:
+            self.resets_seen = self.dr.odometry_resets
+            self.logger.warn(f'{self.manager.name}: the odometry jumped (its base restarted?): taken as no '
+                             f'motion ({self.resets_seen} so far)')
+        for sample in completed:
+            self.adjuster.on_step(sample)
+            self._publish_robot(sample)
+        while self.timing.get_next_data():
+            self.pending_scans.append(self.timing.data.timestamp.get_seconds())
+            while len(self.pending_scans) > MAX_PENDING_SCANS:
+                self.pending_scans.popleft()
+        self._publish_scans()
+        posts = self.poses[POST_POSE]
+        while posts.get_next_request():
+            self._post(posts.requests)
+        self._watch_odometry()
+
+    def _take_mounting(self) -> None:
+        while self.laser.get_next_info():
+            info = self.laser.info
+            self.adjuster.mount = np.array([info.x_offset.get_value(), info.y_offset.get_value(), 0.0])
+            self.mount_z = float(info.z_offset.get_value())
+            stamp = self.dr.latest.stamp if self.dr.latest else 0.0
+            self.ros.publish_mounting(self.adjuster.mount, self.mount_z, stamp)
+
+    def _publish_robot(self, sample: DrSample) -> None:
+        setter = self.adjuster.setter
+        pose = self.adjuster.pose(sample)
+        cov = self.adjuster.pose_covariance(sample)
+        for index, xyt, covariance, flags in ((DEAD_RECKONING, sample.pose, sample.covariance, 0),
+                                              (POSE, pose, cov, setter)):
+            value = LocPose(pose=(xyt[0], xyt[1], 0.0, xyt[2], sample.phi, sample.psi), pan=self.pan,
+                            tilt=self.tilt, covariance=covariance, setter=flags, stamp=sample.stamp)
+            write_pose(self.poses[index].data, value)
+            self.poses[index].publish_data()
+        self.ros.publish(sample.stamp, sample.pose, sample.covariance, self.tv, self.rv,
+                         self.adjuster.offset, pose, cov)
+
+    def _publish_scans(self) -> None:
+        latest = self.dr.latest
+        while self.pending_scans and latest is not None and self.pending_scans[0] <= latest.stamp:
+            stamp = self.pending_scans.popleft()
+            robot = self.dr.at(stamp)
+            if robot is None:      # older than the history: nothing to interpolate
+                continue
+            laser = self.adjuster.laser(robot.pose)
+            increment_cov = np.zeros((3, 3))
+            if self.last_scan is not None:
+                since = self.dr.increment_between(self.last_scan[0], stamp)
+                if since is not None:
+                    increment_cov = laser_increment(*since, self.adjuster.mount)[1]
+            self.last_scan = (stamp, laser)
+            setter = self.adjuster.setter
+            adjusted = compose(self.adjuster.offset, laser)
+            for index, xyt, cov, flags in ((LASER_DEAD_RECKONING, laser, increment_cov, 0),
+                                           (LASER_POSE, adjusted, self._laser_abs_cov(robot), setter)):
+                value = LocPose(pose=(xyt[0], xyt[1], self.mount_z, xyt[2], robot.phi, robot.psi),
+                                pan=self.pan, tilt=self.tilt, covariance=cov, setter=flags, stamp=stamp)
+                write_pose(self.poses[index].data, value)
+                self.poses[index].publish_data()
+
+    def _laser_abs_cov(self, robot: DrSample) -> np.ndarray:
+        cov = self.adjuster.pose_covariance(robot)
+        j_robot, _ = compose_jacobians(self.adjuster.pose(robot), self.adjuster.mount)
+        return j_robot @ cov @ j_robot.T
+
+    def _post(self, request: object) -> None:
+        value = read_pose(request)
+        source = getattr(request, 'source', '') or ''
+        refusal = self.adjuster.write(value, source, self.dr)
+        if refusal is not None:
+            self.logger.warn(f'{self.manager.name}: Post_Pose from {source or "?"} with setter {value.setter} '
+                             f'refused: {refusal.reason}')
+            self._publish_status(force=True)
+            return
+        posts = self.poses[POST_POSE]
+        value.setter = self.adjuster.setter
+        write_pose(posts.data, value)
+        posts.publish_data()
+        write_pose(posts.info, value)      # info is kept: a late reader learns the setter at once
+        posts.publish_info()
+        self._publish_status(force=True)
+
+    def _watch_odometry(self) -> None:
+        now = time.monotonic()
+        stale = now - self.last_odometry_wall > ODOMETRY_STALE_S
+        if stale and self.dr.latest is not None:
+            latest = self.dr.latest
+            if self.adjuster.covariance is None:
+                self.adjuster.covariance = latest.covariance.copy()
+            self.adjuster.grow(STALE_GROWTH * LOOP_S)
+            if now - self.last_status_wall >= STATUS_PERIOD_S:
+                self._publish_robot(latest)
+        if stale != self.stale:
+            self.stale = stale
+            self.logger.warn(f'{self.manager.name}: odometry {"stopped" if stale else "flowing"}')
+            self._publish_status(force=True)
+        self._publish_status()
+
+    def _publish_status(self, force: bool = False) -> None:
+        now = time.monotonic()
+        if not force and now - self.last_status_wall < STATUS_PERIOD_S:
+            return
+        self.last_status_wall = now
+        latest = self.dr.latest
+        cov = self.adjuster.pose_covariance(latest) if latest is not None else np.zeros((3, 3))
+        dmu_fresh = now - self.last_dmu_wall <= ODOMETRY_STALE_S
+        data = self.status.data
+        data.element = [0 if self.stale else 1, 1 if dmu_fresh else 0, self.adjuster.setter,
+                        len(self.adjuster.refusals)]
+        data.data = [now - self.last_odometry_wall, float(np.sqrt(max(cov[0, 0] + cov[1, 1], 0.0)))]
+        self.status.publish_data()
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv if argv is None else argv)
+    manager = CommsManager('localModule')
+    manager.set_help_string(HELP)
+    opts = manager.parse_options(argv, 'm:p:b:d:w:s:').user
+    map_file = config_file(manager, opts.get('m'), 'map.xml')
+    default_missing = 'm' not in opts and not os.path.exists(map_file)
+    try:
+        start = start_pose(opts.get('p') and config_file(manager, opts['p'], ''),
+                           None if default_missing else map_file)
+    except ConfigError as error:
+        return exit_on_config_error(argv[0], error)
+    logger = Logger(manager.name)
+    manager.register_supplier(logger)
+    if default_missing and 'p' not in opts:
+        logger.warn(f'{manager.name}: no map {map_file} and no pose file: starting at the origin')
+    module = LocalModule(manager, logger, start, base=opts.get('b', 'PlutoBase'), dmu=opts.get('d', 'PlutoDMU'),
+                         wrist=opts.get('w', 'PlutoWrist'), laser=opts.get('s', 'PlutoLaser'))
+    set_loop(manager, LOOP_S)
+    logger.notice(f'{manager.name}: starting at x={start[0]:.3f} y={start[1]:.3f} theta={start[2]:.3f}')
+    return run_loop(manager, module.step, lambda: None)
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,105 @@
+"""pose_module: Pluto's poseModule (Pluto 7.1) — laser lines matched to an a-priori map in a
+Kalman filter, improving the localModule's poses.
+
+It "uses a priori map and the laser scanner to improve the dead-reckoning of the localization
+module.  It first extracts features from the laser scan then matches them to the map.  It then
+feeds this along with the dead-reckoning pose into a Kalman Filter to get an improved pose which it
+writes to the localization module."  The cycle, the thread and the setter are
+:class:`pluto_nav.estimator.Estimator`'s: the filter is :class:`pluto_nav.pose_filter.PoseFilter`
+(lines matched to the map's walls with a statistical gate), the setter is 1, and the thread runs
+from the start unless ``-x``.
+
+``pose/status`` (FVectorState, Pluto 7.1):
+
+- element[0]: 1 the thread runs, 0 stopped.  A request writing element[0] = 0 stops it and 1
+  starts it (the proxy's start/stop activity).
+- element[1]: a request writing 2 starts the find-wall: -1 while it searches, then the number of
+  scan points in the longest wall in front (0 when none); data = (gamma, rho) of that wall in the
+  laser frame and its 2x2 covariance, row-major (6 values).
+- element[2], element[3] (ours): scans used, scans whose lines matched no wall.
+
+Options: ``-m MAP`` (default ``map.xml`` in the config directory: Pluto's "default mapfile"),
+``-s LASER`` (default PlutoLaser), ``-x`` (do not start the thread).
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from wurde_core import CommsManager, Logger
+from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, set_loop
+from wurde_idl.errors import ConfigError
+from wurde_idl.mapfile import load_map_data
+
+from .estimator import LOOP_S, Estimator
+from .find_wall import find_wall
+from .lines import LineFeature
+from .pose_filter import PoseFilter
+from .streams import POSE_SETTER
+from .wall_map import WallMap
+
+__all__ = ['PoseModule', 'main']
+
+STATUS = 'pose/status'
+HELP = ('  -m MAP    the a-priori map (default map.xml in the config directory)\n'
+        '  -s LASER  the laser module (default PlutoLaser)\n'
+        '  -x        do not start the thread at launch')
+
+
+class PoseModule(Estimator):
+    """The poseModule: PoseFilter against an a-priori map; ``element[1] = 2`` is the find-wall."""
+
+    SETTER = POSE_SETTER
+
+    def __init__(self, manager: CommsManager, logger: Logger, wall_map: WallMap, *, laser: str,
+                 start_running: bool) -> None:
+        self.wall_map = wall_map
+        self.find_wall_pending = False
+        super().__init__(manager, logger, PoseFilter(), status=STATUS, laser=laser, start_running=start_running)
+
+    def update(self, lines: list[LineFeature]) -> bool:
+        return self.filter.update(lines, self.wall_map).matches > 0  # type: ignore[attr-defined]
+
+    def command(self) -> None:
+        """Start the find-wall: -1 while searching (the next good scan)."""
+        self.find_wall_pending = True
+        self.element[1] = -1
+        self.publish_status()
+
+    def on_scan(self, stamp: float, lines: list[LineFeature]) -> None:
+        if not self.find_wall_pending:
+            return
+        self.find_wall_pending = False
+        wall = find_wall(lines)
+        if wall is None:
+            self.element[1], self.data = 0, []
+        else:
+            self.element[1], self.data = int(wall.points), wall.parameters()
+        self.publish_status()
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv if argv is None else argv)
+    manager = CommsManager('poseModule')
+    manager.set_help_string(HELP)
+    opts = manager.parse_options(argv, 'm:s:x').user
+    map_file = config_file(manager, opts.get('m'), 'map.xml')
+    try:
+        data = load_map_data(map_file)
+        if not data.walls:
+            raise ConfigError(map_file, None, 'the map has no walls to localize against')
+    except ConfigError as error:
+        return exit_on_config_error(argv[0], error)
+    logger = Logger(manager.name)
+    manager.register_supplier(logger)
+    module = PoseModule(manager, logger, WallMap(np.asarray(data.walls, dtype=float)),
+                        laser=opts.get('s', 'PlutoLaser'), start_running='x' not in opts)
+    set_loop(manager, LOOP_S)
+    logger.notice(f'{manager.name}: map {data.name} ({len(data.walls)} walls)')
+    return run_loop(manager, module.step, lambda: None)
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,127 @@
+"""Dead reckoning and the Post_Pose adjustment, as pure functions of their inputs."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from pluto_nav.adjustment import Adjuster
+from pluto_nav.dead_reckoning import DeadReckoning
+from pluto_nav.geometry import compose, relative
+from pluto_nav.streams import LocPose
+
+
+def _arc(steps: int, dt: float, tv: float, rv: float, heading_error: float = 0.0):
+    """Exact poses along an arc; the odometry's heading gains ``heading_error`` rad per step."""
+    x = y = theta = 0.0
+    odo_theta = 0.0
+    for k in range(steps + 1):
+        yield k * dt, (x, y, theta), odo_theta
+        x += tv * dt * math.cos(theta + rv * dt / 2)
+        y += tv * dt * math.sin(theta + rv * dt / 2)
+        theta += rv * dt
+        odo_theta += rv * dt + heading_error
+
+
+def test_rotation_comes_from_the_dmu_when_fresh_and_from_odometry_when_not() -> None:
+    with_dmu = DeadReckoning((0.0, 0.0, 0.0))
+    without = DeadReckoning((0.0, 0.0, 0.0))
+    for t, (x, y, theta), odo_theta in _arc(100, 0.1, 0.5, 0.2, heading_error=0.002):
+        # Odometry positions are true but its heading drifts; the DMU's heading is true.
+        with_dmu.add_dmu(t, theta, 0.01, -0.02)
+        with_dmu.add_odometry(t, x, y, odo_theta)
+        without.add_odometry(t, x, y, odo_theta)
+    assert with_dmu.dmu_steps == 100 and with_dmu.odometry_steps == 0
+    assert without.odometry_steps == 100
+    assert with_dmu.latest.pose[2] == pytest.approx(2.0, abs=1e-9)
+    assert without.latest.pose[2] == pytest.approx(2.0 + 0.2, abs=1e-9)   # the drift, uncorrected
+    assert (with_dmu.latest.phi, with_dmu.latest.psi) == (pytest.approx(0.01), pytest.approx(-0.02))
+    assert np.all(np.linalg.eigvalsh(with_dmu.latest.covariance) > 0)
+    # Heading from the DMU is surer than from the odometry.
+    assert with_dmu.latest.covariance[2, 2] < without.latest.covariance[2, 2]
+
+
+def test_an_odometry_sample_waits_for_the_dmu_but_not_for_ever() -> None:
+    dr = DeadReckoning((1.0, 2.0, 0.0), dmu_stale_s=0.25)
+    dr.add_dmu(0.0, 0.0, 0.0, 0.0)
+    assert len(dr.add_odometry(0.0, 0.0, 0.0, 0.0)) == 1
+    assert dr.add_odometry(0.1, 0.1, 0.0, 0.0) == []          # the DMU has not reached 0.1 yet
+    assert len(dr.add_dmu(0.12, 0.0, 0.0, 0.0)) == 1           # now it has
+    assert dr.add_odometry(0.2, 0.2, 0.0, 0.0) == []
+    done = dr.add_odometry(0.5, 0.5, 0.0, 0.0)                  # the DMU went quiet: 0.38 s > 0.25 s
+    assert [s.stamp for s in done] == [0.2, 0.5] and not done[-1].dmu_used
+    assert dr.latest.pose == pytest.approx([1.5, 2.0, 0.0])
+
+
+@settings(max_examples=50, deadline=None)
+@given(t=st.floats(6.0, 10.0))
+def test_interpolation_stays_between_the_samples_of_the_history(t: float) -> None:
+    dr = DeadReckoning((0.0, 0.0, 0.0))
+    for stamp, (x, y, theta), _ in _arc(100, 0.1, 0.4, 0.3):
+        dr.add_odometry(stamp, x, y, theta)
+    sample = dr.at(t)
+    assert sample is not None
+    a = max((s for s in dr.history if s.stamp <= t), key=lambda s: s.stamp)
+    b = min((s for s in dr.history if s.stamp >= t), key=lambda s: s.stamp)
+    for axis in (0, 1):
+        assert min(a.pose[axis], b.pose[axis]) - 1e-9 <= sample.pose[axis] <= max(a.pose[axis], b.pose[axis]) + 1e-9
+    assert dr.at(10.5) is None                       # after the latest sample
+    assert dr.at(1.0) is None                        # older than the history keeps
+
+
+def test_a_laser_post_pose_adjusts_the_pose_not_the_dead_reckoning() -> None:
+    dr = DeadReckoning((0.0, 0.0, 0.0))
+    for stamp, (x, y, theta), _ in _arc(20, 0.1, 0.5, 0.0):
+        dr.add_odometry(stamp, x, y, theta)
+    adjuster = Adjuster(mount=(0.2, 0.0))
+    # The estimator says: at t = 1.0 the laser was at (1.7, 0.1, 0.05) (dead reckoning: (0.7, 0, 0)).
+    post = LocPose(pose=(1.7, 0.1, 0.0, 0.05, 0.0, 0.0), setter=1, stamp=1.0,
+                   covariance=np.diag([1e-4, 1e-4, 1e-5]))
+    assert adjuster.write(post, 'poseModule', dr) is None
+    at_one = dr.at(1.0)
+    robot_then = adjuster.pose(at_one)
+    assert adjuster.laser(robot_then) == pytest.approx([1.7, 0.1, 0.05], abs=1e-9)
+    # Now (t = 2.0) the robot drove 0.5 m more along its own heading.
+    now = adjuster.pose(dr.latest)
+    assert relative(robot_then, now) == pytest.approx([0.5, 0.0, 0.0], abs=1e-9)
+    assert dr.latest.pose == pytest.approx([1.0, 0.0, 0.0])
+    assert adjuster.setter == 1 and adjuster.holder == 'poseModule'
+
+
+def test_the_setter_rules() -> None:
+    dr = DeadReckoning((0.0, 0.0, 0.0))
+    dr.add_odometry(0.0, 0.0, 0.0, 0.0)
+    adjuster = Adjuster()
+    pose = (1.0, 1.0, 0.0, 0.0, 0.0, 0.0)
+    assert adjuster.write(LocPose(pose=pose, setter=-1), 'user', dr) is None      # free: a user sets
+    assert adjuster.write(LocPose(pose=pose, setter=1), 'poseModule', dr) is None  # an estimator takes over
+    assert adjuster.write(LocPose(pose=pose, setter=-1), 'user', dr).reason.startswith('setter 1')
+    assert adjuster.write(LocPose(pose=pose, setter=2), 'slamModule', dr) is not None
+    assert adjuster.write(LocPose(pose=pose, setter=0), 'slamModule', dr) is not None
+    assert adjuster.write(LocPose(pose=(math.nan,) + pose[1:], setter=1), 'poseModule', dr).reason == 'not finite'
+    assert adjuster.write(LocPose(pose=pose, setter=0), 'poseModule', dr) is None   # released
+    assert adjuster.write(LocPose(pose=pose, setter=2), 'slamModule', dr) is None
+    assert adjuster.write(LocPose(pose=pose, setter=3), 'slamModule', dr) is None   # saving
+    assert adjuster.write(LocPose(pose=pose, setter=2), 'slamModule', dr) is None
+    assert len(adjuster.refusals) == 4 and adjuster.setter == 2
+    # A robot pose sets the robot itself (no mounting applied).
+    adjuster = Adjuster(mount=(0.2, 0.0))
+    adjuster.write(LocPose(pose=(3.0, 4.0, 0.0, 1.0, 0.0, 0.0), setter=-1), 'user', dr)
+    assert adjuster.pose(dr.latest) == pytest.approx(compose([3.0, 4.0, 1.0], [0.0, 0.0, 0.0]))
+
+
+def test_odometry_that_starts_again_from_zero_is_no_motion() -> None:
+    """A restarted base counts from zero again: dead reckoning must not jump back with it."""
+    dr = DeadReckoning((2.0, 3.0, 0.5))
+    for k in range(41):
+        dr.add_odometry(0.1 * k, 0.05 * k, 0.0, 0.0)       # 0.5 m/s straight on for 2 m
+    before = dr.latest.pose.copy()
+    dr.add_odometry(4.1, 0.0, 0.0, 0.0)                     # the base restarted
+    assert dr.odometry_resets == 1
+    assert dr.latest.pose == pytest.approx(before)
+    dr.add_odometry(4.2, 0.05, 0.0, 0.0)                    # and drives on from its new zero
+    assert relative(before, dr.latest.pose) == pytest.approx([0.05, 0.0, 0.0])

@@ -1,0 +1,185 @@
+"""localModule against the simulated Pluto, all real processes: its five streams, the setter rules
+of Post_Pose, odometry that stops, and inputs that are missing."""
+
+from __future__ import annotations
+
+import math
+import os
+import pathlib
+import signal
+
+import numpy as np
+import pytest
+from nav_fixture import (EXACT, Watcher, angle_error, interpolate_truth, module, pluto_config, processes,
+                         seconds)
+
+from pluto_nav.loc_proxy import LocProxy
+from pluto_nav.streams import STREAMS
+
+MOUNT_X = 0.2     # config/pluto: the laser 0.2 m ahead of the robot centre
+
+DR, LASER_DR, POST, POSE, LASER_POSE = STREAMS
+
+
+def drive(watcher: Watcher, trans: float, rot: float) -> None:
+    drive = watcher.objects['PlutoBaseDrive']
+    drive.requests.trans_velocity.set_value(trans)
+    drive.requests.rot_velocity.set_value(rot)
+    drive.publish_request()
+
+
+def _watcher(*extra: str) -> Watcher:
+    streams = {'PlutoBaseTruth': 'Egomotion', 'PlutoBaseDrive': 'RobotDrive', 'PlutoLaser/Timing': 'FVectorState',
+               'Localization/Status': 'FVectorState'}
+    streams.update({name: 'LocalizationPose' for name in (DR, LASER_DR, POSE, LASER_POSE)})
+    streams.update({name: 'FVectorState' for name in extra})
+    return Watcher(streams)
+
+
+def test_dead_reckoning_follows_the_robot_and_the_laser_stream_is_at_the_scans_time(
+        ros_domain: int, tmp_path: pathlib.Path) -> None:
+    directory = pluto_config(tmp_path, elements=EXACT)
+    watcher = _watcher()
+    try:
+        with processes(directory, ['PlutoBase', 'PlutoLaser', 'PlutoDMU', 'PlutoWrist'], ('local_module', [])):
+            watcher.until(lambda: len(watcher.events[DR]) >= 3, 'dead reckoning')
+            start = len(watcher.events[LASER_DR])
+
+            def far_enough() -> bool:
+                last = watcher.events[DR][-1].pose
+                return len(watcher.events[LASER_DR]) >= start + 10 and math.hypot(last.x - 3.0, last.y - 7.5) > 0.8
+
+            # An arc: 0.3 m/s, 0.3 rad/s, commanded until ten scans went by and it is 0.8 m away.
+            watcher.until(far_enough, 'ten scans and 0.8 m of driving', every=lambda: drive(watcher, 0.3, 0.3))
+            drive(watcher, 0.0, 0.0)
+    finally:
+        watcher.close()
+    truth = watcher.events['PlutoBaseTruth']
+    dead_reckoning = watcher.events[DR]
+    moved = 0.0
+    checked = 0
+    for message in dead_reckoning:
+        true = interpolate_truth(truth, seconds(message))
+        if true is None:
+            continue
+        pose = message.pose
+        assert math.hypot(pose.x - true[0], pose.y - true[1]) < 0.02, (pose, true)
+        assert angle_error(pose.theta, true[2]) < 0.02
+        moved = max(moved, math.hypot(pose.x - 3.0, pose.y - 7.5))
+        checked += 1
+    assert checked > 20 and moved > 0.5       # it drove, and dead reckoning followed the truth
+    # Pose (3) is (0) while nobody improves it, setter 0.
+    for a, b in zip(dead_reckoning, watcher.events[POSE]):
+        assert (a.pose.x, a.pose.y, a.pose.theta) == pytest.approx((b.pose.x, b.pose.y, b.pose.theta))
+        assert b.cmd_flags == 0
+    # Stream (1) is stamped at the scans' centre times, at the laser's pose then.
+    scan_times = {round(seconds(m), 6) for m in watcher.events['PlutoLaser/Timing']}
+    laser = watcher.events[LASER_DR]
+    seen_from = min(scan_times)         # the test's subscription may have matched after the first scans
+    assert {round(seconds(m), 6) for m in laser if seconds(m) >= seen_from} <= scan_times
+    for message in laser[1:]:
+        true = interpolate_truth(truth, seconds(message))
+        if true is None:
+            continue
+        expected = (true[0] + MOUNT_X * math.cos(true[2]), true[1] + MOUNT_X * math.sin(true[2]))
+        assert math.hypot(message.pose.x - expected[0], message.pose.y - expected[1]) < 0.02
+        assert message.pose.z == pytest.approx(0.5)         # the laser's mounting height
+        covariance = np.array(message.covariance).reshape(3, 3)
+        assert np.all(np.linalg.eigvalsh(covariance) > 0)   # the increment's, never zero
+
+
+def test_post_pose_moves_pose_but_not_dead_reckoning_and_the_setter_rules_hold(
+        ros_domain: int, tmp_path: pathlib.Path) -> None:
+    directory = pluto_config(tmp_path, elements=EXACT)
+    watcher = _watcher()
+    other = Watcher({}, name='SlamLike')
+    user = LocProxy(watcher.manager, 1 + 4 + 8)
+    slam = LocProxy(other.manager, 4)
+
+    def status() -> list[int]:
+        events = watcher.events['Localization/Status']
+        return list(events[-1].element) if events else []
+
+    def pump_both() -> None:
+        other.pump()
+
+    try:
+        with processes(directory, ['PlutoBase', 'PlutoLaser'], ('local_module', [])):
+            # A laser scan placed: the laser's mounting (its RangeFinder info) is known.
+            watcher.until(lambda: user.setter == 0 and watcher.events[LASER_DR] and watcher.events[DR],
+                          'setter 0, a scan placed, dead reckoning')
+            before = watcher.events[DR][-1].pose
+            # A user sets the robot pose (setter -1): Pose jumps there, dead reckoning does not.
+            assert user.set_pose((5.0, 7.0, 0.5), -1)
+            watcher.until(lambda: user.setter == -1, 'setter -1')
+            count = len(watcher.events[POSE])
+            watcher.until(lambda: len(watcher.events[POSE]) > count + 2, 'poses after the set')
+            pose = watcher.events[POSE][-1]
+            assert (pose.pose.x, pose.pose.y, pose.pose.theta) == pytest.approx((5.0, 7.0, 0.5), abs=1e-6)
+            assert pose.cmd_flags == -1
+            after = watcher.events[DR][-1].pose
+            assert (after.x, after.y) == pytest.approx((before.x, before.y), abs=1e-6)
+            # NaN is refused and counted.
+            assert user.set_pose((math.nan, 1.0, 0.0), -1)
+            watcher.until(lambda: len(status()) == 4 and status()[3] == 1, 'one refusal counted')
+            # An estimator takes the setter (a laser pose, setter 2) ...
+            assert slam.set_pose((4.0, 7.0, 0.0), 2)
+            watcher.until(lambda: user.setter == 2, 'setter 2', every=pump_both)
+            # ... and then a user's robot pose, another setter's pose and its release are refused.
+            user.set_pose((1.0, 1.0, 0.0), -1)
+            user.set_pose((1.0, 1.0, 0.0), 1)
+            user.set_pose((0.0, 0.0, 0.0), 0)
+            watcher.until(lambda: status()[3] == 4, 'three more refusals', every=pump_both)
+            assert user.setter == 2
+            watcher.until(lambda: watcher.events[POSE][-1].cmd_flags == 2, 'a Pose with setter 2')
+            laser = watcher.events[POSE][-1]
+            assert laser.cmd_flags == 2
+            # The laser pose (4, 7, 0) means the robot centre is 0.2 m behind it.
+            assert (laser.pose.x, laser.pose.y) == pytest.approx((4.0 - MOUNT_X, 7.0), abs=1e-3)
+            # The holder releases it.
+            slam.set_pose((0.0, 0.0, 0.0), 0)
+            watcher.until(lambda: user.setter == 0, 'setter released', every=pump_both)
+    finally:
+        other.close()
+        watcher.close()
+
+
+def test_when_the_odometry_stops_the_status_says_so_and_the_covariance_grows(
+        ros_domain: int, tmp_path: pathlib.Path) -> None:
+    directory = pluto_config(tmp_path, elements=EXACT)
+    watcher = _watcher()
+
+    def status() -> list:
+        events = watcher.events['Localization/Status']
+        return [events[-1].element, events[-1].data] if events else [[], []]
+
+    try:
+        with processes(directory, ['PlutoBase'], ('local_module', [])) as running:
+            watcher.until(lambda: len(status()[0]) == 4 and status()[0][0] == 1 and watcher.events[DR],
+                          'odometry fresh and dead reckoning from it')
+            assert status()[0][1] == 0          # no DMU running: dead reckoning from odometry alone
+            base = running['PlutoBase'].process
+            os.kill(base.pid, signal.SIGSTOP)
+            try:
+                watcher.until(lambda: status()[0][0] == 0, 'odometry stale')
+                first = status()[1][1]
+                watcher.until(lambda: status()[1][1] > first + 0.05, 'the covariance grows')
+            finally:
+                os.kill(base.pid, signal.SIGCONT)
+            watcher.until(lambda: status()[0][0] == 1, 'odometry back')
+    finally:
+        watcher.close()
+
+
+def test_a_bad_pose_file_is_refused_with_file_line_and_reason(ros_domain: int, tmp_path: pathlib.Path) -> None:
+    directory = pluto_config(tmp_path)
+    pose_file = tmp_path / 'start.txt'
+    pose_file.write_text('# start\n1.0 2.0 nope\n')
+    with module('pluto_nav', 'local_module', directory, '-p', str(pose_file)) as process:
+        assert process.process.wait(timeout=60) == 2
+    assert f'{pose_file}:2: not a number' in process.stderr
+    (tmp_path / 'no-start.xml').write_text('<?xml version="1.0"?><map name="x" version="1.0">'
+                                           '<wall x1="0" y1="0" x2="1" y2="0"/></map>')
+    with module('pluto_nav', 'local_module', directory, '-m', str(tmp_path / 'no-start.xml')) as process:
+        assert process.process.wait(timeout=60) == 2
+    assert 'no place "start"' in process.stderr
