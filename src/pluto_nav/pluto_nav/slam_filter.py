@@ -1,0 +1,548 @@
+"""The estimation core of Pluto's slamModule (Pluto 7.2): "a compressed Kalman Filter to create a
+map while also using the map to improve the pose estimates".
+
+:class:`SlamFilter` is line-feature EKF SLAM.  The state is the laser pose ``(x, y, theta)`` in
+the map frame and one landmark per wall: its infinite line ``(gamma, rho)``
+(:mod:`.line_landmark`), with the part of it seen so far kept beside the state
+(:mod:`.landmark_extent`) to turn lines into wall segments.  Per scan, as PoseFilter:
+
+1. :meth:`~SlamFilter.predict` composes the odometry increment (in the previous laser frame) onto
+   the pose;
+2. :meth:`~SlamFilter.update` matches the scan's lines to the landmarks near the robot
+   (:mod:`.slam_association`: Mahalanobis gate on pose *and* landmark uncertainty, overlap of
+   extents), drops matches inconsistent with the others (each residual after the joint
+   correction tested against its expected spread, the worst dropped until all agree) and
+   corrects pose and landmarks with the rest in one EKF update;
+3. extends the matched landmarks' extents by what was seen (only the part of each line within
+   ``extent_range`` of the laser, and only where it continues the known extent);
+4. starts landmarks from unmatched lines with ``new_min_points`` points and ``new_min_length``
+   metres within ``extent_range``;
+5. merges landmarks that have become the same wall: lines statistically equal (chi-square on
+   their difference with its full covariance), extents overlapping or within ``merge_gap``, and
+   no other landmark as plausible.  The merge is an update with the constraint "these two lines
+   are one" followed by dropping one of them; it is how a loop closes when the robot comes back
+   to walls it mapped long ago and first sees them as new ones;
+6. prunes *tentative* landmarks (matched fewer than ``confirm_matches`` times) not seen for
+   ``tentative_scans`` scans: short-lived spurious lines.  :meth:`~SlamFilter.walls` gives only
+   confirmed landmarks.
+
+The filter is the *compressed* EKF of Guivant & Nebot, as Pluto's (:mod:`.compressed_ekf`): the
+landmarks within reach of a local area (a disc of ``zone_radius`` round where the robot was at
+the last global update, widened by ``max_range`` and the pose's uncertainty) are active; updates
+cost ``O(active^2)``, and the full covariance is brought up to date only when the robot leaves
+the disc, in ``O(passive^2 active)``.  It computes exactly what the full EKF computes; the
+compression pays off on maps larger than the laser's reach.
+
+:meth:`~SlamFilter.to_map_data` saves the walls as a :class:`wurde_idl.mapfile.MapData` with the
+place ``start`` where SLAM started, so the poseModule can load it as its a-priori map next run.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import math
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from wurde_idl.mapfile import MapData
+
+from .compressed_ekf import CompressedEKF
+from .geometry import compose, compose_jacobians, inverse, transform_points, wrap
+from .landmark_extent import AnchorCandidates, Extent, choose_anchor
+from .line_landmark import along, initialise, observe, point_at
+from .lines import LineFeature
+from .slam_association import AssociationSettings, associate, side_of
+from .slam_merge import MergeSettings, find_merges
+
+__all__ = ['MIN_MATCHES_TO_MAP', 'SlamFilter', 'SlamSettings', 'SlamUpdate']
+
+#: Matches a scan needs before its unmatched lines may start landmarks (and that fallback
+#: matches need to be used on their own).
+MIN_MATCHES_TO_MAP = 2
+
+
+@dataclasses.dataclass(frozen=True)
+class SlamSettings:
+    """Tunables of :class:`SlamFilter` (defaults in brackets)."""
+
+    #: Factor on the odometry increments' covariance [2]: a map error is permanent, so the
+    #: filter takes the odometry as somewhat worse than its model says rather than trust an
+    #: unlucky increment and map the next walls askew.
+    odometry_inflation: float = 2.0
+    #: Data association (:class:`.slam_association.AssociationSettings`).
+    association: AssociationSettings = AssociationSettings()
+    #: Merging landmarks (:class:`.slam_merge.MergeSettings`).
+    merge: MergeSettings = MergeSettings()
+    #: A match whose residual after the joint correction lies beyond the chi-square (2 dof)
+    #: quantile at this probability is dropped [0.99999].
+    consistency_probability: float = 0.99999
+    #: m: lines farther than this from the laser are not used [30].  Far walls are what keeps
+    #: the position along a corridor; the lines' covariances grow with range as they should.
+    max_range: float = 30.0
+    #: m: extents grow, and landmarks start, only from what lies this close to the laser [30].
+    extent_range: float = 30.0
+    #: m: a matched line extends an extent only where it continues it within this gap [0.3].
+    extend_gap: float = 0.3
+    #: A new landmark needs a line of this many points and this length (m) [8, 0.6].
+    new_min_points: int = 8
+    new_min_length: float = 0.6
+    #: Scans in a row with fewer than MIN_MATCHES_TO_MAP matches after which unmatched lines
+    #: start landmarks anyway (the robot has come where the map has nothing) [3].
+    adrift_scans: int = 3
+    #: Matches that confirm a landmark; a tentative one unseen for this many scans goes [4, 10].
+    confirm_matches: int = 4
+    tentative_scans: int = 10
+    #: Ends are anchored to walls crossing at this angle or more, this close (m) [30 deg, 2].
+    anchor_min_angle: float = math.radians(30.0)
+    anchor_radius: float = 2.0
+    #: m: radius of the local area of the compressed filter [2].
+    zone_radius: float = 2.0
+    #: m: shorter walls are left out of :meth:`SlamFilter.walls` [0.3].
+    min_wall_length: float = 0.3
+
+    def __post_init__(self) -> None:
+        if not self.odometry_inflation >= 1.0:
+            raise ValueError('odometry_inflation must be 1 or more')
+        if not 0.0 < self.extent_range <= self.max_range:
+            raise ValueError('extent_range must be positive and not above max_range')
+        if self.confirm_matches < 1 or self.tentative_scans < 1 or self.new_min_points < 2:
+            raise ValueError('confirm_matches and tentative_scans must be >= 1, '
+                             'new_min_points >= 2')
+
+
+@dataclasses.dataclass(frozen=True)
+class SlamUpdate:
+    """What one :meth:`SlamFilter.update` did.
+
+    :ivar lines: lines offered.
+    :ivar matched: lines used to correct pose and map.
+    :ivar rejected: matches dropped as inconsistent with the others.
+    :ivar ambiguous: lines left out because two landmarks fitted them about equally well.
+    :ivar added: landmarks started.
+    :ivar merged: landmarks merged into others.
+    :ivar pruned: tentative landmarks dropped.
+    :ivar landmarks: landmarks after the update; ``active`` of them in the local area.
+    :ivar committed: whether the full covariance was brought up to date (the robot left its
+        local area).
+    :ivar nis: normalised innovation squared of the matches used, per degree of freedom (NaN
+        without matches).
+    """
+
+    lines: int
+    matched: int
+    rejected: int
+    ambiguous: int
+    added: int
+    merged: int
+    pruned: int
+    landmarks: int
+    active: int
+    committed: bool
+    nis: float
+
+
+@dataclasses.dataclass
+class _Landmark:
+    extent: Extent
+    born: int
+    seen: int
+    last: int
+    sides: int
+
+
+class SlamFilter:
+    """Line-feature EKF SLAM with the compressed update (see the module's description).
+
+    Call :meth:`set_pose` first: it fixes the map frame.
+    """
+
+    def __init__(self, *, settings: SlamSettings = SlamSettings()) -> None:
+        self.settings = settings
+        self._limit = -2.0 * math.log1p(-settings.consistency_probability)
+        self.set_pose((0.0, 0.0, 0.0), np.zeros((3, 3)))
+
+    # -- reading ----------------------------------------------------------------------------------
+
+    @property
+    def pose(self) -> NDArray:
+        """The laser pose ``(x, y, theta)`` in the map frame (a copy)."""
+        return self._ekf.robot_mean
+
+    @property
+    def covariance(self) -> NDArray:
+        """Its 3x3 covariance (a copy)."""
+        return self._ekf.robot_covariance
+
+    @property
+    def start(self) -> NDArray:
+        """The laser pose :meth:`set_pose` started from."""
+        return self._start.copy()
+
+    def __len__(self) -> int:
+        """Number of landmarks, tentative ones included."""
+        return len(self._marks)
+
+    def state_covariance(self) -> NDArray:
+        """The covariance of the whole state (pose, then every landmark); brings it up to date."""
+        return self._ekf.state()[2]
+
+    def walls(self) -> NDArray:
+        """``(N, 4)`` the confirmed walls as segments ``x1, y1, x2, y2`` in the map frame."""
+        keys = [k for k, m in self._marks.items() if m.seen >= self.settings.confirm_matches]
+        if not keys:
+            return np.zeros((0, 4))
+        lines = self._ekf.means(keys)
+        line_of = self._line_lookup()
+        out = []
+        for key, line in zip(keys, lines):
+            lo, hi = self._marks[key].extent.interval(line, line_of)
+            if hi - lo >= self.settings.min_wall_length:
+                out.append(np.concatenate([point_at(line[0], line[1], lo),
+                                           point_at(line[0], line[1], hi)]))
+        return np.array(out).reshape(-1, 4)
+
+    def to_map_data(self, name: str, *, mount: ArrayLike = (0.0, 0.0, 0.0)) -> MapData:
+        """The map: the confirmed walls, and the place ``start`` where SLAM started.
+
+        :param mount: the laser's pose on the robot: ``start`` is the *robot's* pose (as the
+            map files' places are), the laser's start composed with the inverse mount.
+        """
+        robot = compose(self._start, inverse(mount))
+        return MapData(name, walls=[tuple(float(v) for v in w) for w in self.walls()],
+                       places={'start': tuple(float(v) for v in robot)})
+
+    # -- the filter -------------------------------------------------------------------------------
+
+    def set_pose(self, pose: ArrayLike, covariance: ArrayLike) -> None:
+        """Start a new map with the laser at ``pose`` (the map frame is where this puts it).
+
+        :param covariance: 3x3, symmetric positive semi-definite (zero: the map frame *is* this
+            pose).
+        :raises ValueError: on a non-finite pose or a covariance that is not symmetric PSD.
+        """
+        p = np.asarray(pose, dtype=np.float64).reshape(3)
+        c = np.asarray(covariance, dtype=np.float64).reshape(3, 3)
+        if not np.isfinite(p).all():
+            raise ValueError(f'pose must be finite, not {p.tolist()}')
+        _check_psd(c, 'covariance')
+        self._start = compose(p, (0.0, 0.0, 0.0))
+        self._ekf = CompressedEKF(self._start, 0.5 * (c + c.T))
+        self._marks: dict[int, _Landmark] = {}
+        self._keys = itertools.count()
+        self._scan = 0
+        self._adrift = 0
+        self._zone = self._start[:2].copy()
+
+    def predict(self, increment: ArrayLike, increment_covariance: ArrayLike) -> None:
+        """Move by the odometry ``increment`` (in the previous laser frame) with its covariance.
+
+        :raises ValueError: on a non-finite increment or a covariance that is not symmetric PSD.
+        """
+        u = np.asarray(increment, dtype=np.float64).reshape(3)
+        q = np.asarray(increment_covariance, dtype=np.float64).reshape(3, 3)
+        if not np.isfinite(u).all():
+            raise ValueError(f'increment must be finite, not {u.tolist()}')
+        _check_psd(q, 'increment_covariance')
+        pose = self._ekf.robot_mean
+        j_pose, j_inc = compose_jacobians(pose, u)
+        q = self.settings.odometry_inflation * q
+        self._ekf.predict(compose(pose, u), j_pose, j_inc @ q @ j_inc.T)
+
+    def update(self, lines: Sequence[LineFeature]) -> SlamUpdate:
+        """Correct pose and map with the lines of one scan (laser frame) and grow the map (see
+        the module's description)."""
+        self._scan += 1
+        s = self.settings
+        lines = [line for line in lines if _distance_to(line) <= s.max_range]
+        keys = self._ekf.active
+        landmarks = self._ekf.active_mean[3:].reshape(-1, 2)
+        line_of = self._line_lookup()
+        intervals = np.array([self._marks[k].extent.interval(l, line_of)
+                              for k, l in zip(keys, landmarks)]).reshape(-1, 2)
+        sides = np.array([self._marks[k].sides for k in keys], dtype=np.int64)
+        found = associate(lines, self._ekf.robot_mean, self._ekf.active_covariance, landmarks,
+                          intervals, sides, s.association)
+        used, rejected, nis = self._correct(
+            lines, [(k, keys[j]) for k, j in found.matches], found.fallback)
+        pose = self._ekf.robot_mean
+        candidates = self._anchor_candidates()
+        for k, key in used:
+            mark = self._marks[key]
+            mark.seen += 1
+            mark.last = self._scan
+            mark.sides |= int(side_of(found.offsets[keys.index(key)]))
+            self._extend(key, lines[k], pose, candidates)
+        # Map new walls only where the pose is pinned by the map (or the map has nothing here
+        # for a while): lines unmatched because the prediction was off would be mapped askew.
+        self._adrift = 0 if len(used) >= MIN_MATCHES_TO_MAP or not keys else self._adrift + 1
+        added = 0
+        if len(used) >= MIN_MATCHES_TO_MAP or not keys or self._adrift >= s.adrift_scans:
+            for k in found.unmatched:
+                if self._start_landmark(lines[k], pose, candidates):
+                    added += 1
+                    candidates = self._anchor_candidates()
+        touched = {key for _, key in used} | set(self._ekf.active[-added:] if added else [])
+        merged = self._merge(touched)
+        pruned = self._prune(self._ekf.active)
+        committed = self._maybe_repartition()
+        return SlamUpdate(len(lines), len(used), rejected, len(found.ambiguous), added, merged,
+                          pruned, len(self._marks), len(self._ekf.active), committed, nis)
+
+    # -- correction -------------------------------------------------------------------------------
+
+    def _correct(self, lines: Sequence[LineFeature], matches: list[tuple[int, int]],
+                 fallback: list[bool]) -> tuple[list[tuple[int, int]], int, float]:
+        """One EKF update with the matches that agree; ``(used, rejected, nis)``.
+
+        Matches found only in the fallback gate are used when they agree with the others, and
+        on their own only when :data:`MIN_MATCHES_TO_MAP` of them agree.
+        """
+        used = list(matches)
+        wide = list(fallback)
+        rejected = 0
+        pose = self._ekf.robot_mean
+        cov = self._ekf.active_covariance
+        while used:
+            keys = list(dict.fromkeys(key for _, key in used))
+            cols = np.concatenate([np.arange(3)] + [
+                np.arange(self._ekf.local_index(key), self._ekf.local_index(key) + 2)
+                for key in keys])
+            lm = self._ekf.active_mean
+            m = len(used)
+            h = np.zeros((2 * m, len(cols)))
+            r = np.zeros((2 * m, 2 * m))
+            v = np.zeros(2 * m)
+            for i, (k, key) in enumerate(used):
+                at = self._ekf.local_index(key)
+                z, h_pose, h_line, _ = observe(lm[at:at + 2], pose)
+                col = 3 + 2 * keys.index(key)
+                h[2 * i:2 * i + 2, 0:3] = h_pose[0]
+                h[2 * i:2 * i + 2, col:col + 2] = h_line[0]
+                r[2 * i:2 * i + 2, 2 * i:2 * i + 2] = lines[k].covariance
+                v[2 * i] = wrap(lines[k].gamma - z[0, 0])
+                v[2 * i + 1] = lines[k].rho - z[0, 1]
+            c = h @ cov[np.ix_(cols, cols)] @ h.T
+            s_inv = np.linalg.inv(c + r)
+            w = s_inv @ v
+            residual = r @ w                                     # v - H K v
+            spread = r - c + c @ s_inv @ c                       # R - H P+ H^T
+            misfit = np.zeros(m)
+            for i in range(m):
+                block = spread[2 * i:2 * i + 2, 2 * i:2 * i + 2]
+                e = residual[2 * i:2 * i + 2]
+                det = block[0, 0] * block[1, 1] - block[0, 1] ** 2
+                if det > 1e-18 * max(block[0, 0] * block[1, 1], 1e-300):
+                    misfit[i] = e @ np.linalg.solve(block, e)
+            worst = int(np.argmax(misfit))
+            if misfit[worst] > self._limit:
+                used.pop(worst)
+                wide.pop(worst)
+                rejected += 1
+                continue
+            if all(wide) and len(used) < MIN_MATCHES_TO_MAP:
+                return [], rejected + len(used), math.nan
+            self._ekf.update(cols, h, r, v)
+            return used, rejected, float(v @ w) / (2 * m)
+        return [], rejected, math.nan
+
+    # -- map bookkeeping --------------------------------------------------------------------------
+
+    def _line_lookup(self):
+        """``key -> current line`` (None for a forgotten landmark)."""
+        ekf = self._ekf
+
+        def line_of(key: int) -> NDArray | None:
+            return ekf.means([key])[0] if key in ekf else None
+        return line_of
+
+    def _anchor_candidates(self) -> AnchorCandidates:
+        """The active landmarks as anchors, with current lines and extents."""
+        keys = self._ekf.active
+        if not keys:
+            return AnchorCandidates.empty()
+        lines = self._ekf.active_mean[3:].reshape(-1, 2).copy()
+        line_of = self._line_lookup()
+        intervals = np.array([self._marks[k].extent.interval(l, line_of)
+                              for k, l in zip(keys, lines)])
+        return AnchorCandidates(np.array(keys, dtype=np.int64), lines, intervals)
+
+    def _seen_interval(self, line: LineFeature, pose: NDArray, landmark: NDArray
+                       ) -> tuple[float, float] | None:
+        """The part of an observed segment within ``extent_range`` of the laser, as ``t`` on
+        ``landmark``'s line (None if no part is in range)."""
+        clipped = _clip(line.start, line.end, self.settings.extent_range)
+        if clipped is None:
+            return None
+        t = along(landmark[0], transform_points(pose, clipped))
+        return float(t.min()), float(t.max())
+
+    def _extend(self, key: int, line: LineFeature, pose: NDArray,
+                candidates: AnchorCandidates) -> None:
+        landmark = self._ekf.means([key])[0]
+        seen = self._seen_interval(line, pose, landmark)
+        if seen is None:
+            return
+        extent = self._marks[key].extent
+        lo, hi = extent.interval(landmark, self._line_lookup())
+        gap = self.settings.extend_gap
+        if seen[0] > hi + gap or seen[1] < lo - gap:
+            return
+        anchor = dict(exclude=key, radius=self.settings.anchor_radius,
+                      min_angle=self.settings.anchor_min_angle)
+        if seen[0] < lo or (extent.lo.anchor is None and seen[0] < lo + gap):
+            extent.lo = choose_anchor(landmark, min(seen[0], lo), candidates, **anchor)
+        if seen[1] > hi or (extent.hi.anchor is None and seen[1] > hi - gap):
+            extent.hi = choose_anchor(landmark, max(seen[1], hi), candidates, **anchor)
+
+    def _start_landmark(self, line: LineFeature, pose: NDArray,
+                        candidates: AnchorCandidates) -> bool:
+        s = self.settings
+        if line.points < s.new_min_points:
+            return False
+        landmark, g_pose, g_z = initialise(line.gamma, line.rho, pose)
+        seen = self._seen_interval(line, pose, landmark)
+        if seen is None or seen[1] - seen[0] < s.new_min_length:
+            return False
+        key = next(self._keys)
+        self._ekf.add(key, landmark, g_pose, g_z @ line.covariance @ g_z.T)
+        anchor = dict(exclude=key, radius=s.anchor_radius, min_angle=s.anchor_min_angle)
+        extent = Extent(choose_anchor(landmark, seen[0], candidates, **anchor),
+                        choose_anchor(landmark, seen[1], candidates, **anchor))
+        offset = float(landmark[1] - pose[0] * math.cos(landmark[0]) -
+                       pose[1] * math.sin(landmark[0]))
+        self._marks[key] = _Landmark(extent, born=self._scan, seen=1, last=self._scan,
+                                     sides=int(side_of(offset)))
+        return True
+
+    def _merge(self, touched: set[int]) -> int:
+        """Merge the landmarks that became one wall; the number merged away."""
+        keys = self._ekf.active
+        if len(keys) < 2 or not touched:
+            return 0
+        candidates = self._anchor_candidates()
+        merges = find_merges(candidates.lines, candidates.intervals, self._ekf.active_covariance,
+                             np.array([self._marks[k].sides for k in keys], dtype=np.int64),
+                             [i for i, k in enumerate(keys) if k in touched],
+                             self.settings.merge)
+        done = 0
+        for i, j, sign in merges:
+            keep, drop = keys[i], keys[j]
+            if self._marks[drop].seen > self._marks[keep].seen:
+                keep, drop = drop, keep
+            if keep not in self._ekf or drop not in self._ekf:
+                continue
+            self._fuse(keep, drop, sign)
+            done += 1
+        return done
+
+    def _fuse(self, keep: int, drop: int, sign: float) -> None:
+        """Constrain landmark ``drop`` to equal ``keep`` (``sign``: -1 if in the other form),
+        then forget it and join the extents."""
+        line_of = self._line_lookup()
+        a, b = self._ekf.local_index(keep), self._ekf.local_index(drop)
+        lk, ld = self._ekf.means([keep, drop])
+        jac = np.array([[1.0, 0.0, -1.0, 0.0], [0.0, 1.0, 0.0, -sign]])
+        gap = np.array([wrap(lk[0] - ld[0] - (math.pi if sign < 0 else 0.0)), lk[1] - sign * ld[1]])
+        ext_keep, ext_drop = self._marks[keep].extent, self._marks[drop].extent
+        ext_keep.interval(lk, line_of)
+        ext_drop.interval(ld, line_of)
+        if sign < 0:
+            ext_drop = ext_drop.flipped()
+        self._ekf.update([a, a + 1, b, b + 1], jac, 1e-12 * np.eye(2), -gap)
+        lo = ext_keep.lo if ext_keep.lo.t <= ext_drop.lo.t else ext_drop.lo
+        hi = ext_keep.hi if ext_keep.hi.t >= ext_drop.hi.t else ext_drop.hi
+        mark, gone = self._marks[keep], self._marks.pop(drop)
+        mark.extent = Extent(lo, hi)
+        mark.seen += gone.seen
+        mark.last = max(mark.last, gone.last)
+        mark.born = min(mark.born, gone.born)
+        mark.sides |= gone.sides
+        self._ekf.remove(drop)
+        for other in self._marks.values():
+            for end in (other.extent.lo, other.extent.hi):
+                if end.anchor == drop:
+                    end.anchor = keep                  # the same line: the same crossing
+        for end in (mark.extent.lo, mark.extent.hi):
+            if end.anchor in (keep, drop):
+                end.unanchor(lk)
+
+    def _prune(self, keys: Sequence[int]) -> int:
+        """Drop tentative landmarks unseen for ``tentative_scans`` scans."""
+        s = self.settings
+        stale = [k for k in keys if self._marks[k].seen < s.confirm_matches
+                 and self._scan - self._marks[k].last >= s.tentative_scans]
+        for key in stale:
+            self._forget(key)
+        return len(stale)
+
+    def _forget(self, key: int) -> None:
+        line_of = self._line_lookup()
+        for other_key, other in self._marks.items():
+            if key in (other.extent.lo.anchor, other.extent.hi.anchor):
+                line = self._ekf.means([other_key])[0]
+                other.extent.interval(line, line_of)
+                other.extent.drop_anchor(key, line)
+        del self._marks[key]
+        self._ekf.remove(key)
+
+    def _maybe_repartition(self) -> bool:
+        """Global update and a new local area when the robot has left the current one."""
+        pose = self._ekf.robot_mean
+        s = self.settings
+        if math.dist(pose[:2], self._zone) <= s.zone_radius:
+            return False
+        self._ekf.commit()
+        keys = self._ekf.keys
+        self._prune([k for k in keys if k not in set(self._ekf.active)])
+        keys = self._ekf.keys
+        cov = self._ekf.robot_covariance
+        reach = s.max_range + s.zone_radius + 1.0 + 3.0 * math.sqrt(max(cov[0, 0] + cov[1, 1], 0.0))
+        lines = self._ekf.means(keys)
+        line_of = self._line_lookup()
+        near = []
+        for key, line in zip(keys, lines):
+            lo, hi = self._marks[key].extent.interval(line, line_of)
+            if _point_segment_distance(pose[:2], point_at(line[0], line[1], lo),
+                                       point_at(line[0], line[1], hi)) <= reach:
+                near.append(key)
+        self._ekf.activate(near)
+        self._zone = pose[:2].copy()
+        return True
+
+
+def _distance_to(line: LineFeature) -> float:
+    """m from the laser to the nearest point of an observed segment."""
+    return _point_segment_distance(np.zeros(2), line.start, line.end)
+
+
+def _point_segment_distance(p: NDArray, a: NDArray, b: NDArray) -> float:
+    d = np.asarray(b, dtype=float) - a
+    length2 = float(d @ d)
+    u = 0.0 if length2 == 0.0 else min(1.0, max(0.0, float((p - a) @ d) / length2))
+    return float(np.hypot(*(a + u * d - p)))
+
+
+def _clip(a: NDArray, b: NDArray, radius: float) -> NDArray | None:
+    """``(2, 2)``: the part of segment ``ab`` inside the disc of ``radius`` round the origin."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    d = b - a
+    qa, qb, qc = float(d @ d), 2.0 * float(a @ d), float(a @ a) - radius * radius
+    disc = qb * qb - 4.0 * qa * qc
+    if qa == 0.0 or disc <= 0.0:
+        return None
+    root = math.sqrt(disc)
+    lo, hi = max(0.0, (-qb - root) / (2.0 * qa)), min(1.0, (-qb + root) / (2.0 * qa))
+    if lo >= hi:
+        return None
+    return np.array([a + lo * d, a + hi * d])
+
+
+def _check_psd(matrix: NDArray, name: str) -> None:
+    if not np.isfinite(matrix).all() or not np.allclose(matrix, matrix.T, rtol=1e-9, atol=1e-12):
+        raise ValueError(f'{name} must be finite and symmetric, not {matrix.tolist()}')
+    smallest = float(np.linalg.eigvalsh(0.5 * (matrix + matrix.T))[0])
+    if smallest < -1e-12 * max(1.0, float(np.abs(matrix).max())):
+        raise ValueError(f'{name} must be positive semi-definite; its smallest eigenvalue is '
+                         f'{smallest}')
