@@ -184,9 +184,12 @@ class SlamFilter:
         """Number of landmarks, tentative ones included."""
         return len(self._marks)
 
-    def state_covariance(self) -> NDArray:
-        """The covariance of the whole state (pose, then every landmark); brings it up to date."""
-        return self._ekf.state()[2]
+    def state(self) -> tuple[NDArray, NDArray]:
+        """Mean and covariance of the whole state: the pose, then every landmark's line
+        ``(gamma, rho)`` (tentative ones too) in the order they were started.  Brings the
+        compressed filter's passive part up to date (a global update)."""
+        _, mean, cov = self._ekf.state()
+        return mean, cov
 
     def walls(self) -> NDArray:
         """``(N, 4)`` the confirmed walls as segments ``x1, y1, x2, y2`` in the map frame."""
@@ -357,8 +360,8 @@ class SlamFilter:
             return ekf.means([key])[0] if key in ekf else None
         return line_of
 
-    def _anchor_candidates(self) -> AnchorCandidates:
-        """The active landmarks as anchors, with current lines and extents."""
+    def _active_extents(self) -> AnchorCandidates:
+        """The active landmarks with their current lines and extents."""
         keys = self._ekf.active
         if not keys:
             return AnchorCandidates.empty()
@@ -367,6 +370,18 @@ class SlamFilter:
         intervals = np.array([self._marks[k].extent.interval(l, line_of)
                               for k, l in zip(keys, lines)])
         return AnchorCandidates(np.array(keys, dtype=np.int64), lines, intervals)
+
+    def _anchor_candidates(self) -> AnchorCandidates:
+        """The landmarks that may anchor an end seen now: those within ``max_range +
+        anchor_radius`` of the laser (all active; the rule does not depend on the local area, so
+        compression changes no choice)."""
+        every = self._active_extents()
+        if len(every.keys) == 0:
+            return every
+        ends = point_at(every.lines[:, 0:1], every.lines[:, 1:2], every.intervals)     # (K, 2, 2)
+        near = _segment_distances(self._ekf.robot_mean[:2], ends[:, 0], ends[:, 1]) <= \
+            self.settings.max_range + self.settings.anchor_radius
+        return AnchorCandidates(every.keys[near], every.lines[near], every.intervals[near])
 
     def _seen_interval(self, line: LineFeature, pose: NDArray, landmark: NDArray
                        ) -> tuple[float, float] | None:
@@ -421,7 +436,7 @@ class SlamFilter:
         keys = self._ekf.active
         if len(keys) < 2 or not touched:
             return 0
-        candidates = self._anchor_candidates()
+        candidates = self._active_extents()
         merges = find_merges(candidates.lines, candidates.intervals, self._ekf.active_covariance,
                              np.array([self._marks[k].sides for k in keys], dtype=np.int64),
                              [i for i, k in enumerate(keys) if k in touched],
@@ -498,7 +513,9 @@ class SlamFilter:
         self._prune([k for k in keys if k not in set(self._ekf.active)])
         keys = self._ekf.keys
         cov = self._ekf.robot_covariance
-        reach = s.max_range + s.zone_radius + 1.0 + 3.0 * math.sqrt(max(cov[0, 0] + cov[1, 1], 0.0))
+        # Everything a line seen from the local area can match, merge with or anchor to.
+        reach = s.max_range + s.zone_radius + max(s.anchor_radius, 1.0) + \
+            3.0 * math.sqrt(max(cov[0, 0] + cov[1, 1], 0.0))
         lines = self._ekf.means(keys)
         line_of = self._line_lookup()
         near = []
@@ -515,6 +532,14 @@ class SlamFilter:
 def _distance_to(line: LineFeature) -> float:
     """m from the laser to the nearest point of an observed segment."""
     return _point_segment_distance(np.zeros(2), line.start, line.end)
+
+
+def _segment_distances(p: NDArray, a: NDArray, b: NDArray) -> NDArray:
+    """m from point ``p`` to segments ``a[i] b[i]`` ``(K, 2)``."""
+    d = b - a
+    length2 = np.einsum('ij,ij->i', d, d)
+    u = np.clip(np.einsum('ij,ij->i', p - a, d) / np.where(length2 > 0.0, length2, 1.0), 0.0, 1.0)
+    return np.hypot(*(a + u[:, None] * d - p).T)
 
 
 def _point_segment_distance(p: NDArray, a: NDArray, b: NDArray) -> float:

@@ -13,6 +13,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
+from collections.abc import Iterator
 
 import numpy as np
 from scipy import ndimage
@@ -27,10 +28,12 @@ from nav_sim import CLEARANCE, DT, GRID, LASER_SIGMA, MOUNT, NOISE, SCAN_STEPS, 
 from pluto_nav.geometry import compose, relative, wrap
 from pluto_nav.lines import extract_lines
 from pluto_nav.odometry_model import OdometryNoiseModel, increment_covariance, laser_increment
-from pluto_nav.slam_filter import SlamFilter, SlamSettings
+from pluto_nav.pose_filter import PoseFilter
+from pluto_nav.slam_filter import SlamFilter, SlamSettings, SlamUpdate
 from pluto_nav.wall_map import WallMap
 
-__all__ = ['SlamRun', 'loop_route', 'place_route', 'run', 'wall_errors']
+__all__ = ['Scan', 'SlamRun', 'drive', 'localize', 'loop_route', 'place_route', 'run', 'wall_errors',
+           'wall_errors_same_wall']
 
 
 @dataclasses.dataclass
@@ -47,7 +50,7 @@ class SlamRun:
     landmarks: np.ndarray          # landmarks after each update
     filter: SlamFilter
     world: World
-    bumped: bool = False
+    updates: list                  # SlamUpdate of each scan
     spd: bool = True               # every sampled full covariance was positive definite
 
     @property
@@ -87,13 +90,22 @@ def loop_route(world: World, length_m: float, rng: np.random.Generator) -> np.nd
     return np.vstack([out, back, [[start.x, start.y]]])
 
 
-def run(world: World, route: np.ndarray, *, seed: int, length_m: float = math.inf,
-        settings: SlamSettings = SlamSettings(), noise: OdometryNoise = NOISE,
-        check_every: int = 0) -> SlamRun:
-    """Drive ``route`` from the place ``start`` (up to ``length_m`` metres) doing SLAM.
+@dataclasses.dataclass(frozen=True)
+class Scan:
+    """What one scan period gives an estimator, and the truth to score it."""
 
-    :param check_every: every this many scans, check the full covariance is SPD (0: never).
-    """
+    increment: np.ndarray          # odometry increment of the laser since the last scan
+    increment_covariance: np.ndarray
+    lines: list                    # lines of the noisy scan (laser frame)
+    truth: np.ndarray              # true laser pose
+    dead_reckoning: np.ndarray     # laser pose from odometry alone
+    distance: float                # m driven (odometry's count)
+
+
+def drive(world: World, route: np.ndarray, *, seed: int, length_m: float = math.inf,
+          noise: OdometryNoise = NOISE) -> Iterator[Scan]:
+    """Drive ``route`` from the place ``start`` (up to ``length_m`` metres); one :class:`Scan`
+    per scan period, the first taken standing at the start (zero increment)."""
     rng = np.random.default_rng(seed)
     start = world.place('start')
     robot = SimRobot(world, RobotSpec(odometry_noise=noise), rng, start=tuple(start))
@@ -101,14 +113,16 @@ def run(world: World, route: np.ndarray, *, seed: int, length_m: float = math.in
     laser = LaserModel(geometry, rng)
     range_sigma = math.hypot(LASER_SIGMA, geometry.resolution / math.sqrt(12.0))
     model = OdometryNoiseModel(trans=noise.trans, rot=noise.rot, drift=noise.drift)
-    slam = SlamFilter(settings=settings)
-    slam.set_pose(compose(tuple(start), MOUNT), np.zeros((3, 3)))
-    # SLAM starts with the robot standing at the start: the first map comes from there.
-    slam.update(extract_lines(laser.scan(world, *start), range_sigma=range_sigma,
-                              max_range=geometry.max_range))
+
+    def scan(increment: np.ndarray, covariance: np.ndarray, odo: tuple) -> Scan:
+        t = robot.truth
+        lines = extract_lines(laser.scan(world, t.x, t.y, t.theta), range_sigma=range_sigma,
+                              max_range=geometry.max_range)
+        return Scan(increment, covariance, lines, compose((t.x, t.y, t.theta), MOUNT),
+                    compose(compose(tuple(start), odo), MOUNT), robot.distance)
+
     last_odo = (0.0, 0.0, 0.0)
-    rows: list[tuple] = []
-    spd = True
+    yield scan(np.zeros(3), np.zeros((3, 3)), last_odo)
     target, step = 1, 0
     route_length = float(np.sum(np.hypot(*np.diff(route, axis=0).T)))
     max_steps = int(3 * min(length_m, route_length + 10.0) / (SPEED * DT)) + 1000
@@ -119,39 +133,88 @@ def run(world: World, route: np.ndarray, *, seed: int, length_m: float = math.in
         robot.step(DT)
         step += 1
         if robot.bumper_stop:
-            break
+            raise RuntimeError(f'{world.name}: the robot bumped into a wall at {robot.truth}')
         if step % SCAN_STEPS:
             continue
         odo = (robot.odometry.x, robot.odometry.y, robot.odometry.theta)
         u_robot = relative(last_odo, odo)
-        u_laser, q_laser = laser_increment(u_robot, increment_covariance(u_robot, model), MOUNT)
         last_odo = odo
-        t = robot.truth
-        lines = extract_lines(laser.scan(world, t.x, t.y, t.theta), range_sigma=range_sigma,
-                              max_range=geometry.max_range)
-        began = time.process_time()
-        slam.predict(u_laser, q_laser)
-        slam.update(lines)
-        spent = time.process_time() - began
-        true_laser = compose((t.x, t.y, t.theta), MOUNT)
-        dead = compose(compose(tuple(start), odo), MOUNT)
-        est = slam.pose
-        rows.append((robot.distance, math.dist(est[:2], true_laser[:2]),
-                     abs(wrap(est[2] - true_laser[2])), math.dist(dead[:2], true_laser[:2]),
-                     abs(wrap(dead[2] - true_laser[2])), spent, len(slam)))
-        if check_every and len(rows) % check_every == 0:
-            spd &= bool(np.linalg.eigvalsh(slam.state_covariance())[0] > 0.0)
-    data = np.array(rows).reshape(-1, 7)
-    return SlamRun(world.name, *data.T, filter=slam, world=world, bumped=robot.bumper_stop,
-                   spd=spd)
+        yield scan(*laser_increment(u_robot, increment_covariance(u_robot, model), MOUNT), odo)
 
 
-def wall_errors(walls: np.ndarray, world: World) -> np.ndarray:
-    """For each mapped wall, how far (m) its farther endpoint lies from the nearest true wall.
+def run(world: World, route: np.ndarray, *, seed: int, length_m: float = math.inf,
+        settings: SlamSettings = SlamSettings(), noise: OdometryNoise = NOISE,
+        check_every: int = 0) -> SlamRun:
+    """SLAM along ``route`` (see :func:`drive`), starting at the true laser pose, exactly known.
 
-    A true wall counts with its chain (collinear walls that touch, ``WallMap.chain_extent``), so
-    a mapped wall along an outer wall drawn in two pieces is scored against the whole of it.
+    :param check_every: every this many scans after the first, check that the full covariance
+        is positive definite (0: never).
     """
+    slam = SlamFilter(settings=settings)
+    rows: list[tuple] = []
+    updates: list[SlamUpdate] = []
+    spd = True
+    for k, scan in enumerate(drive(world, route, seed=seed, length_m=length_m, noise=noise)):
+        if k == 0:
+            slam.set_pose(scan.truth, np.zeros((3, 3)))
+        began = time.process_time()
+        if k > 0:
+            slam.predict(scan.increment, scan.increment_covariance)
+        updates.append(slam.update(scan.lines))
+        spent = time.process_time() - began
+        est = slam.pose
+        rows.append((scan.distance, math.dist(est[:2], scan.truth[:2]),
+                     abs(wrap(est[2] - scan.truth[2])), math.dist(scan.dead_reckoning[:2], scan.truth[:2]),
+                     abs(wrap(scan.dead_reckoning[2] - scan.truth[2])), spent, len(slam)))
+        if check_every and k % check_every == 0 and k > 0:     # at k = 0 the pose is exact
+            spd &= bool(np.linalg.eigvalsh(slam.state()[1])[0] > 0.0)
+    data = np.array(rows).reshape(-1, 7)
+    return SlamRun(world.name, *data.T, filter=slam, world=world, updates=updates, spd=spd)
+
+
+def localize(world: World, walls: np.ndarray, start: tuple[float, float, float],
+             route: np.ndarray, *, seed: int, length_m: float = math.inf) -> np.ndarray:
+    """Drive ``route`` in ``world`` with a PoseFilter on the map ``walls`` from the robot pose
+    ``start`` (the map's place); the filter's position error (m) at each scan."""
+    filt = PoseFilter()
+    wall_map = WallMap(walls)
+    errors = []
+    for k, scan in enumerate(drive(world, route, seed=seed, length_m=length_m)):
+        if k == 0:
+            filt.set_pose(compose(start, MOUNT), np.diag([1e-4, 1e-4, 1e-4]))
+        else:
+            filt.predict(scan.increment, scan.increment_covariance)
+        filt.update(scan.lines, wall_map)
+        errors.append(math.dist(filt.pose[:2], scan.truth[:2]))
+    return np.array(errors)
+
+
+def wall_errors(walls: np.ndarray, world: World, *, step: float = 0.05) -> np.ndarray:
+    """For each mapped wall, the largest distance (m) of any of its points (endpoints included,
+    and every ``step`` between) from the nearest true wall.
+
+    So a wall is good when it lies along true walls end to end: an end that overshoots a corner,
+    a wall drawn across a door gap or a wall off to the side all count; a wall drawn over two
+    pieces of true wall that touch (a wall in two pieces, a few centimetres out of line, which
+    the line extractor cannot tell apart) does not.
+    """
+    truth = np.asarray(world.walls, dtype=float).reshape(-1, 4)
+    a, d = truth[:, 0:2], truth[:, 2:4] - truth[:, 0:2]
+    length2 = np.einsum('ij,ij->i', d, d)
+    out = np.empty(len(walls))
+    for i, wall in enumerate(np.asarray(walls).reshape(-1, 4)):
+        count = max(2, int(math.ceil(math.dist(wall[:2], wall[2:]) / step)) + 1)
+        points = wall[:2] + np.linspace(0.0, 1.0, count)[:, None] * (wall[2:] - wall[:2])
+        rel = points[:, None, :] - a[None, :, :]                              # (P, W, 2)
+        u = np.clip(np.einsum('pwj,wj->pw', rel, d) / length2, 0.0, 1.0)
+        gap = rel - u[..., None] * d[None, :, :]
+        out[i] = float(np.sqrt(np.einsum('pwj,pwj->pw', gap, gap).min(axis=1)).max())
+    return out
+
+
+def wall_errors_same_wall(walls: np.ndarray, world: World) -> np.ndarray:
+    """For each mapped wall, how far (m) its farther endpoint lies from one true wall, the same
+    for both ends (with its chain: collinear walls that touch, ``WallMap.chain_extent``)."""
     truth = WallMap(world.walls)
     normal = np.column_stack([np.cos(truth.gamma), np.sin(truth.gamma)])
     along_dir = np.column_stack([-normal[:, 1], normal[:, 0]])
