@@ -29,7 +29,7 @@ from pluto_nav.geometry import compose, relative, wrap
 from pluto_nav.lines import extract_lines
 from pluto_nav.odometry_model import OdometryNoiseModel, increment_covariance, laser_increment
 from pluto_nav.pose_filter import PoseFilter
-from pluto_nav.slam_filter import SlamFilter, SlamSettings, SlamUpdate
+from pluto_nav.slam_filter import LINE_EXTRACTION, SlamFilter, SlamSettings, SlamUpdate
 from pluto_nav.wall_map import WallMap
 
 __all__ = ['Scan', 'SlamRun', 'drive', 'localize', 'loop_route', 'place_route', 'run', 'wall_errors',
@@ -103,9 +103,13 @@ class Scan:
 
 
 def drive(world: World, route: np.ndarray, *, seed: int, length_m: float = math.inf,
-          noise: OdometryNoise = NOISE) -> Iterator[Scan]:
+          noise: OdometryNoise = NOISE, extraction: dict | None = None) -> Iterator[Scan]:
     """Drive ``route`` from the place ``start`` (up to ``length_m`` metres); one :class:`Scan`
-    per scan period, the first taken standing at the start (zero increment)."""
+    per scan period, the first taken standing at the start (zero increment).
+
+    :param extraction: keyword arguments for ``extract_lines`` (None: its defaults).
+    :raises RuntimeError: if the robot bumps into a wall (a route too close to one).
+    """
     rng = np.random.default_rng(seed)
     start = world.place('start')
     robot = SimRobot(world, RobotSpec(odometry_noise=noise), rng, start=tuple(start))
@@ -117,7 +121,7 @@ def drive(world: World, route: np.ndarray, *, seed: int, length_m: float = math.
     def scan(increment: np.ndarray, covariance: np.ndarray, odo: tuple) -> Scan:
         t = robot.truth
         lines = extract_lines(laser.scan(world, t.x, t.y, t.theta), range_sigma=range_sigma,
-                              max_range=geometry.max_range)
+                              max_range=geometry.max_range, **(extraction or {}))
         return Scan(increment, covariance, lines, compose((t.x, t.y, t.theta), MOUNT),
                     compose(compose(tuple(start), odo), MOUNT), robot.distance)
 
@@ -144,8 +148,9 @@ def drive(world: World, route: np.ndarray, *, seed: int, length_m: float = math.
 
 def run(world: World, route: np.ndarray, *, seed: int, length_m: float = math.inf,
         settings: SlamSettings = SlamSettings(), noise: OdometryNoise = NOISE,
-        check_every: int = 0) -> SlamRun:
-    """SLAM along ``route`` (see :func:`drive`), starting at the true laser pose, exactly known.
+        check_every: int = 0, extraction: dict | None = LINE_EXTRACTION) -> SlamRun:
+    """SLAM along ``route`` (see :func:`drive`), starting at the true laser pose, exactly known;
+    lines extracted with ``extraction`` (:data:`pluto_nav.slam_filter.LINE_EXTRACTION`).
 
     :param check_every: every this many scans after the first, check that the full covariance
         is positive definite (0: never).
@@ -154,7 +159,8 @@ def run(world: World, route: np.ndarray, *, seed: int, length_m: float = math.in
     rows: list[tuple] = []
     updates: list[SlamUpdate] = []
     spd = True
-    for k, scan in enumerate(drive(world, route, seed=seed, length_m=length_m, noise=noise)):
+    for k, scan in enumerate(drive(world, route, seed=seed, length_m=length_m, noise=noise,
+                                   extraction=extraction)):
         if k == 0:
             slam.set_pose(scan.truth, np.zeros((3, 3)))
         began = time.process_time()

@@ -17,7 +17,7 @@ from wurde_idl.mapfile import load_map_data, save_map_data
 
 from pluto_nav.geometry import compose
 from pluto_nav.lines import extract_lines
-from pluto_nav.slam_filter import SlamFilter, SlamSettings
+from pluto_nav.slam_filter import LINE_EXTRACTION, SlamFilter, SlamSettings
 from pluto_nav.slam_merge import MergeSettings
 
 MAPS = slam_sim.__file__.rsplit('/src/', 1)[0] + '/config/maps'
@@ -26,7 +26,7 @@ MAPS = slam_sim.__file__.rsplit('/src/', 1)[0] + '/config/maps'
 def _scan_lines(world: World, pose: tuple[float, float, float]) -> list:
     """The lines a noiseless laser at ``pose`` (its own frame) sees."""
     laser = LaserModel(LaserGeometry(), np.random.default_rng(0))
-    return extract_lines(laser.scan(world, *pose), range_sigma=0.005)
+    return extract_lines(laser.scan(world, *pose), range_sigma=0.005, **LINE_EXTRACTION)
 
 
 # -- small cases ----------------------------------------------------------------------------------
