@@ -11,11 +11,17 @@ point of them lies from the true walls (and how far their ends lie from one true
 per predict + update; then the map is saved and loaded with ``wurde_idl.mapfile`` and a
 PoseFilter localizes against it on a new route (``--relocalize`` metres).
 
+A second table measures the cost per update against the number of landmarks in a hall of
+pillars (``--hall`` metres square, a pillar every 4 m: 250 walls or so), with the default 30 m
+range (every landmark active: the compressed filter is the plain EKF) and with a 10 m range and a
+2 m local area, compressed and not.
+
 Targets: pose RMSE <= 10 cm over a 100 m loop with closure; every mapped wall within 10 cm of the
-true one; an update well inside the 200 ms between scans.
+true one; an update well inside the 200 ms between scans with about 100 landmarks.
 
 Usage (inside ``source env.sh``; wurde_idl with mapfile on PYTHONPATH, e.g. main's source):
-``python bench/slam_offline.py [--length 100] [--generated 4] [--seed 21] [--relocalize 30]``.
+``python bench/slam_offline.py [--length 100] [--generated 4] [--seed 21] [--relocalize 30]
+[--hall 36]``.
 """
 
 from __future__ import annotations
@@ -41,7 +47,10 @@ import numpy as np  # noqa: E402
 import slam_sim  # noqa: E402
 from nav_sim import MOUNT  # noqa: E402
 from wurde_drivers.sim.mapfile import load_map  # noqa: E402
+from wurde_drivers.sim.world import World  # noqa: E402
 from wurde_idl.mapfile import load_map_data, save_map_data  # noqa: E402
+
+from pluto_nav.slam_filter import SlamSettings  # noqa: E402
 
 #: The corridor loop: round the block and on to the far corner, about 126 m.
 CORRIDOR_LOOP = ['start', 'corner_nw', 'corner_ne', 'corner_se', 'corner_sw', 'start', 'corner_nw',
@@ -49,6 +58,44 @@ CORRIDOR_LOOP = ['start', 'corner_nw', 'corner_ne', 'corner_se', 'corner_sw', 's
 HEADER = ('| map | driven m | SLAM RMSE cm | SLAM max cm | SLAM RMSE deg | odometry RMSE m | '
           'walls | wall max cm | walls > 10 cm | ends max cm | update ms mean / max | '
           'landmarks | reloaded map: PoseFilter RMSE cm |')
+
+
+COST_HEADER = ('| world | range m | local area m | driven m | landmarks | active (mean) | '
+               'update ms mean / p95 / max | SLAM RMSE cm | wall max cm |')
+
+
+def pillar_hall(size: float, seed: int, spacing: float = 4.0) -> World:
+    """A square hall with a rectangular pillar (0.8-1.4 m by 0.7-1 m, turned at random) every
+    ``spacing`` metres, and a clear start in the middle."""
+    rng = np.random.default_rng(seed)
+    walls = [(0.0, 0.0, size, 0.0), (size, 0.0, size, size), (size, size, 0.0, size),
+             (0.0, size, 0.0, 0.0)]
+    for cx in np.arange(spacing, size - 1.0, spacing):
+        for cy in np.arange(spacing, size - 1.0, spacing):
+            if abs(cx - size / 2) < 1.0 and abs(cy - size / 2 - 2.0) < 3.0:
+                continue                                  # keep the start clear
+            angle = rng.uniform(0.0, math.pi)
+            c, s = math.cos(angle), math.sin(angle)
+            half_l, half_d = rng.uniform(0.8, 1.4) / 2, rng.uniform(0.7, 1.0) / 2
+            x, y = cx + rng.uniform(-0.5, 0.5), cy + rng.uniform(-0.5, 0.5)
+            corners = [(x + c * u - s * v, y + s * u + c * v) for u, v in
+                       ((-half_l, -half_d), (half_l, -half_d), (half_l, half_d), (-half_l, half_d))]
+            walls += [(*p, *q) for p, q in zip(corners, corners[1:] + corners[:1])]
+    return World(np.array(walls), name=f'pillar-hall-{size:g}',
+                 places={'start': (size / 2, size / 2, 0.0)})
+
+
+def cost(world: World, length: float, seed: int, max_range: float, zone: float) -> str:
+    settings = SlamSettings(max_range=max_range, extent_range=max_range, zone_radius=zone)
+    run = slam_sim.run(world, slam_sim.loop_route(world, length, np.random.default_rng(seed)),
+                       seed=seed, settings=settings)
+    active = np.mean([u.active for u in run.updates])
+    spent = 1000 * run.update_s
+    errors = slam_sim.wall_errors(run.filter.walls(), world)
+    return (f'| {world.name} | {max_range:g} | {"all" if zone > 1e3 else f"{zone:g}"} | '
+            f'{run.driven:.0f} | {len(run.filter)} | {active:.0f} | {spent.mean():.1f} / '
+            f'{np.percentile(spent, 95):.1f} / {spent.max():.0f} | {100 * run.rmse()[0]:.1f} | '
+            f'{100 * errors.max():.1f} |')
 
 
 def generated_maps(count: int, seed: int) -> tuple[str, list]:
@@ -101,13 +148,15 @@ def main() -> int:
     parser.add_argument('--shipped', default='office,corridor-loop,outdoor', help='shipped maps')
     parser.add_argument('--relocalize', type=float, default=30.0,
                         help='metres of PoseFilter run on the saved map (0: skip)')
+    parser.add_argument('--hall', type=float, default=36.0,
+                        help='side of the pillar hall for the cost table (m; 0: skip)')
     args = parser.parse_args()
     worlds = [load_map(ROOT / 'config' / 'maps' / f'{name}.xml')
               for name in args.shipped.split(',') if name]
     source, generated = generated_maps(args.generated, args.seed)
     print(f'command: python bench/slam_offline.py --length {args.length:g} --generated '
           f'{args.generated} --seed {args.seed} --shipped {args.shipped} --relocalize '
-          f'{args.relocalize:g}')
+          f'{args.relocalize:g} --hall {args.hall:g}')
     print(f'generated maps from {source}; CPU time per update on one thread')
     print(HEADER)
     print('|' + '---|' * HEADER.count(' |'))
@@ -116,6 +165,13 @@ def main() -> int:
         for i, world in enumerate(worlds + generated):
             print(bench(world, args.length, args.seed + i, args.relocalize, pathlib.Path(work)),
                   flush=True)
+    if args.hall > 0:
+        hall = pillar_hall(args.hall, args.seed)
+        print()
+        print(COST_HEADER)
+        print('|' + '---|' * COST_HEADER.count(' |'))
+        for max_range, zone in ((30.0, 2.0), (10.0, 2.0), (10.0, 1e6)):
+            print(cost(hall, args.length, args.seed, max_range, zone), flush=True)
     print(f'({time.monotonic() - began:.0f} s)')
     return 0
 

@@ -113,18 +113,16 @@ class CompressedEKF:
     def means(self, keys: Iterable[int]) -> NDArray:
         """``(K, 2)`` current means of any landmarks (passive ones with the phase's correction,
         without committing it)."""
-        keys = list(keys)
+        keys = [int(k) for k in keys]
         out = np.empty((len(keys), BLOCK))
-        for row, key in enumerate(keys):
-            position = self._position.get(key)
-            if position is not None:
-                start = ROBOT + BLOCK * position
-                out[row] = self._xa[start:start + BLOCK]
-            else:
-                index = self._indices(self._slot[key])
-                out[row] = self._x[index]
-                if len(self._theta):
-                    out[row] += self._p[np.ix_(index, self._a0)] @ self._theta
+        position = np.array([self._position.get(k, -1) for k in keys], dtype=np.intp)
+        active = position >= 0
+        out[active] = self._xa[ROBOT:].reshape(-1, BLOCK)[position[active]]
+        for row in np.flatnonzero(~active):
+            index = self._indices(self._slot[keys[row]])
+            out[row] = self._x[index]
+            if len(self._theta):
+                out[row] += self._p[np.ix_(index, self._a0)] @ self._theta
         return out
 
     def state(self) -> tuple[list[int], NDArray, NDArray]:
@@ -146,7 +144,8 @@ class CompressedEKF:
         p[:ROBOT, :ROBOT] += np.asarray(noise, dtype=np.float64).reshape(ROBOT, ROBOT)
         p[:ROBOT, :ROBOT] = 0.5 * (p[:ROBOT, :ROBOT] + p[:ROBOT, :ROBOT].T)
         self._xa[:ROBOT] = np.asarray(robot_mean, dtype=np.float64).reshape(ROBOT)
-        self._phi[:ROBOT, :] = j @ self._phi[:ROBOT, :]
+        if self._tracking:
+            self._phi[:ROBOT, :] = j @ self._phi[:ROBOT, :]
 
     def update(self, columns: Sequence[int] | NDArray, jacobian: ArrayLike, noise: ArrayLike,
                innovation: ArrayLike) -> None:
@@ -168,7 +167,7 @@ class CompressedEKF:
         self._xa += pht @ w
         self._paa -= pht @ scipy.linalg.cho_solve(factor, pht.T, check_finite=False)
         self._paa = 0.5 * (self._paa + self._paa.T)
-        if self._phi.shape[1]:
+        if self._tracking:
             h_phi = h @ self._phi[cols, :]                               # (m, a0)
             s_h_phi = scipy.linalg.cho_solve(factor, h_phi, check_finite=False)
             self._psi += h_phi.T @ s_h_phi
@@ -192,7 +191,8 @@ class CompressedEKF:
         corner = rows[:, :ROBOT] @ g.T + np.asarray(noise, dtype=np.float64).reshape(BLOCK, BLOCK)
         self._paa = np.block([[self._paa, rows.T], [rows, 0.5 * (corner + corner.T)]])
         self._xa = np.concatenate([self._xa, np.asarray(mean, dtype=np.float64).reshape(BLOCK)])
-        self._phi = np.vstack([self._phi, g @ self._phi[:ROBOT, :]])
+        if self._tracking:
+            self._phi = np.vstack([self._phi, g @ self._phi[:ROBOT, :]])
         self._position[key] = len(self._active)
         self._active.append(key)
 
@@ -210,7 +210,8 @@ class CompressedEKF:
         keep = np.r_[0:start, start + BLOCK:len(self._xa)]
         self._xa = self._xa[keep]
         self._paa = self._paa[np.ix_(keep, keep)]
-        self._phi = self._phi[keep, :]
+        if self._tracking:
+            self._phi = self._phi[keep, :]
         del self._active[position]
         self._position = {k: i for i, k in enumerate(self._active)}
 
@@ -259,12 +260,15 @@ class CompressedEKF:
                               [self._indices(self._slot[k]) for k in self._active])
 
     def _start_phase(self) -> None:
-        """``A0 = A``; ``Phi = I``, ``psi = 0``, ``theta = 0``; the local copies from the full state."""
+        """``A0 = A``; ``Phi = I``, ``psi = 0``, ``theta = 0``; the local copies from the full
+        state.  With no passive landmark (a map within the laser's reach) there is nothing for
+        the three to bring up to date, and they are not kept: the filter is the plain EKF."""
         self._position = {k: i for i, k in enumerate(self._active)}
         self._a0 = self._active_indices()
         self._xa = self._x[self._a0].copy()
         self._paa = self._p[np.ix_(self._a0, self._a0)].copy()
-        size = len(self._a0)
+        self._tracking = len(self._slot) > len(self._active)
+        size = len(self._a0) if self._tracking else 0
         self._phi = np.eye(size)
         self._psi = np.zeros((size, size))
         self._theta = np.zeros(size)

@@ -18,14 +18,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
 
 from .line_landmark import along, intersection, point_at
 
-__all__ = ['AnchorCandidates', 'End', 'Extent', 'choose_anchor']
+__all__ = ['AnchorCandidates', 'End', 'Extent', 'choose_anchor', 'resolve']
 
 #: An anchor whose line turns within this sine of parallel is given up (its crossing runs away).
 _KEEP_SINE = math.sin(math.radians(10.0))
@@ -76,6 +76,38 @@ class AnchorCandidates:
                                 np.vstack([self.intervals, interval]))
 
 
+def resolve(extents: Sequence[Extent], lines: NDArray, lines_of: Callable[[NDArray], NDArray]
+            ) -> NDArray:
+    """``(J, 2)``: the intervals ``[t_lo, t_hi]`` of ``extents`` on their current ``lines``
+    ``(J, 2)``, all at once; ``lines_of(keys)`` gives the anchors' current lines ``(K, 2)`` (NaN
+    for a forgotten landmark).  Updates each end's ``t``, and unanchors ends whose anchor is
+    forgotten or has turned nearly parallel."""
+    ends = [end for extent in extents for end in (extent.lo, extent.hi)]
+    own = np.repeat(np.asarray(lines, dtype=np.float64).reshape(-1, 2), 2, axis=0)     # (2J, 2)
+    t = np.empty(len(ends))
+    tied = np.array([end.anchor is not None for end in ends], dtype=bool)
+    if tied.any():
+        index = np.flatnonzero(tied)
+        other = lines_of(np.array([ends[i].anchor for i in index], dtype=np.int64))
+        crossing, sine = intersection(own[index, 0], own[index, 1], other[:, 0], other[:, 1])
+        t[index] = crossing + np.array([ends[i].offset for i in index])
+        for i in index[~(np.abs(sine) >= _KEEP_SINE)]:            # NaN (forgotten) too
+            ends[i].unanchor(own[i])
+            tied[i] = False
+    free = np.flatnonzero(~tied)
+    if len(free):
+        t[free] = along(own[free, 0], np.array([ends[i].point for i in free]).reshape(-1, 2))
+    for end, value in zip(ends, t.tolist()):
+        end.t = value
+    out = t.reshape(-1, 2)
+    for k in np.flatnonzero(out[:, 0] > out[:, 1]):   # corrections turned it inside out
+        middle = float(out[k].mean())
+        line = own[2 * k]
+        extents[k].lo, extents[k].hi = End.at(line, middle), End.at(line, middle)
+        out[k] = middle
+    return out
+
+
 def choose_anchor(line: NDArray, t: float, candidates: AnchorCandidates, *, exclude: int,
                   radius: float, min_angle: float) -> End:
     """The end at ``t`` on ``line`` anchored to the best candidate: the one whose line crosses
@@ -110,24 +142,11 @@ class Extent:
     def __repr__(self) -> str:
         return f'Extent({self.lo}, {self.hi})'
 
-    def interval(self, line: NDArray, line_of: Callable[[int], NDArray | None]
+    def interval(self, line: NDArray, lines_of: Callable[[NDArray], NDArray]
                  ) -> tuple[float, float]:
-        """``(t_lo, t_hi)`` for the current ``line`` and anchors' lines (``line_of(key)``, None
-        for a forgotten landmark); updates each end's fallback ``t``."""
-        for end in (self.lo, self.hi):
-            if end.anchor is not None:
-                other = line_of(end.anchor)
-                crossing, sine = (None, 0.0) if other is None else intersection(
-                    line[0], line[1], other[0], other[1])
-                if abs(float(sine)) >= _KEEP_SINE:
-                    end.t = float(crossing) + end.offset
-                    continue
-                end.unanchor(line)
-            end.t = float(along(line[0], end.point))
-        if self.lo.t > self.hi.t:            # corrections turned it inside out: meet halfway
-            middle = 0.5 * (self.lo.t + self.hi.t)
-            self.lo, self.hi = End.at(line, middle), End.at(line, middle)
-        return self.lo.t, self.hi.t
+        """``(t_lo, t_hi)`` on the current ``line`` (see :func:`resolve`)."""
+        lo, hi = resolve([self], np.asarray(line, dtype=np.float64).reshape(1, 2), lines_of)[0]
+        return float(lo), float(hi)
 
     def flipped(self) -> Extent:
         """The same extent for the line in its other form (``t -> -t``)."""

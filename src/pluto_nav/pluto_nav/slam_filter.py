@@ -64,10 +64,12 @@ from wurde_idl.mapfile import MapData
 
 from .compressed_ekf import CompressedEKF
 from .geometry import compose, compose_jacobians, inverse, transform_points, wrap
-from .landmark_extent import AnchorCandidates, Extent, choose_anchor
-from .line_landmark import along, initialise, observe, point_at
+from .landmark_extent import AnchorCandidates, Extent, choose_anchor, resolve
+from .line_landmark import along, initialise, point_at
 from .lines import LineFeature
+from .segments import clip_to_disc, distances_to_segments
 from .slam_association import AssociationSettings, associate, side_of
+from .slam_correction import correct
 from .slam_merge import MergeSettings, find_merges
 
 __all__ = ['LINE_EXTRACTION', 'MIN_MATCHES_TO_MAP', 'SlamFilter', 'SlamSettings', 'SlamUpdate']
@@ -219,15 +221,10 @@ class SlamFilter:
         keys = [k for k, m in self._marks.items() if m.seen >= self.settings.confirm_matches]
         if not keys:
             return np.zeros((0, 4))
-        lines = self._ekf.means(keys)
-        line_of = self._line_lookup()
-        out = []
-        for key, line in zip(keys, lines):
-            lo, hi = self._marks[key].extent.interval(line, line_of)
-            if hi - lo >= self.settings.min_wall_length:
-                out.append(np.concatenate([point_at(line[0], line[1], lo),
-                                           point_at(line[0], line[1], hi)]))
-        return np.array(out).reshape(-1, 4)
+        found = self._extents(keys, self._ekf.means(keys))
+        long = found.intervals[:, 1] - found.intervals[:, 0] >= self.settings.min_wall_length
+        ends = point_at(found.lines[long, 0:1], found.lines[long, 1:2], found.intervals[long])
+        return ends.reshape(-1, 4)
 
     def to_map_data(self, name: str, *, mount: ArrayLike = (0.0, 0.0, 0.0)) -> MapData:
         """The map: the confirmed walls, and the place ``start`` where SLAM started.
@@ -273,20 +270,18 @@ class SlamFilter:
         the module's description)."""
         self._scan += 1
         s = self.settings
-        lines = [line for line in lines if _distance_to(line) <= s.max_range]
-        keys = self._ekf.active
-        landmarks = self._ekf.active_mean[3:].reshape(-1, 2)
-        line_of = self._line_lookup()
-        intervals = np.array([self._marks[k].extent.interval(l, line_of)
-                              for k, l in zip(keys, landmarks)]).reshape(-1, 2)
+        lines = [line for line in lines
+                 if distances_to_segments((0.0, 0.0), line.start, line.end)[0] <= s.max_range]
+        before = self._active_extents()
+        keys = before.keys.tolist()
         sides = np.array([self._marks[k].sides for k in keys], dtype=np.int64)
-        found = associate(lines, self._ekf.robot_mean, self._ekf.active_covariance, landmarks,
-                          intervals, sides, s.association)
-        used, rejected, nis = self._correct(
-            lines, [(k, keys[j]) for k, j in found.matches], found.fallback)
+        found = associate(lines, self._ekf.robot_mean, self._ekf.active_covariance, before.lines,
+                          before.intervals, sides, s.association)
+        fix = correct(self._ekf, lines, [(k, keys[j]) for k, j in found.matches], found.fallback,
+                      limit=self._limit, min_fallback=MIN_MATCHES_TO_MAP)
         pose = self._ekf.robot_mean
-        candidates = self._anchor_candidates()
-        for k, key in used:
+        candidates = self._anchor_candidates(self._active_extents())
+        for k, key in fix.used:
             mark = self._marks[key]
             mark.seen += 1
             mark.last = self._scan
@@ -294,115 +289,59 @@ class SlamFilter:
             self._extend(key, lines[k], pose, candidates)
         # Map new walls only where the pose is pinned by the map (or the map has nothing here
         # for a while): lines unmatched because the prediction was off would be mapped askew.
-        self._adrift = 0 if len(used) >= MIN_MATCHES_TO_MAP or not keys else self._adrift + 1
-        added = 0
-        if len(used) >= MIN_MATCHES_TO_MAP or not keys or self._adrift >= s.adrift_scans:
+        pinned = len(fix.used) >= MIN_MATCHES_TO_MAP or not keys
+        self._adrift = 0 if pinned else self._adrift + 1
+        added = []
+        if pinned or self._adrift >= s.adrift_scans:
             for k in found.unmatched:
-                if self._start_landmark(lines[k], pose, candidates):
-                    added += 1
-                    candidates = self._anchor_candidates()
-        touched = {key for _, key in used} | set(self._ekf.active[-added:] if added else [])
-        merged = self._merge(touched)
+                key = self._start_landmark(lines[k], pose, candidates)
+                if key is not None:
+                    added.append(key)
+                    mark = self._marks[key]
+                    candidates = candidates.with_landmark(
+                        key, self._ekf.means([key])[0], (mark.extent.lo.t, mark.extent.hi.t))
+        merged = self._merge({key for _, key in fix.used} | set(added))
         pruned = self._prune(self._ekf.active)
         committed = self._maybe_repartition()
-        return SlamUpdate(len(lines), len(used), rejected, len(found.ambiguous), added, merged,
-                          pruned, len(self._marks), len(self._ekf.active), committed, nis)
-
-    # -- correction -------------------------------------------------------------------------------
-
-    def _correct(self, lines: Sequence[LineFeature], matches: list[tuple[int, int]],
-                 fallback: list[bool]) -> tuple[list[tuple[int, int]], int, float]:
-        """One EKF update with the matches that agree; ``(used, rejected, nis)``.
-
-        Matches found only in the fallback gate are used when they agree with the others, and
-        on their own only when :data:`MIN_MATCHES_TO_MAP` of them agree.
-        """
-        used = list(matches)
-        wide = list(fallback)
-        rejected = 0
-        pose = self._ekf.robot_mean
-        cov = self._ekf.active_covariance
-        while used:
-            keys = list(dict.fromkeys(key for _, key in used))
-            cols = np.concatenate([np.arange(3)] + [
-                np.arange(self._ekf.local_index(key), self._ekf.local_index(key) + 2)
-                for key in keys])
-            lm = self._ekf.active_mean
-            m = len(used)
-            h = np.zeros((2 * m, len(cols)))
-            r = np.zeros((2 * m, 2 * m))
-            v = np.zeros(2 * m)
-            for i, (k, key) in enumerate(used):
-                at = self._ekf.local_index(key)
-                z, h_pose, h_line, _ = observe(lm[at:at + 2], pose)
-                col = 3 + 2 * keys.index(key)
-                h[2 * i:2 * i + 2, 0:3] = h_pose[0]
-                h[2 * i:2 * i + 2, col:col + 2] = h_line[0]
-                r[2 * i:2 * i + 2, 2 * i:2 * i + 2] = lines[k].covariance
-                v[2 * i] = wrap(lines[k].gamma - z[0, 0])
-                v[2 * i + 1] = lines[k].rho - z[0, 1]
-            c = h @ cov[np.ix_(cols, cols)] @ h.T
-            s_inv = np.linalg.inv(c + r)
-            w = s_inv @ v
-            residual = r @ w                                     # v - H K v
-            spread = r - c + c @ s_inv @ c                       # R - H P+ H^T
-            misfit = np.zeros(m)
-            for i in range(m):
-                block = spread[2 * i:2 * i + 2, 2 * i:2 * i + 2]
-                e = residual[2 * i:2 * i + 2]
-                det = block[0, 0] * block[1, 1] - block[0, 1] ** 2
-                if det > 1e-18 * max(block[0, 0] * block[1, 1], 1e-300):
-                    misfit[i] = e @ np.linalg.solve(block, e)
-            worst = int(np.argmax(misfit))
-            if misfit[worst] > self._limit:
-                used.pop(worst)
-                wide.pop(worst)
-                rejected += 1
-                continue
-            if all(wide) and len(used) < MIN_MATCHES_TO_MAP:
-                return [], rejected + len(used), math.nan
-            self._ekf.update(cols, h, r, v)
-            return used, rejected, float(v @ w) / (2 * m)
-        return [], rejected, math.nan
+        return SlamUpdate(len(lines), len(fix.used), fix.rejected, len(found.ambiguous),
+                          len(added), merged, pruned, len(self._marks), len(self._ekf.active),
+                          committed, fix.nis)
 
     # -- map bookkeeping --------------------------------------------------------------------------
 
-    def _line_lookup(self):
-        """``key -> current line`` (None for a forgotten landmark)."""
-        ekf = self._ekf
+    def _lines_of(self, keys: NDArray) -> NDArray:
+        """``(K, 2)`` current lines of landmarks (NaN for forgotten ones)."""
+        known = np.array([int(k) in self._ekf for k in keys], dtype=bool)
+        out = np.full((len(keys), 2), np.nan)
+        if known.any():
+            out[known] = self._ekf.means(np.asarray(keys)[known])
+        return out
 
-        def line_of(key: int) -> NDArray | None:
-            return ekf.means([key])[0] if key in ekf else None
-        return line_of
+    def _extents(self, keys: Sequence[int], lines: NDArray) -> AnchorCandidates:
+        """Landmarks ``keys`` with their current ``lines`` and resolved extents."""
+        intervals = resolve([self._marks[k].extent for k in keys], lines, self._lines_of)
+        return AnchorCandidates(np.array(keys, dtype=np.int64), lines, intervals)
 
     def _active_extents(self) -> AnchorCandidates:
         """The active landmarks with their current lines and extents."""
-        keys = self._ekf.active
-        if not keys:
-            return AnchorCandidates.empty()
-        lines = self._ekf.active_mean[3:].reshape(-1, 2).copy()
-        line_of = self._line_lookup()
-        intervals = np.array([self._marks[k].extent.interval(l, line_of)
-                              for k, l in zip(keys, lines)])
-        return AnchorCandidates(np.array(keys, dtype=np.int64), lines, intervals)
+        return self._extents(self._ekf.active, self._ekf.active_mean[3:].reshape(-1, 2).copy())
 
-    def _anchor_candidates(self) -> AnchorCandidates:
+    def _anchor_candidates(self, active: AnchorCandidates) -> AnchorCandidates:
         """The landmarks that may anchor an end seen now: those within ``max_range +
         anchor_radius`` of the laser (all active; the rule does not depend on the local area, so
         compression changes no choice)."""
-        every = self._active_extents()
-        if len(every.keys) == 0:
-            return every
-        ends = point_at(every.lines[:, 0:1], every.lines[:, 1:2], every.intervals)     # (K, 2, 2)
-        near = _segment_distances(self._ekf.robot_mean[:2], ends[:, 0], ends[:, 1]) <= \
+        if len(active.keys) == 0:
+            return active
+        ends = point_at(active.lines[:, 0:1], active.lines[:, 1:2], active.intervals)  # (K, 2, 2)
+        near = distances_to_segments(self._ekf.robot_mean[:2], ends[:, 0], ends[:, 1]) <= \
             self.settings.max_range + self.settings.anchor_radius
-        return AnchorCandidates(every.keys[near], every.lines[near], every.intervals[near])
+        return AnchorCandidates(active.keys[near], active.lines[near], active.intervals[near])
 
     def _seen_interval(self, line: LineFeature, pose: NDArray, landmark: NDArray
                        ) -> tuple[float, float] | None:
         """The part of an observed segment within ``extent_range`` of the laser, as ``t`` on
         ``landmark``'s line (None if no part is in range)."""
-        clipped = _clip(line.start, line.end, self.settings.extent_range)
+        clipped = clip_to_disc(line.start, line.end, self.settings.extent_range)
         if clipped is None:
             return None
         t = along(landmark[0], transform_points(pose, clipped))
@@ -410,12 +349,13 @@ class SlamFilter:
 
     def _extend(self, key: int, line: LineFeature, pose: NDArray,
                 candidates: AnchorCandidates) -> None:
+        """Grow landmark ``key``'s extent by what ``line`` shows where it continues it."""
         landmark = self._ekf.means([key])[0]
         seen = self._seen_interval(line, pose, landmark)
         if seen is None:
             return
         extent = self._marks[key].extent
-        lo, hi = extent.interval(landmark, self._line_lookup())
+        lo, hi = extent.interval(landmark, self._lines_of)
         gap = self.settings.extend_gap
         if seen[0] > hi + gap or seen[1] < lo - gap:
             return
@@ -427,14 +367,15 @@ class SlamFilter:
             extent.hi = choose_anchor(landmark, max(seen[1], hi), candidates, **anchor)
 
     def _start_landmark(self, line: LineFeature, pose: NDArray,
-                        candidates: AnchorCandidates) -> bool:
+                        candidates: AnchorCandidates) -> int | None:
+        """A new landmark from an unmatched line, if it is long enough; its key."""
         s = self.settings
         if line.points < s.new_min_points:
-            return False
+            return None
         landmark, g_pose, g_z = initialise(line.gamma, line.rho, pose)
         seen = self._seen_interval(line, pose, landmark)
         if seen is None or seen[1] - seen[0] < s.new_min_length:
-            return False
+            return None
         key = next(self._keys)
         self._ekf.add(key, landmark, g_pose, g_z @ line.covariance @ g_z.T)
         anchor = dict(exclude=key, radius=s.anchor_radius, min_angle=s.anchor_min_angle)
@@ -444,15 +385,15 @@ class SlamFilter:
                        pose[1] * math.sin(landmark[0]))
         self._marks[key] = _Landmark(extent, born=self._scan, seen=1, last=self._scan,
                                      sides=int(side_of(offset)))
-        return True
+        return key
 
     def _merge(self, touched: set[int]) -> int:
         """Merge the landmarks that became one wall; the number merged away."""
-        keys = self._ekf.active
+        active = self._active_extents()
+        keys = active.keys.tolist()
         if len(keys) < 2 or not touched:
             return 0
-        candidates = self._active_extents()
-        merges = find_merges(candidates.lines, candidates.intervals, self._ekf.active_covariance,
+        merges = find_merges(active.lines, active.intervals, self._ekf.active_covariance,
                              np.array([self._marks[k].sides for k in keys], dtype=np.int64),
                              [i for i, k in enumerate(keys) if k in touched],
                              self.settings.merge)
@@ -461,23 +402,21 @@ class SlamFilter:
             keep, drop = keys[i], keys[j]
             if self._marks[drop].seen > self._marks[keep].seen:
                 keep, drop = drop, keep
-            if keep not in self._ekf or drop not in self._ekf:
-                continue
-            self._fuse(keep, drop, sign)
-            done += 1
+            if keep in self._ekf and drop in self._ekf:
+                self._fuse(keep, drop, sign)
+                done += 1
         return done
 
     def _fuse(self, keep: int, drop: int, sign: float) -> None:
         """Constrain landmark ``drop`` to equal ``keep`` (``sign``: -1 if in the other form),
         then forget it and join the extents."""
-        line_of = self._line_lookup()
         a, b = self._ekf.local_index(keep), self._ekf.local_index(drop)
         lk, ld = self._ekf.means([keep, drop])
         jac = np.array([[1.0, 0.0, -1.0, 0.0], [0.0, 1.0, 0.0, -sign]])
         gap = np.array([wrap(lk[0] - ld[0] - (math.pi if sign < 0 else 0.0)), lk[1] - sign * ld[1]])
         ext_keep, ext_drop = self._marks[keep].extent, self._marks[drop].extent
-        ext_keep.interval(lk, line_of)
-        ext_drop.interval(ld, line_of)
+        ext_keep.interval(lk, self._lines_of)
+        ext_drop.interval(ld, self._lines_of)
         if sign < 0:
             ext_drop = ext_drop.flipped()
         self._ekf.update([a, a + 1, b, b + 1], jac, 1e-12 * np.eye(2), -gap)
@@ -508,11 +447,10 @@ class SlamFilter:
         return len(stale)
 
     def _forget(self, key: int) -> None:
-        line_of = self._line_lookup()
         for other_key, other in self._marks.items():
             if key in (other.extent.lo.anchor, other.extent.hi.anchor):
                 line = self._ekf.means([other_key])[0]
-                other.extent.interval(line, line_of)
+                other.extent.interval(line, self._lines_of)
                 other.extent.drop_anchor(key, line)
         del self._marks[key]
         self._ekf.remove(key)
@@ -524,59 +462,18 @@ class SlamFilter:
         if math.dist(pose[:2], self._zone) <= s.zone_radius:
             return False
         self._ekf.commit()
-        keys = self._ekf.keys
-        self._prune([k for k in keys if k not in set(self._ekf.active)])
-        keys = self._ekf.keys
+        active = set(self._ekf.active)
+        self._prune([k for k in self._ekf.keys if k not in active])
         cov = self._ekf.robot_covariance
         # Everything a line seen from the local area can match, merge with or anchor to.
         reach = s.max_range + s.zone_radius + max(s.anchor_radius, 1.0) + \
             3.0 * math.sqrt(max(cov[0, 0] + cov[1, 1], 0.0))
-        lines = self._ekf.means(keys)
-        line_of = self._line_lookup()
-        near = []
-        for key, line in zip(keys, lines):
-            lo, hi = self._marks[key].extent.interval(line, line_of)
-            if _point_segment_distance(pose[:2], point_at(line[0], line[1], lo),
-                                       point_at(line[0], line[1], hi)) <= reach:
-                near.append(key)
-        self._ekf.activate(near)
+        every = self._extents(self._ekf.keys, self._ekf.means(self._ekf.keys))
+        ends = point_at(every.lines[:, 0:1], every.lines[:, 1:2], every.intervals)
+        near = distances_to_segments(pose[:2], ends[:, 0], ends[:, 1]) <= reach
+        self._ekf.activate(every.keys[near].tolist())
         self._zone = pose[:2].copy()
         return True
-
-
-def _distance_to(line: LineFeature) -> float:
-    """m from the laser to the nearest point of an observed segment."""
-    return _point_segment_distance(np.zeros(2), line.start, line.end)
-
-
-def _segment_distances(p: NDArray, a: NDArray, b: NDArray) -> NDArray:
-    """m from point ``p`` to segments ``a[i] b[i]`` ``(K, 2)``."""
-    d = b - a
-    length2 = np.einsum('ij,ij->i', d, d)
-    u = np.clip(np.einsum('ij,ij->i', p - a, d) / np.where(length2 > 0.0, length2, 1.0), 0.0, 1.0)
-    return np.hypot(*(a + u[:, None] * d - p).T)
-
-
-def _point_segment_distance(p: NDArray, a: NDArray, b: NDArray) -> float:
-    d = np.asarray(b, dtype=float) - a
-    length2 = float(d @ d)
-    u = 0.0 if length2 == 0.0 else min(1.0, max(0.0, float((p - a) @ d) / length2))
-    return float(np.hypot(*(a + u * d - p)))
-
-
-def _clip(a: NDArray, b: NDArray, radius: float) -> NDArray | None:
-    """``(2, 2)``: the part of segment ``ab`` inside the disc of ``radius`` round the origin."""
-    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
-    d = b - a
-    qa, qb, qc = float(d @ d), 2.0 * float(a @ d), float(a @ a) - radius * radius
-    disc = qb * qb - 4.0 * qa * qc
-    if qa == 0.0 or disc <= 0.0:
-        return None
-    root = math.sqrt(disc)
-    lo, hi = max(0.0, (-qb - root) / (2.0 * qa)), min(1.0, (-qb + root) / (2.0 * qa))
-    if lo >= hi:
-        return None
-    return np.array([a + lo * d, a + hi * d])
 
 
 def _checked(vector: ArrayLike, vector_name: str, matrix: ArrayLike, matrix_name: str

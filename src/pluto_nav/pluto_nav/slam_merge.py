@@ -93,30 +93,32 @@ def _partners(i: int, lines: NDArray, intervals: NDArray, cov: NDArray, sides: N
     d_rho = r - sign * lines[:, 1]
     near = (np.abs(d_gamma) < 0.3) & (np.abs(d_rho) < 1.0)
     near[i] = False
-    out = []
+    j = np.flatnonzero(near)
+    if len(j) == 0:
+        return []
+    # Covariance of the difference l_i - T l_j, T = diag(1, sign): P_ii + T P_jj T - 2 sym(P_ij T).
     a = 3 + 2 * i
-    p_ii = cov[a:a + 2, a:a + 2]
-    for j in np.flatnonzero(near):
-        b = 3 + 2 * int(j)
-        t = np.diag([1.0, float(sign[j])])
-        p_ij = cov[a:a + 2, b:b + 2] @ t
-        diff = p_ii + t @ cov[b:b + 2, b:b + 2] @ t - p_ij - p_ij.T
-        d = np.array([d_gamma[j], d_rho[j]])
-        try:
-            distance = float(d @ np.linalg.solve(diff + 1e-12 * np.eye(2), d))
-        except np.linalg.LinAlgError:
-            continue
-        if distance >= gate:
-            continue
-        if not sides[i] & sides[j]:
-            angle_tol, rho_tol = settings.other_side_tolerance
-            if abs(d_gamma[j]) >= angle_tol or abs(d_rho[j]) >= rho_tol:
-                continue
-        ends = along(g, point_at(lines[j, 0], lines[j, 1], intervals[j]))
-        if max(intervals[i, 0], ends.min()) - min(intervals[i, 1], ends.max()) > settings.gap:
-            continue
-        out.append((distance, int(j), float(sign[j])))
-    return out
+    b = 3 + 2 * j
+    rows = np.stack([b, b + 1], axis=1)                                           # (K, 2)
+    p_jj = cov[rows[:, :, None], rows[:, None, :]]                                # (K, 2, 2)
+    p_ij = cov[a:a + 2][:, rows].transpose(1, 0, 2)                               # (K, 2, 2)
+    t = sign[j]
+    p_jj[:, 0, 1] *= t
+    p_jj[:, 1, 0] *= t
+    p_ij[:, :, 1] *= t[:, None]
+    diff = cov[a:a + 2, a:a + 2][None] + p_jj - p_ij - p_ij.transpose(0, 2, 1)
+    da, db, dd = diff[:, 0, 0] + 1e-12, diff[:, 0, 1], diff[:, 1, 1] + 1e-12
+    x, y = d_gamma[j], d_rho[j]
+    distance = (dd * x * x - 2.0 * db * x * y + da * y * y) / (da * dd - db * db)
+    ok = distance < gate
+    # Seen only from opposite sides: the two faces of a thick wall are not one wall.
+    angle_tol, rho_tol = settings.other_side_tolerance
+    ok &= ((sides[i] & sides[j]) != 0) | ((np.abs(x) < angle_tol) & (np.abs(y) < rho_tol))
+    # Extents overlapping, or within the gap, along i's line.
+    ends = along(g, point_at(lines[j, 0:1], lines[j, 1:2], intervals[j]))         # (K, 2)
+    ok &= np.maximum(intervals[i, 0], ends.min(axis=1)) - \
+        np.minimum(intervals[i, 1], ends.max(axis=1)) <= settings.gap
+    return [(float(distance[k]), int(j[k]), float(t[k])) for k in np.flatnonzero(ok)]
 
 
 def _same(a: NDArray, b: NDArray) -> bool:
