@@ -21,7 +21,7 @@ true one; an update well inside the 200 ms between scans with about 100 landmark
 
 Usage (inside ``source env.sh``; wurde_idl with mapfile on PYTHONPATH, e.g. main's source):
 ``python bench/slam_offline.py [--length 100] [--generated 4] [--seed 21] [--relocalize 30]
-[--hall 36]``.
+[--hall 36] [--hall-length 100]``.
 """
 
 from __future__ import annotations
@@ -150,13 +150,15 @@ def main() -> int:
                         help='metres of PoseFilter run on the saved map (0: skip)')
     parser.add_argument('--hall', type=float, default=36.0,
                         help='side of the pillar hall for the cost table (m; 0: skip)')
+    parser.add_argument('--hall-length', type=float, help='route in the hall (m; default --length)')
     args = parser.parse_args()
+    hall_length = args.length if args.hall_length is None else args.hall_length
     worlds = [load_map(ROOT / 'config' / 'maps' / f'{name}.xml')
               for name in args.shipped.split(',') if name]
     source, generated = generated_maps(args.generated, args.seed)
     print(f'command: python bench/slam_offline.py --length {args.length:g} --generated '
           f'{args.generated} --seed {args.seed} --shipped {args.shipped} --relocalize '
-          f'{args.relocalize:g} --hall {args.hall:g}')
+          f'{args.relocalize:g} --hall {args.hall:g} --hall-length {hall_length:g}')
     print(f'generated maps from {source}; CPU time per update on one thread')
     print(HEADER)
     print('|' + '---|' * HEADER.count(' |'))
@@ -171,7 +173,7 @@ def main() -> int:
         print(COST_HEADER)
         print('|' + '---|' * COST_HEADER.count(' |'))
         for max_range, zone in ((30.0, 2.0), (10.0, 2.0), (10.0, 1e6)):
-            print(cost(hall, args.length, args.seed, max_range, zone), flush=True)
+            print(cost(hall, hall_length, args.seed, max_range, zone), flush=True)
     print(f'({time.monotonic() - began:.0f} s)')
     return 0
 

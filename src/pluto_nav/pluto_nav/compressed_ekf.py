@@ -52,7 +52,8 @@ class CompressedEKF:
         self._x = np.zeros(ROBOT + BLOCK * capacity)
         self._p = np.zeros((len(self._x), len(self._x)))
         self._x[:ROBOT] = np.asarray(robot_mean, dtype=np.float64).reshape(ROBOT)
-        self._p[:ROBOT, :ROBOT] = np.asarray(robot_covariance, dtype=np.float64).reshape(ROBOT, ROBOT)
+        cov = np.asarray(robot_covariance, dtype=np.float64).reshape(ROBOT, ROBOT)
+        self._p[:ROBOT, :ROBOT] = cov
         self._slot: dict[int, int] = {}
         self._free: list[int] = list(range(capacity - 1, -1, -1))
         self._freed: list[int] = []          # freed in this phase: reusable after a commit

@@ -10,7 +10,8 @@ from the origin (as :class:`.wall_map.WallMap`'s extents).
 
 Jacobians are for the filter: a laser at ``(x, y, theta)`` sees the line at
 
-    ``rho' = |d|``, ``gamma' = gamma - theta (+ pi when d < 0)``, ``d = rho - x cos gamma - y sin gamma``
+    ``rho' = |d|``, ``gamma' = gamma - theta (+ pi when d < 0)``,
+    ``d = rho - x cos gamma - y sin gamma``
 
 (``d`` is the signed offset of the line from the laser: its sign says which side the laser is on).
 """

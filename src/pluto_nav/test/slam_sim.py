@@ -32,8 +32,8 @@ from pluto_nav.pose_filter import PoseFilter
 from pluto_nav.slam_filter import LINE_EXTRACTION, SlamFilter, SlamSettings, SlamUpdate
 from pluto_nav.wall_map import WallMap
 
-__all__ = ['Scan', 'SlamRun', 'drive', 'localize', 'loop_route', 'place_route', 'run', 'wall_errors',
-           'wall_errors_same_wall']
+__all__ = ['Scan', 'SlamRun', 'drive', 'localize', 'loop_route', 'place_route', 'run',
+           'wall_errors', 'wall_errors_same_wall']
 
 
 @dataclasses.dataclass
@@ -169,9 +169,10 @@ def run(world: World, route: np.ndarray, *, seed: int, length_m: float = math.in
         updates.append(slam.update(scan.lines))
         spent = time.process_time() - began
         est = slam.pose
+        dead = scan.dead_reckoning
         rows.append((scan.distance, math.dist(est[:2], scan.truth[:2]),
-                     abs(wrap(est[2] - scan.truth[2])), math.dist(scan.dead_reckoning[:2], scan.truth[:2]),
-                     abs(wrap(scan.dead_reckoning[2] - scan.truth[2])), spent, len(slam)))
+                     abs(wrap(est[2] - scan.truth[2])), math.dist(dead[:2], scan.truth[:2]),
+                     abs(wrap(dead[2] - scan.truth[2])), spent, len(slam)))
         if check_every and k % check_every == 0 and k > 0:     # at k = 0 the pose is exact
             spd &= bool(np.linalg.eigvalsh(slam.state()[1])[0] > 0.0)
     data = np.array(rows).reshape(-1, 7)

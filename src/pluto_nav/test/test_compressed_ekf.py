@@ -95,7 +95,8 @@ def test_compressed_equals_dense_over_phases(seed: int) -> None:
             dense.remove(key)
         else:
             keys = ekf.keys
-            ekf.activate(rng.choice(keys, size=rng.integers(0, len(keys) + 1), replace=False).tolist())
+            chosen = rng.choice(keys, size=rng.integers(0, len(keys) + 1), replace=False)
+            ekf.activate(chosen.tolist())
         if step % 17 == 0:
             # Reading passive means mid-phase must not disturb anything.
             np.testing.assert_allclose(ekf.means(dense.keys),

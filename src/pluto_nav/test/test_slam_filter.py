@@ -69,6 +69,23 @@ def test_collinear_pieces_merge_when_their_extents_meet(gap: float, merged: bool
     assert len(near) == (1 if merged else 2)
 
 
+def test_a_wall_seen_briefly_is_pruned() -> None:
+    room = [(0, 0, 8, 0), (8, 0, 8, 6), (8, 6, 0, 6), (0, 6, 0, 0)]
+    cart = [(5, 2.5, 5, 3.5)]                          # in view for two scans, then gone
+    settings = SlamSettings(confirm_matches=4, tentative_scans=5)
+    slam = SlamFilter(settings=settings)
+    slam.set_pose((2.0, 3.0, 0.0), np.zeros((3, 3)))
+    pruned = []
+    for scan in range(12):
+        if scan:
+            slam.predict((0.0, 0.0, 0.0), np.diag([1e-6, 1e-6, 1e-6]))
+        world = World(room + cart) if scan < 2 else World(room)
+        pruned.append(slam.update(_scan_lines(world, (2.0, 3.0, 0.0))).pruned)
+    assert sum(pruned) == 1 and pruned.index(1) == 1 + settings.tentative_scans
+    assert len(slam) == 3
+    assert not any(abs(w[0] - 5.0) < 0.05 and abs(w[2] - 5.0) < 0.05 for w in slam.walls())
+
+
 def test_to_map_data_has_the_robot_start() -> None:
     slam = SlamFilter()
     slam.set_pose(compose((1.0, 2.0, 0.5), MOUNT), np.zeros((3, 3)))
