@@ -129,6 +129,7 @@ def test_office_loop_pose_and_walls(office_run: slam_sim.SlamRun) -> None:
     walls = run.filter.walls()
     assert len(walls) >= 20
     assert slam_sim.wall_errors(walls, run.world).max() < 0.10
+    assert slam_sim.wall_errors_same_wall(walls, run.world).max() < 0.10
     assert run.spd
 
 
@@ -158,6 +159,7 @@ def test_random_map_loop() -> None:
     walls = run.filter.walls()
     assert len(walls) >= 10
     assert slam_sim.wall_errors(walls, world).max() < 0.10
+    assert slam_sim.wall_errors_same_wall(walls, world).max() < 0.10
     assert run.spd
 
 
