@@ -61,3 +61,9 @@ bench: build
 .PHONY: bench-nav
 bench-nav: build
 	$(IN_ENV) python bench/nav_accuracy.py
+
+# The slamModule under the MCP (issue 11's SLAM rows): loops with closure on the shipped and
+# generated maps, the saved map scored against the true walls and localized in (about 40 minutes).
+.PHONY: bench-slam
+bench-slam: build
+	$(IN_ENV) python bench/nav_slam.py

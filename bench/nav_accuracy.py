@@ -17,18 +17,14 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 import pathlib
 import shutil
 import sys
-import tempfile
 
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import nav_run  # noqa: E402
-
-MAPS = nav_run.ROOT / 'config' / 'maps'
 
 
 def main() -> int:
@@ -41,21 +37,9 @@ def main() -> int:
     parser.add_argument('--no-recovery', action='store_true', help='skip the 0.5 m / 10 degree start runs')
     parser.add_argument('--figure', help='copy the first run\'s plot (PNG) here')
     args = parser.parse_args()
-    if os.environ.get('ROS_AUTOMATIC_DISCOVERY_RANGE') != 'LOCALHOST':
-        raise SystemExit('bench: run it through `make bench-nav` or env.sh (DDS on loopback only)')
-    from wurde_testing import claim_domain_id
-    from wurde_drivers.sim.generate import KINDS, random_map
-    from wurde_drivers.sim.mapfile import load_map, save_map
+    work, maps = nav_run.bench_setup('make bench-nav', args.shipped, args.generated, args.seed)
+    from wurde_drivers.sim.mapfile import load_map
     from wurde_drivers.sim.route import random_route
-    claim = claim_domain_id()
-    os.environ['ROS_DOMAIN_ID'] = str(claim.domain_id)
-    work = pathlib.Path(tempfile.mkdtemp(prefix='wurde-nav-bench-'))
-    maps: list[tuple[str, pathlib.Path]] = [(name, MAPS / f'{name}.xml') for name in args.shipped.split(',') if name]
-    for i in range(args.generated):
-        kind, seed = KINDS[i % len(KINDS)], args.seed + i
-        path = work / f'generated-{kind}-{seed}.xml'
-        save_map(random_map(seed, kind), path)
-        maps.append((f'generated {kind} #{seed}', path))
     print(nav_run.HEADER, flush=True)
     results = []
     for i, (name, path) in enumerate(maps):

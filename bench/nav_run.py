@@ -1,6 +1,6 @@
 """One localization run in the simulator under the MCP, measured against the simulator's truth.
 
-Used by ``bench/nav_accuracy.py`` (the full benchmark) and by pluto_nav's short accuracy test.  A run:
+Used by ``bench/nav_accuracy.py`` (poseModule) and ``bench/nav_slam.py`` (slamModule).  A run:
 
 1. writes a config directory: config/pluto's sim-config (odometry noise trans 0.05, rot 0.05,
    drift 0.02; laser noise 0.01 m; DMU rate noise on) with the given map, and an MCP config with the
@@ -117,8 +117,10 @@ class RunResult:
 
 
 def write_config(directory: pathlib.Path, map_file: pathlib.Path, *, estimator: str | None, seed: int,
-                 time_scale: float, start_error: tuple[float, float, float] | None) -> None:
-    """config/pluto in ``directory`` with ``map_file``; the estimator module added to the MCP config."""
+                 time_scale: float, start_error: tuple[float, float, float] | None,
+                 estimator_options: str = '-m map.xml') -> None:
+    """config/pluto in ``directory`` with ``map_file``; the estimator module (poseModule or
+    slamModule, with ``estimator_options``) is the only one in the MCP config."""
     directory.mkdir(parents=True, exist_ok=True)
     (directory / 'map.xml').write_bytes(map_file.read_bytes())
     tree = etree.parse(str(PLUTO / 'sim-config.xml'))
@@ -135,28 +137,29 @@ def write_config(directory: pathlib.Path, map_file: pathlib.Path, *, estimator: 
         for node in root.iter('module'):
             if node.get('name') == 'localModule':
                 node.find('options').text += ' -p start.txt'
-    if estimator is not None and not any(n.get('name') == estimator for n in root.iter('module')):
+    for node in list(root.iter('module')):
+        if node.get('name') in ('poseModule', 'slamModule'):
+            root.remove(node)
+    if estimator is not None:
         module = etree.SubElement(root, 'module', name=estimator, managed='managed')
         etree.SubElement(module, 'binary').text = f'pluto_nav/{estimator.replace("Module", "_module")}'
-        etree.SubElement(module, 'options').text = f'-n {estimator} -m map.xml'
-    elif estimator is None:
-        for node in list(root.iter('module')):
-            if node.get('name') in ('poseModule', 'slamModule'):
-                root.remove(node)
+        etree.SubElement(module, 'options').text = f'-n {estimator} {estimator_options}'
     config.write(str(directory / 'mcp-config.xml'))
     (directory / 'mcp-mappings.xml').write_bytes((PLUTO / 'mcp-mappings.xml').read_bytes())
 
 
 def run(name: str, map_file: pathlib.Path, route: Sequence[tuple[float, float]], directory: pathlib.Path, *,
         estimator: str | None = 'poseModule', seed: int = 1, time_scale: float = 1.0,
-        start_error: tuple[float, float, float] | None = None, limit_s: float = 900.0) -> RunResult:
-    """Run the robot through ``route`` on ``map_file`` and measure; needs env.sh's environment."""
+        start_error: tuple[float, float, float] | None = None, limit_s: float = 900.0,
+        estimator_options: str = '-m map.xml') -> RunResult:
+    """Run the robot through ``route`` on ``map_file`` and measure; needs env.sh's environment.
+    The run's files (its config, tour.png, what the modules save) stay in ``directory``."""
     from wurde_core import CommsManager
     from wurde_core.interfaces import Egomotion, LocalizationPose
     from wurde_testing import ChildProcess, find_executable
 
     write_config(directory, map_file, estimator=estimator, seed=seed, time_scale=time_scale,
-                 start_error=start_error)
+                 start_error=start_error, estimator_options=estimator_options)
     env = dict(os.environ, WURDE_CONFIG_DIR=str(directory), WURDE_LOG_DIRECTORY=str(directory),
                WURDE_DATA_DIR=str(directory))
     manager = CommsManager(f'NavBench{os.getpid()}')
@@ -205,6 +208,29 @@ def run(name: str, map_file: pathlib.Path, route: Sequence[tuple[float, float]],
     return RunResult(name, truth.length(), 'waypoints reached' in tour_output and ' all of ' in tour_output,
                      'bumper pressed' in tour_output, compare(pose, truth), compare(dr, truth),
                      compare(raw, truth), time.monotonic() - started, tour_output)
+
+
+def bench_setup(command: str, shipped: str, generated: int, seed: int
+                ) -> tuple[pathlib.Path, list[tuple[str, pathlib.Path]]]:
+    """What both navigation benchmarks do first: refuse to run without DDS on loopback, claim a
+    domain id, make a work directory, and list the maps: the ``shipped`` ones (comma-separated
+    names in config/maps) and ``generated`` generated ones (kinds in turn, seeds from ``seed``)."""
+    if os.environ.get('ROS_AUTOMATIC_DISCOVERY_RANGE') != 'LOCALHOST':
+        raise SystemExit(f'bench: run it through `{command}` or env.sh (DDS on loopback only)')
+    import tempfile
+
+    from wurde_drivers.sim.generate import KINDS, random_map
+    from wurde_drivers.sim.mapfile import save_map
+    from wurde_testing import claim_domain_id
+    os.environ['ROS_DOMAIN_ID'] = str(claim_domain_id().domain_id)
+    work = pathlib.Path(tempfile.mkdtemp(prefix='wurde-nav-bench-'))
+    maps = [(name, ROOT / 'config' / 'maps' / f'{name}.xml') for name in shipped.split(',') if name]
+    for i in range(generated):
+        kind = KINDS[i % len(KINDS)]
+        path = work / f'generated-{kind}-{seed + i}.xml'
+        save_map(random_map(seed + i, kind), path)
+        maps.append((f'generated {kind} #{seed + i}', path))
+    return work, maps
 
 
 def _start_of(map_file: pathlib.Path) -> tuple[float, float, float]:

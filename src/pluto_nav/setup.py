@@ -22,5 +22,6 @@ setup(
         'local_module = pluto_nav.local_module:main',
         'pose_module = pluto_nav.pose_module:main',
         'pose_i = pluto_nav.pose_i:main',
+        'slam_module = pluto_nav.slam_module:main',
     ]},
 )

@@ -11,7 +11,7 @@ The thread (the estimation activity of the module's loop): when it starts it rea
 Laser_Pose (4) and takes the setter; it does not start while another estimator holds the setter;
 when it stops it gives the setter back (a Post_Pose write with cmdFlags 0).
 
-Status (FVectorState ``<name>/status``): element[0] 1 the thread runs, 0 stopped — a request writing
+Status (FVectorState ``<name>/status``, published on every change and once a second): element[0] 1 the thread runs, 0 stopped — a request writing
 element[0] = 0 or 1 stops or starts it (the proxy's start/stop activity); element[1] = 2 written as
 a request is the estimator's one command (find-wall, save the map); element[2], element[3]: scans
 used, scans whose lines matched nothing.
@@ -20,6 +20,7 @@ used, scans whose lines matched nothing.
 from __future__ import annotations
 
 import collections
+import time
 from typing import Any, Protocol
 
 import numpy as np
@@ -38,6 +39,9 @@ LOOP_S = 0.02
 MAX_WAITING = 20
 #: Two stamps are the same scan when they differ by less than this (s).
 SAME_SCAN_S = 1e-4
+#: Seconds between two publications of an unchanged status: data channels are volatile, and a
+#: status (Pluto's CORBA status interface could be read at any time) must reach late consumers.
+STATUS_PERIOD_S = 1.0
 #: Covariance used for an increment that comes without one.
 DEFAULT_INCREMENT_COV = np.diag([1e-4, 1e-4, 1e-4])
 
@@ -59,6 +63,8 @@ class Estimator:
     SETTER = 1
     #: Uncertainty added to Laser_Pose's own when the thread starts (m, m, rad).
     START_SIGMA = (0.3, 0.3, np.radians(8.0))
+    #: Keyword arguments of :func:`pluto_nav.lines.extract_lines` beyond the laser's geometry.
+    LINE_OPTIONS: dict[str, float] = {}
 
     def __init__(self, manager: CommsManager, logger: Logger, filter_: PoseEstimate, *, status: str,
                  laser: str, start_running: bool) -> None:
@@ -86,6 +92,7 @@ class Estimator:
         self.setter: int | None = None
         self.element = [0, 0, 0, 0]
         self.data: list[float] = []
+        self.status_sent = -float('inf')
         self.publish_status()
 
     # -- what subclasses say ---------------------------------------------------------------------
@@ -100,7 +107,13 @@ class Estimator:
         raise NotImplementedError
 
     def on_stop(self) -> None:
-        """The thread stopped (before the setter is released)."""
+        """The thread is stopping: called while it still holds the setter, which is released after."""
+
+    def start_covariance(self, adjusted: LocPose) -> np.ndarray:
+        """The filter's initial covariance from the Laser_Pose it starts at: that pose's own,
+        widened by :attr:`START_SIGMA` (the a-priori map's frame is not the dead reckoning's)."""
+        own = adjusted.covariance if np.all(np.isfinite(adjusted.covariance)) else np.zeros((3, 3))
+        return own + np.diag(np.square(self.START_SIGMA))
 
     # -- one loop --------------------------------------------------------------------------------
     def step(self) -> None:
@@ -116,6 +129,8 @@ class Estimator:
         elif not self.want_running and self.running:
             self._stop()
         self._process_scans()
+        if time.monotonic() - self.status_sent >= STATUS_PERIOD_S:
+            self.publish_status()
 
     def _take_inputs(self) -> None:
         while self.scan.get_next_info():
@@ -151,9 +166,9 @@ class Estimator:
         self.publish_status()
 
     def _stop(self) -> None:
+        self.on_stop()
         self.running = False
         self.element[0] = 0
-        self.on_stop()
         self.write_post(LocPose(setter=NOBODY))
         self.logger.notice(f'{self.manager.name}: thread stopped; setter released')
         self.publish_status()
@@ -187,15 +202,14 @@ class Estimator:
             if self.running and self.previous_dr is not None:
                 self._predict(dr)
             return
-        lines = extract_lines(ranges, angles=self.angles, max_range=self.max_range)
+        lines = extract_lines(ranges, angles=self.angles, max_range=self.max_range, **self.LINE_OPTIONS)
         self.on_scan(stamp, lines)
         if not self.running:
             return
         if self.previous_dr is None:
             if adjusted is None:
                 return                   # wait for a scan whose Laser_Pose arrived too
-            start_cov = adjusted.covariance if np.all(np.isfinite(adjusted.covariance)) else np.zeros((3, 3))
-            self.filter.set_pose(np.array(adjusted.xytheta), start_cov + np.diag(np.square(self.START_SIGMA)))
+            self.filter.set_pose(np.array(adjusted.xytheta), self.start_covariance(adjusted))
             self.previous_dr = dr
         else:
             self._predict(dr)
@@ -222,3 +236,4 @@ class Estimator:
         self.status.data.element = list(self.element)
         self.status.data.data = list(self.data)
         self.status.publish_data()
+        self.status_sent = time.monotonic()

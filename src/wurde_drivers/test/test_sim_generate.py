@@ -120,6 +120,18 @@ def test_route_legs_keep_their_clearance_and_reach_the_length(seed: int, kind: s
     assert route == random_route(world, seed, length)
 
 
+@FAST
+@given(seed=seeds, kind=kinds, size=sizes, length=st.floats(min_value=5.0, max_value=60.0))
+def test_a_route_home_is_a_clear_loop_back_to_start(seed: int, kind: str, size: float, length: float) -> None:
+    world = random_map(seed, kind, size=size)
+    out = random_route(world, seed, length)
+    loop = random_route(world, seed, length, home=True)
+    assert loop[:len(out)] == out
+    assert loop[-1] == tuple(world.place('start')[:2])
+    assert out[-1] == loop[-1] or len(loop) > len(out)
+    assert_route_clear(world, loop, CLEARANCE)
+
+
 def test_a_wider_robot_gets_a_route_with_more_room() -> None:
     world = random_map(3, 'outdoor', size=30.0)
     route = random_route(world, 3, 80.0, clearance=0.8)

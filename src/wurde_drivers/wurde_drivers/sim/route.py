@@ -263,12 +263,14 @@ def route_length(route: list[tuple[float, float]]) -> float:
 
 
 def random_route(world: World, seed: int, length_m: float, *,
-                 clearance: float = CLEARANCE) -> list[tuple[float, float]]:
+                 clearance: float = CLEARANCE, home: bool = False) -> list[tuple[float, float]]:
     """Waypoints from the place ``start`` through the world, at least ``length_m`` long.
 
     The first waypoint is ``start`` itself; each straight leg keeps more than ``clearance`` from
     every wall and off-limits region.  The route heads, again and again, for a part of the map it
     has not been near yet, so a long enough route covers the free space connected to ``start``.
+    With ``home`` the route then comes back to ``start`` by the shortest way (a loop, for SLAM's
+    loop closure); ``length_m`` counts the way out only.
 
     :raises KeyError: the world has no place ``start``.
     :raises ValueError: ``start`` is not free with that clearance, or nothing around it is.
@@ -286,6 +288,7 @@ def random_route(world: World, seed: int, length_m: float, *,
     away = np.full(len(roadmap.nodes), np.inf)   # how far each node is from the route so far
     _visit(roadmap, away, route[0], route[0])
     total = 0.0
+    first = last = here
     while total < length_m:
         fresh = away > _COVERED
         distance, before, settled = roadmap.shortest(here, goals=fresh, enough=_CHOICES)
@@ -304,9 +307,16 @@ def random_route(world: World, seed: int, length_m: float, *,
             total += math.dist(route[-1], point)
             _visit(roadmap, away, route[-1], point)
             route.append(point)
+            last = node
             if total >= length_m:
                 break
         here = target
+    if home and last != first:
+        _, before, _ = roadmap.shortest(last)
+        path = [first]
+        while path[-1] != last:
+            path.append(int(before[path[-1]]))
+        route.extend(tuple(roadmap.nodes[node].tolist()) for node in roadmap.straightened(path[::-1])[1:])
     return route
 
 

@@ -1,0 +1,159 @@
+"""slam_module: Pluto's slamModule (Pluto 7.2) — builds a map of line walls while it improves the
+localModule's poses.
+
+"The slam module uses a compressed Kalman Filter to create a map while also using the map to
+improve the pose estimates.  Aside from saving the map not doing odometry calibration it works like
+the pose module.  The slam thread does not start automatically when you run the slamModule script,
+one must start it when ready."  The cycle, the thread and the setter are
+:class:`pluto_nav.estimator.Estimator`'s, with :class:`pluto_nav.slam_filter.SlamFilter`; the
+setter is 2 while estimating and 3 while saving.  Each start of the thread starts a new map whose
+frame is the Laser_Pose (4) the thread started at, taken as exact: the map is drawn in the frame
+the localModule's poses are in.
+
+``slam/status`` (FVectorState, Pluto 7.2): element[0] 1 the thread runs, 0 stopped (requests
+writing 0 or 1 stop or start it); a request writing element[1] = 2 saves the map: element[1] is -1
+and the setter 3 while it saves, then 0 and the estimate cycle continues.  Stopping the thread
+saves the map too ("when the slam thread is stopped the map is saved so one should wait"), and so
+does the module's end while the thread runs.  element[2], element[3]: scans used, scans whose
+lines matched no landmark; data = [confirmed walls, landmarks in the filter, maps saved].
+
+The map is saved in the simulator's map format (config/maps/README.md, :mod:`wurde_idl.mapfile`)
+with the place ``start``, the robot's pose where the thread started, so a poseModule can load it
+next run (``-m``) and a localModule start at that place (its ``-m``).  Options: ``-f FILE``
+(default ``slam-map.xml``; a relative path is in the data directory, WURDE_DATA_DIR; ``-o`` is
+WURDE's namespace option), ``-s LASER`` (default PlutoLaser), ``-a`` (start the thread at launch).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import pathlib
+import sys
+
+import numpy as np
+
+from wurde_core import CommsManager, Logger
+from wurde_core.module_loop import run_loop, set_loop
+from wurde_idl.errors import ConfigError
+from wurde_idl.mapfile import save_map_data
+
+from .estimator import LOOP_S, Estimator
+from .lines import LineFeature
+from .slam_filter import LINE_EXTRACTION, SlamFilter
+from .streams import SLAM_SAVING, SLAM_SETTER, LocPose
+
+__all__ = ['SlamModule', 'main']
+
+STATUS = 'slam/status'
+HELP = ('  -f FILE   where to save the map (default slam-map.xml; relative: in the data directory)\n'
+        '  -s LASER  the laser module (default PlutoLaser)\n'
+        '  -a        start the thread at launch')
+#: Scans between two counts of the confirmed walls for the status (walls() resolves every extent).
+WALL_COUNT_EVERY = 10
+
+
+class SlamModule(Estimator):
+    """The slamModule: SlamFilter; ``element[1] = 2`` saves the map."""
+
+    SETTER = SLAM_SETTER
+    LINE_OPTIONS = LINE_EXTRACTION
+
+    def __init__(self, manager: CommsManager, logger: Logger, output: pathlib.Path, *, laser: str,
+                 start_running: bool) -> None:
+        self.output = output
+        self.last: LocPose | None = None
+        self.saves = 0
+        self.walls = 0
+        self.mapped = False                # the current map has had a scan
+        super().__init__(manager, logger, SlamFilter(), status=STATUS, laser=laser, start_running=start_running)
+        self.data = [0.0, 0.0, 0.0]
+
+    def _start(self) -> None:
+        super()._start()
+        if self.running:                   # a new map, its frame set by the first scan
+            self.filter = SlamFilter()
+            self.last, self.mapped = None, False
+
+    def start_covariance(self, adjusted: LocPose) -> np.ndarray:
+        """Zero: the map's frame *is* the Laser_Pose the thread started at."""
+        return np.zeros((3, 3))
+
+    def update(self, lines: list[LineFeature]) -> bool:
+        result = self.filter.update(lines)  # type: ignore[attr-defined]
+        self.mapped = True
+        if self.element[2] % WALL_COUNT_EVERY == 0:
+            self.walls = len(self.filter.walls())  # type: ignore[attr-defined]
+        self.data = [float(self.walls), float(result.landmarks), float(self.saves)]
+        return bool(result.matched > 0)
+
+    def estimate(self, dr: LocPose, stamp: float, setter: int) -> LocPose:
+        self.last = super().estimate(dr, stamp, setter)
+        return self.last
+
+    def command(self) -> None:
+        """``element[1] = 2``: save the map now."""
+        self.save(resume=True)
+
+    def on_stop(self) -> None:
+        self.save(resume=False)
+
+    def close(self) -> None:
+        """The module ends: a running thread's map is saved, as a stop would."""
+        if self.running:
+            self.save(resume=False)
+
+    def save(self, *, resume: bool) -> None:
+        """Setter 3 while saving (Pluto 7.2), the file written, element[1] back to 0; ``resume``:
+        the estimate cycle goes on (setter 2 again)."""
+        self.element[1] = -1
+        self.publish_status()
+        holding = self.running and self.last is not None
+        if holding:
+            assert self.last is not None
+            self.write_post(dataclasses.replace(self.last, setter=SLAM_SAVING))
+        if self.mapped:
+            self._write_map()
+        else:
+            self.logger.warning(f'{self.manager.name}: nothing mapped yet; {self.output} left as it is')
+        if holding and resume:
+            assert self.last is not None
+            self.write_post(self.last)
+        self.element[1] = 0
+        self.data = [float(self.walls), float(len(self.filter)), float(self.saves)]  # type: ignore[arg-type]
+        self.publish_status()
+
+    def _write_map(self) -> None:
+        data = self.filter.to_map_data(f'slam-{self.manager.name}', mount=self._mount())  # type: ignore[attr-defined]
+        self.walls = len(data.walls)
+        try:
+            self.output.parent.mkdir(parents=True, exist_ok=True)
+            save_map_data(data, self.output)
+        except (OSError, ConfigError) as error:
+            self.logger.error(f'{self.manager.name}: could not save the map to {self.output}: {error}')
+            return
+        self.saves += 1
+        self.logger.notice(f'{self.manager.name}: map saved to {self.output} ({len(data.walls)} walls)')
+
+    def _mount(self) -> np.ndarray:
+        """The laser's mounting on the robot (its RangeFinder info): the map's start is a robot pose."""
+        info = self.scan.info
+        return np.array([float(info.x_offset.get_value()), float(info.y_offset.get_value()), 0.0])
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv if argv is None else argv)
+    manager = CommsManager('slamModule')
+    manager.set_help_string(HELP)
+    opts = manager.parse_options(argv, 'f:s:a').user
+    output = pathlib.Path(manager.config.get_data_directory()) / opts.get('f', 'slam-map.xml')
+    logger = Logger(manager.name)
+    manager.register_supplier(logger)
+    module = SlamModule(manager, logger, output, laser=opts.get('s', 'PlutoLaser'), start_running='a' in opts)
+    set_loop(manager, LOOP_S)
+    when = 'now' if 'a' in opts else 'when asked (slam/status element[0] = 1)'
+    logger.notice(f'{manager.name}: the map goes to {output}; the thread starts {when}')
+    return run_loop(manager, module.step, module.close)
+
+
+if __name__ == '__main__':
+    sys.exit(main())
