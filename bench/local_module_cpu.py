@@ -3,8 +3,10 @@
 The simulated Pluto runs with the base's odometry at 50 Hz (the DMU at 50 Hz, a scan every 190 ms,
 the wrist at 20 Hz); ``local_module`` fuses them all.  Its CPU time (user + system, from
 /proc/<pid>/stat) over ``--seconds`` of wall time, after a warm-up, is reported as a percentage of
-one core, next to the dummy DMU's (a module that publishes one stream at 50 Hz) for comparison in
-the same run.
+one core, next to, in the same run, the dummy DMU's (a module that publishes one stream at 50 Hz)
+and a raw rclpy node with the localModule's traffic and no estimation at all
+(``bench/raw_rclpy_fusion.py``: per odometry message the same five publications), which shows
+what the middleware alone costs at this rate.
 
 Usage: ``make bench`` or ``python bench/local_module_cpu.py [--seconds 30]``.
 """
@@ -14,6 +16,7 @@ from __future__ import annotations
 import argparse
 import os
 import pathlib
+import subprocess
 import sys
 import tempfile
 import time
@@ -55,7 +58,13 @@ def main() -> int:
     manager.register_consumer(poses)
     processes = [ChildProcess([find_executable('wurde_drivers', exe), '-n', name], env=env) for exe, name in dummies]
     local = ChildProcess([find_executable('pluto_nav', 'local_module')], env=env)
+    raw = subprocess.Popen([sys.executable, str(ROOT / 'bench' / 'raw_rclpy_fusion.py')], env=env,
+                           stdout=subprocess.PIPE, text=True)
     try:
+        assert raw.stdout is not None
+        ready = raw.stdout.readline().split()
+        if ready[:2] != ['raw', 'ready']:
+            raise SystemExit('bench: the raw rclpy node found no odometry and IMU topics')
         count = 0
         deadline = time.monotonic() + 60
         while count < 50:                          # warm-up: the fusion is running
@@ -66,7 +75,7 @@ def main() -> int:
                 raise SystemExit('bench: no dead reckoning from local_module within 60 s')
             manager.wait(0.05)
         dmu = processes[1].process.pid
-        start = {pid: cpu_seconds(pid) for pid in (local.process.pid, dmu)}
+        start = {pid: cpu_seconds(pid) for pid in (local.process.pid, dmu, raw.pid)}
         wall, count = time.monotonic(), 0
         while time.monotonic() - wall < args.seconds:
             manager.step()
@@ -77,11 +86,15 @@ def main() -> int:
         used = {pid: cpu_seconds(pid) - start[pid] for pid in start}
     finally:
         manager.clean_up()
+        raw.terminate()
+        raw.wait(timeout=30)
         for process in (local, *processes):
             process.stop()
     print(f'| process | CPU (% of one core) over {elapsed:.0f} s |\n|---|---|')
     print(f'| local_module (odometry {args.rate:.0f} Hz, DMU 50 Hz, scans 5 Hz) | {100 * used[local.process.pid] / elapsed:.1f} |')
     print(f'| dummy_dmu (one stream at 50 Hz), for comparison | {100 * used[dmu] / elapsed:.1f} |')
+    print(f'| raw rclpy node, the same traffic ({" and ".join(ready[2:])} in), no estimation | '
+          f'{100 * used[raw.pid] / elapsed:.1f} |')
     print(f'dead-reckoning poses received: {count / elapsed:.1f} per second')
     return 0
 
