@@ -45,6 +45,9 @@ WAIT_FOR_BASE_S = 60.0
 TURN_FIRST_RAD = 0.35   # turn on the spot before driving when the heading is this far off
 MAX_TV = 0.6
 MAX_RV = 1.0
+#: s (simulated): the heading error is taken out over this long (a gain of 1.5 rad/s per rad), or
+#: over two control periods when they are longer; the distance to a waypoint likewise (_horizon).
+SETTLE_S = 1.0 / 1.5
 SLOW_M = 1.2     # laser: slow down when something is this close ahead
 STOP_M = 0.45    # laser: stop
 
@@ -59,6 +62,18 @@ def _route(text: str) -> list[tuple[float, float]]:
 
 def _wrap(angle: float) -> float:
     return math.atan2(math.sin(angle), math.cos(angle))
+
+
+def _horizon(period_s: float) -> float:
+    """Simulated seconds over which a command may take out the error it was computed from.
+
+    A command acts until the next one, one control period later; the period is in wall seconds
+    times the simulator's time scale, and on a loaded machine it stretches.  A fixed gain would
+    turn (or drive) by more than the error in one long period and the loop would oscillate; with
+    the error taken out over at least two periods each command does at most half of it, so the
+    loop stays stable however long the period gets.
+    """
+    return max(SETTLE_S, 2.0 * period_s)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -123,6 +138,7 @@ def main(argv: list[str] | None = None) -> int:
     bumped = False
     started = time.monotonic()
     last_report = 0.0
+    last_command = time.monotonic()
     while manager.run_update() == RunState.RUN:
         while truth.get_next_data():
             loc = truth.data.location
@@ -165,12 +181,17 @@ def main(argv: list[str] | None = None) -> int:
         error = _wrap(math.atan2(gy - y, gx - x) - theta)
         ahead = min((r for i, r in enumerate(last_scan) if abs(i - len(last_scan) // 2) <= len(last_scan) // 12),
                     default=math.inf)
-        tv = 0.0 if abs(error) > TURN_FIRST_RAD else MAX_TV * math.cos(error) * min(1.0, distance)
+        now = time.monotonic()
+        horizon = _horizon(max(LOOP_S, now - last_command) * config.time_scale)
+        # Full speed only when facing the waypoint, none from TURN_FIRST_RAD off: what the robot
+        # drives while its heading error is taken out moves it sideways, and doors are narrow.
+        aligned = math.cos(min(abs(error) / TURN_FIRST_RAD, 1.0) * math.pi / 2)
+        tv = min(MAX_TV * aligned * min(1.0, distance), distance / horizon)
         if ahead < SLOW_M:
             tv *= max(0.0, (ahead - STOP_M) / (SLOW_M - STOP_M))
-        rv = max(-MAX_RV, min(MAX_RV, 1.5 * error))
+        rv = max(-MAX_RV, min(MAX_RV, error / horizon))
         command(tv, rv)
-        now = time.monotonic()
+        last_command = now
         if now - last_report >= 2.0:
             last_report = now
             print(f'tour: at ({x:.2f}, {y:.2f}, {math.degrees(theta):.0f} deg), going to waypoint '
