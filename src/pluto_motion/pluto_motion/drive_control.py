@@ -127,10 +127,11 @@ class DriveController:
                 and now - self.last_command > s.timeout):
             self.timed_out = True
             self.command = STOP
-        tv, rv = self._wanted(heading)
-        tv = _toward(self.output[0], _clamp(tv, s.max_tv), s.tv_accel * dt)
+        wanted, rv = self._wanted(heading)
+        wanted = _clamp(wanted, s.max_tv)
+        tv = _toward(self.output[0], wanted, s.tv_accel * dt)
         rv = _toward(self.output[1], _clamp(rv, s.max_rv), s.rv_accel * dt)
-        tv, safety = self._protect(tv, sonar)
+        tv, safety = self._protect(tv, wanted, sonar)
         self.output = (tv, rv)
         if self.bumper_code:
             self.code = self.bumper_code
@@ -149,7 +150,7 @@ class DriveController:
         error = _wrap(c.heading - heading)
         return c.tv * max(0.0, math.cos(error)), self.settings.heading_gain * error
 
-    def _protect(self, tv: float, sonar: Sequence[float] | None) -> tuple[float, int]:
+    def _protect(self, tv: float, wanted: float, sonar: Sequence[float] | None) -> tuple[float, int]:
         front, back = self.bumpers
         if front and tv > 0:
             tv = 0.0
@@ -159,4 +160,4 @@ class DriveController:
             return tv, NORMAL
         if sonar is None or not self.guard.ready:
             return 0.0, FRONT if tv > 0 else BACK
-        return self.guard.limit(tv, sonar)
+        return self.guard.limit(tv, sonar, wanted)

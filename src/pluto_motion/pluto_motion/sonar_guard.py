@@ -7,7 +7,7 @@ degrees of straight behind, the rest are the sides.  Driving forward the front s
 speed, backward the back ones; the side sonars limit both directions (at shorter distances, since a
 round robot passing a wall is not driving into it).  The allowed speed falls linearly from the full
 speed at ``slow`` metres to zero at ``stop`` metres (ranges as the sonars report them, from the
-sensor).  Readings that are not finite or not positive are no echo and ignored.
+sensor); a slowed speed under ``creep`` is a stop.  Readings that are not finite or not positive are no echo and ignored.
 """
 
 from __future__ import annotations
@@ -30,6 +30,9 @@ class SonarLimits:
     slow: float = 1.2
     side_stop: float = 0.05
     side_slow: float = 0.3
+    #: m/s: a slowed speed below this is a stop (else the robot would creep towards the stop
+    #: distance for ever, its speed shrinking with the gap).
+    creep: float = 0.05
 
 
 def _group(bearing: float) -> int:
@@ -64,9 +67,12 @@ class SonarGuard:
     def ready(self) -> bool:
         return bool(self.groups)
 
-    def limit(self, tv: float, ranges: Sequence[float]) -> tuple[float, int]:
-        """``tv`` slowed for the nearest obstacle and the code of the group that slowed it
-        (0 when nothing did).  Rotation in place is never limited: the footprint is round."""
+    def limit(self, tv: float, ranges: Sequence[float], wanted: float | None = None) -> tuple[float, int]:
+        """``tv`` slowed for the nearest obstacle and the code of the group that slowed it (0 when
+        nothing did).  ``wanted`` is the speed asked for (default ``tv``): the allowed speed is
+        that times the group's fraction, a stop when under ``creep``, and ``tv`` (which may still
+        be ramping up) is cut to it.  Rotation in place is never limited: the footprint is round."""
+        wanted = tv if wanted is None else wanted
         if tv == 0.0 or not self.groups:
             return tv, 0
         ahead = FRONT if tv > 0 else BACK
@@ -82,4 +88,9 @@ class SonarGuard:
                 continue
             if f < best:
                 best, code = f, group
-        return tv * best, code
+        if best >= 1.0:
+            return tv, 0
+        cap = abs(wanted) * best
+        if cap < self.limits.creep:
+            cap = 0.0
+        return math.copysign(min(abs(tv), cap), tv), code

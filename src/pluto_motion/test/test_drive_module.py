@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 import pathlib
 import time
+from collections.abc import Callable
 
 import pytest
 from drive_fixture import Driver, angle_error, robot, room_config, seconds
@@ -29,6 +30,11 @@ def _fastest_ramp(statuses: list, window: float = 0.3) -> float:
                 break
             worst = max(worst, abs(late.data[0] - early.data[0]) / (span + 0.1))
     return worst
+
+
+def _base_zero(driver: Driver) -> Callable[[], bool]:
+    """Whether the base's command state is zero."""
+    return lambda: bool(driver.base_states) and list(driver.base_states[-1].velocity) == [0.0, 0.0]
 
 
 def test_velocity_acceleration_nan_timeout_and_release(ros_domain: int, tmp_path: pathlib.Path) -> None:
@@ -111,7 +117,7 @@ def test_regulator_sonar_and_bumpers(ros_domain: int, tmp_path: pathlib.Path) ->
             # Without sonar protection the regulator drives on into the wall: front bumper.
             driver.until(lambda: d.code == 1, 'front bumper', every=lambda: d.heading(0.3, north))
             driver.until(lambda: driver.tv == 0.0, 'stopped at the wall', timeout=5)
-            assert list(driver.base_states[-1].velocity) == [0.0, 0.0]
+            driver.until(_base_zero(driver), 'the base commanded zero', timeout=1.0)
             assert d.velocities == (0.0, 0.0)
             assert driver.pose[1] == pytest.approx(4.0 - 0.35, abs=0.02)
             # Still pressed: a forward command is not executed, a backward one is (code 0 again).
@@ -126,6 +132,7 @@ def test_regulator_sonar_and_bumpers(ros_domain: int, tmp_path: pathlib.Path) ->
             driver.until(lambda: d.code == 2, 'back bumper', every=lambda: d.velocity(-0.3, 0.0))
             driver.until(lambda: driver.tv == 0.0, 'stopped at the wall', timeout=5)
             assert driver.pose[1] == pytest.approx(0.35, abs=0.02)
-            assert list(driver.base_states[-1].velocity) == [0.0, 0.0]
+            driver.until(_base_zero(driver), 'the base commanded zero', timeout=1.0)
+            assert d.velocities == (0.0, 0.0)
     finally:
         driver.close()
