@@ -29,6 +29,7 @@ def test_drive_proxy_example_turns_the_robot_north(ros_domain: int, tmp_path: pa
                 assert client.process.wait(timeout=30) == 0
             assert line.startswith('status 0 ')
             driver.until(lambda: driver.drive.code == -10, 'released by the example')
+            driver.until(lambda: driver.tv == 0.0 and driver.truths[-1].rv == 0.0, 'at rest', timeout=5)
             assert angle_error(driver.pose[2], math.pi / 2) < 0.03
     finally:
         driver.close()
