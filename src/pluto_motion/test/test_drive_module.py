@@ -46,7 +46,7 @@ def test_velocity_acceleration_nan_timeout_and_release(ros_domain: int, tmp_path
             driver.children = processes
             driver.until(lambda: d.code == 0 and driver.pose is not None, 'status and truth', timeout=60)
             x0 = driver.pose[0]
-            first, first_status = len(driver.truths), len(driver.statuses)
+            first_status = len(driver.statuses)
 
             def forward() -> None:
                 d.velocity(0.3, 0.0)
@@ -54,16 +54,14 @@ def test_velocity_acceleration_nan_timeout_and_release(ros_domain: int, tmp_path
             driver.until(lambda: driver.pose[0] > x0 + 0.4, 'driven 0.4 m east', every=forward)
             assert d.velocities == pytest.approx((0.3, 0.0), abs=1e-6)
             assert abs(driver.pose[1] - 2.0) < 0.01                 # straight: angular velocity 0
-            # The acceleration limit: the drive's command ramps at 0.5 m/s^2 (the base alone
-            # would allow 1.0), and the truth reaches 0.3 m/s no sooner than about 0.6 s after
-            # it starts moving (the base alone: 0.3 s).  Slack for a loaded machine's scheduling.
+            # The acceleration limit, on the drive's own clock: its command ramps at 0.5 m/s^2
+            # (the base alone would allow 1.0).  Not on the truth: a base process stalled by a
+            # loaded machine catches up in simulated time with the newest command, which
+            # compresses any ramp it was sent.
             ramp = [m for m in driver.statuses[first_status:] if len(m.data) == 2]
             assert max(m.data[0] for m in ramp) == pytest.approx(0.3)
             assert _fastest_ramp(ramp) <= TV_ACCEL * 1.1
-            run = driver.truths[first:]
-            moving = next(seconds(m) for m in run if m.tv > 1e-3)
-            cruising = next(seconds(m) for m in run if m.tv >= 0.3 - 1e-3)
-            assert cruising - moving >= 0.3 / TV_ACCEL * 0.7
+            assert sum(1 for m in ramp if 0.0 < m.data[0] < 0.3) >= 5     # reached in steps, not at once
 
             # NaN: refused whole and counted; the last good command goes on.
             before = d.refused
