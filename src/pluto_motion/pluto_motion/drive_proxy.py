@@ -25,10 +25,12 @@ class DriveProxy:
     """The driveModule as seen from ``manager``: commands out, status in."""
 
     def __init__(self, manager: CommsManager, *, queue_mode: bool = False) -> None:
-        """:param queue_mode: keep every status (:meth:`update` returns them all), not the newest."""
+        """:param queue_mode: keep every status (:meth:`update` returns them all), not the newest,
+            and every echo of an accepted command (``command.get_next_data()``)."""
         self.manager = manager
         self.command = ActuatorState(COMMAND)
         self.status = FVectorState(STATUS)
+        self.command.set_queue_mode(queue_mode)
         self.status.set_queue_mode(queue_mode)
         manager.register_consumer(self.command)
         manager.register_consumer(self.status)

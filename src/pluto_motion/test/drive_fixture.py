@@ -74,10 +74,14 @@ class Driver:
         #: Child processes whose early exit ends a wait at once (with their stderr).
         self.children: dict[str, ChildProcess] = {}
         self.base_states: list[Any] = []
+        #: The drive's echo of every command it accepted (stamped by the drive).
+        self.accepted: list[Any] = []
 
     def pump(self) -> None:
         self.manager.step()
         self.statuses.extend(self.drive.update())
+        while self.drive.command.get_next_data():
+            self.accepted.append(self.drive.command.data.ros_message())
         while self.truth.get_next_data():
             self.truths.append(self.truth.data.ros_message())
         while self.base.get_next_data():
