@@ -18,5 +18,7 @@ setup(
     description="Pluto's movement chain: driveModule, avoidModule and motionModule with the Pluto document's command flags and status codes.",
     license='BSD-3-Clause',
     tests_require=['pytest'],
-    entry_points={'console_scripts': []},
+    entry_points={'console_scripts': [
+        'drive_module = pluto_motion.drive_module:main',
+    ]},
 )

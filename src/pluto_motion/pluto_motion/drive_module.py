@@ -1,0 +1,224 @@
+"""drive_module: Pluto's driveModule (Pluto 6.1), the first link of the movement chain (Pluto 4).
+
+It reads its command interface ``drive/command`` (ActuatorState requests), and writes the base's
+command ``<base>Command`` (ActuatorState, cmdFlags 0 only: velocity[0..1] = linear, angular), "after
+possibly modifying the command" (Pluto 4): collision protection, acceleration limits and a regulator
+that holds a heading (:mod:`pluto_motion.drive_control`).
+
+``drive/command`` (requests; Pluto 6.1):
+
+====== ======================================================================================
+cmdFlags what
+====== ======================================================================================
+0      velocity control: velocity[0] m/s, velocity[1] rad/s
+1      regulator: turn smoothly to heading position[1] (rad, Localization/Pose frame; see
+       :mod:`pluto_motion.heading_source` for the fall-backs) and hold it at speed velocity[0]
+10, 11 the same with sonar protection (``<base>Sonar``)
+-1     release the robot: the drive thread stops (element[0] = -10) and writes nothing more to
+       the base, so that another program may drive it
+====== ======================================================================================
+
+Anything else, a missing array element or a value that is not finite is refused whole, logged and
+counted; the last good command goes on.  The data channel of ``drive/command`` carries the command
+being executed.
+
+``drive/status`` (FVectorState, published on every change and once a second): data[0..1] the
+velocities actually commanded (slowed down), element[0] 0 normal, -1 timeout (no command for
+``-t`` s, 4 by default: Pluto 6.1's "about 4 sec"), -10 thread stopped, 1 front bumper, 2 back
+bumper, 3 sonar front, 4 sonar back, 5 sonar sides; element[1] (ours) the number of refused
+commands.  A request on ``drive/status`` writing element[0] = 0 starts the thread (the proxy's
+start_activity; starting twice does nothing), -10 stops it.
+
+Not done: Pluto 6.1's odometry calibration ("The calibration data are read from a file and written
+to the baseserver when the drive module is started").  The seed gives neither the file's format nor
+the baseserver call, and our bases have no calibration input; there is nothing faithful to read or
+to write.
+
+Options: ``-b BASE`` (default PlutoBase), ``-v MAX_TV`` (m/s, 1.0), ``-w MAX_RV`` (rad/s, 1.5),
+``-a TV_ACCEL`` (m/s^2, 0.5), ``-A RV_ACCEL`` (rad/s^2, 1.5), ``-t TIMEOUT`` (s, 4).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+
+from wurde_core import CommsManager, Logger
+from wurde_core.interfaces import ActuatorState, Bumper, FVectorState, RangeFinder
+from wurde_core.module_loop import run_loop, set_loop
+
+from .drive_command import COMMAND, STATUS, CommandRefused, DriveCommand, Mode, parse_command
+from .drive_control import THREAD_STOPPED, DriveController, DriveSettings
+from .heading_source import HeadingSource
+
+__all__ = ['COMMAND', 'STATUS', 'DriveModule', 'main']
+
+LOOP_S = 0.05
+#: Seconds between two publications of an unchanged status (a late reader must get one).
+STATUS_PERIOD_S = 1.0
+#: A sonar reading older than this (s) is no reading: sonar protection then stops the robot.
+SONAR_FRESH_S = 1.0
+#: Longest time step the ramps use (a stalled loop must not allow a jump).
+MAX_DT = 0.2
+OPTIONS = {'v': 'max_tv', 'w': 'max_rv', 'a': 'tv_accel', 'A': 'rv_accel', 't': 'timeout'}
+HELP = ('  -b BASE      the base module (default PlutoBase): writes <BASE>Command, reads <BASE>Bumpers,\n'
+        '               <BASE>Sonar, <BASE>Motion\n'
+        '  -v MAX_TV    linear velocity limit, m/s (1.0)\n'
+        '  -w MAX_RV    angular velocity limit, rad/s (1.5)\n'
+        '  -a TV_ACCEL  linear acceleration limit, m/s^2 (0.5)\n'
+        '  -A RV_ACCEL  angular acceleration limit, rad/s^2 (1.5)\n'
+        '  -t TIMEOUT   seconds without a command before the drive stops (4)')
+
+
+class DriveModule:
+    """The driveModule's streams around a :class:`DriveController`."""
+
+    def __init__(self, manager: CommsManager, logger: Logger, settings: DriveSettings, *, base: str) -> None:
+        self.manager, self.logger = manager, logger
+        self.control = DriveController(settings)
+        self.commands = ActuatorState(COMMAND)
+        self.commands.set_queue_mode(True)          # every request is judged (and counted)
+        self.status = FVectorState(STATUS)
+        self.base = ActuatorState(f'{base}Command')
+        self.bumpers = Bumper(f'{base}Bumpers')
+        self.bumpers.set_queue_mode(True)           # a short press is not missed
+        self.sonar = RangeFinder(f'{base}Sonar')
+        for obj in (self.commands, self.status):
+            manager.register_supplier(obj)
+        for obj in (self.base, self.bumpers, self.sonar):
+            manager.register_consumer(obj)
+        self.heading = HeadingSource(manager, base, lambda text: logger.warn(f'{manager.name}: {text}'))
+        self.refused = 0
+        self.ranges: list[float] | None = None
+        self.ranges_at = -math.inf
+        self.last_step = time.monotonic()
+        self.sent_status: tuple[list[float], list[int]] | None = None
+        self.status_at = -math.inf
+        self.base_stopped = False
+
+    # -- inputs ----------------------------------------------------------------------------------
+    def _take_commands(self, now: float) -> None:
+        while self.commands.get_next_request():
+            r = self.commands.requests
+            flags = int(r.cmd_flags.get_value())
+            try:
+                command = parse_command(flags, list(r.velocity.get_value()), list(r.position.get_value()))
+            except CommandRefused as error:
+                self.refused += 1
+                self.logger.warn(f'{self.manager.name}: refused command ({self.refused} so far): {error}')
+                continue
+            if command is None:
+                self._set_running(False, 'released (cmdFlags -1)')
+            elif not self.control.running:
+                self.logger.warn(f'{self.manager.name}: thread stopped; cmdFlags {flags} ignored '
+                                 '(start_activity first)')
+            else:
+                self.control.accept(command, now)
+                self._publish_command(command)
+        while self.status.get_next_request():
+            element = list(self.status.requests.element.get_value())
+            if element and element[0] in (0, THREAD_STOPPED):
+                self._set_running(element[0] == 0, 'start_activity' if element[0] == 0 else 'stopped by request')
+
+    def _set_running(self, running: bool, why: str) -> None:
+        if running != self.control.running:
+            self.control.set_running(running)
+            self.base_stopped = False
+            self.logger.notice(f'{self.manager.name}: thread {"started" if running else "stopped"}: {why}')
+
+    def _take_sensors(self, now: float) -> None:
+        while self.bumpers.get_next_data():
+            pressed = list(self.bumpers.data.bumpers) + [False, False]
+            if self.control.set_bumpers(bool(pressed[0]), bool(pressed[1])) and self.control.running:
+                self._write_base(0.0, 0.0)          # at once, not at the end of the loop
+                self.logger.warn(f'{self.manager.name}: {"front" if pressed[0] else "back"} bumper: stopped')
+        while self.sonar.get_next_info():
+            info = self.sonar.info
+            positions = list(info.sensor_positions.get_value())
+            if positions:
+                bearings = [float(p.theta()) for p in positions]
+            else:
+                first, step = float(info.theta_offset.get_value()), float(info.theta_separation.get_value())
+                bearings = [first + i * step for i in range(int(info.range_count.get_value()))]
+            self.control.guard.set_bearings(bearings)
+        if self.sonar.get_next_data():
+            self.ranges, self.ranges_at = [float(r) for r in self.sonar.data.ranges], now
+
+    # -- outputs ---------------------------------------------------------------------------------
+    def _write_base(self, tv: float, rv: float) -> None:
+        req = self.base.requests
+        req.cmd_flags.set_value(0)
+        req.velocity.set_value([tv, rv])
+        self.base.publish_request()
+
+    def _publish_command(self, command: DriveCommand) -> None:
+        data = self.commands.data
+        data.cmd_flags = command.cmd_flags
+        data.velocity = [command.tv, command.rv] if command.mode is Mode.VELOCITY else [command.tv]
+        data.position = [] if command.mode is Mode.VELOCITY else [0.0, command.heading]
+        self.commands.publish_data()
+
+    def _publish_status(self, now: float) -> None:
+        value = ([float(v) for v in self.control.output], [self.control.code, self.refused])
+        if value == self.sent_status and now - self.status_at < STATUS_PERIOD_S:
+            return
+        self.status.data.data, self.status.data.element = value
+        self.status.publish_data()
+        self.sent_status, self.status_at = value, now
+
+    # -- one loop --------------------------------------------------------------------------------
+    def step(self) -> None:
+        now = time.monotonic()
+        dt, self.last_step = min(now - self.last_step, MAX_DT), now
+        self._take_commands(now)
+        self._take_sensors(now)
+        self.heading.update()
+        regulating = self.control.command.mode is Mode.REGULATOR and self.control.running
+        heading = self.heading.heading() if regulating else None
+        sonar = self.ranges if now - self.ranges_at <= SONAR_FRESH_S else None
+        tv, rv = self.control.step(now, dt, heading=heading, sonar=sonar)
+        if self.control.running:
+            self._write_base(tv, rv)
+        elif not self.base_stopped:
+            self._write_base(0.0, 0.0)              # the thread stops: one stop, then hands off
+            self.base_stopped = True
+        self._publish_status(now)
+
+    def close(self) -> None:
+        """Leave the base stopped (idempotent)."""
+        if self.control.running:
+            self._write_base(0.0, 0.0)
+
+
+def _settings(manager: CommsManager, user: dict[str, str]) -> DriveSettings:
+    values = {}
+    for letter, field in OPTIONS.items():
+        if letter in user:
+            try:
+                values[field] = float(user[letter])
+            except ValueError:
+                raise ValueError(f'-{letter} {user[letter]!r}: not a number') from None
+    return DriveSettings(**values)
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv if argv is None else argv)
+    manager = CommsManager('driveModule')
+    manager.set_help_string(HELP)
+    user = manager.parse_options(argv, 'b:v:w:a:A:t:').user
+    try:
+        settings = _settings(manager, user)
+    except ValueError as error:
+        print(f'drive_module: {error}', file=sys.stderr, flush=True)
+        return 2
+    logger = Logger(manager.name)
+    manager.register_supplier(logger)
+    module = DriveModule(manager, logger, settings, base=user.get('b', 'PlutoBase'))
+    set_loop(manager, LOOP_S)
+    logger.notice(f'{manager.name}: driving {user.get("b", "PlutoBase")}Command; {settings}')
+    return run_loop(manager, module.step, module.close)
+
+
+if __name__ == '__main__':
+    sys.exit(main())

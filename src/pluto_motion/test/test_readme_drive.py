@@ -1,0 +1,35 @@
+"""README-drive.md's DriveProxy example runs as written against the dummy base and the driveModule,
+and the robot it commands ends facing north."""
+
+from __future__ import annotations
+
+import math
+import os
+import pathlib
+import re
+
+from drive_fixture import Driver, angle_error, robot, room_config
+from wurde_testing import ChildProcess
+
+README = pathlib.Path(__file__).resolve().parents[1] / 'README-drive.md'
+
+
+def test_drive_proxy_example_turns_the_robot_north(ros_domain: int, tmp_path: pathlib.Path) -> None:
+    code = re.search(r'<!-- example: drive_proxy -->\n```python\n(.*?)```', README.read_text(), re.S).group(1)
+    script = tmp_path / 'turn_north.py'
+    script.write_text(code)
+    directory = room_config(tmp_path)
+    driver = Driver()
+    try:
+        with robot(directory) as processes:
+            driver.children = processes
+            driver.until(lambda: driver.drive.code == 0 and driver.pose is not None, 'status and truth', timeout=60)
+            with ChildProcess([str(script)], env=dict(os.environ)) as client:
+                line = client.expect('status', timeout=60)
+                assert client.process.wait(timeout=30) == 0
+            assert line.startswith('status 0 ')
+            driver.until(lambda: driver.drive.code == -10, 'released by the example')
+            driver.until(lambda: driver.tv == 0.0 and driver.truths[-1].rv == 0.0, 'at rest', timeout=5)
+            assert angle_error(driver.pose[2], math.pi / 2) < 0.03
+    finally:
+        driver.close()
