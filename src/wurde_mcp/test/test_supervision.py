@@ -45,6 +45,25 @@ def test_a_hung_module_becomes_a_zombie_and_is_restarted(tmp_path, table) -> Non
         assert not alive(pid)
 
 
+def test_a_silent_module_that_works_is_left_alone_and_one_asleep_is_a_zombie(tmp_path, table) -> None:
+    """Silent past the TTL is a zombie only when the process makes no progress
+    (wurde_mcp.progress): a module spinning on the CPU for 2.5 s (TTL 1 s) keeps its pid; one
+    asleep without a heartbeat is killed and replaced."""
+    config, mappings = write_config(tmp_path, worker('Busy') + worker('Sleepy'))
+    with start_mcp(tmp_path, config, mappings, '-a') as mcp:
+        rows = table.until(lambda r: r['Busy']['status'] == ACTIVE and r['Sleepy']['status'] == ACTIVE,
+                           'both active')
+        busy, sleepy = rows['Busy']['pid'], rows['Sleepy']['pid']
+        os.kill(busy, signal.SIGUSR1)
+        assert wait_output(mcp, r'MCP: Busy is silent past its TTL but its process is working')
+        os.kill(sleepy, signal.SIGUSR2)
+        rows = table.until(lambda r: r['Sleepy']['pid'] != sleepy and r['Sleepy']['status'] == ACTIVE,
+                           'Sleepy replaced by a live process')
+        assert wait_output(mcp, r'MCP: Sleepy missed its TTL \(1\.000 s\): zombie')
+        assert rows['Busy']['pid'] == busy and rows['Busy']['restarts'] == 0
+        assert 'MCP: Busy missed its TTL' not in mcp.stdout + mcp.stderr
+
+
 def test_unmanaged_module_is_left_dead(tmp_path, table) -> None:
     config, mappings = write_config(tmp_path, worker('Loose', 'unmanaged') + worker('Kept'))
     with start_mcp(tmp_path, config, mappings, '-a'):

@@ -2,11 +2,14 @@
 """A WURDE module for MCP tests: supplies Foo on ``<name>_out``.
 
 ``-t TTL`` overrides its TTL; ``-s`` makes it stubborn: it ignores Quit, SIGINT and SIGTERM, so
-only SIGKILL ends it (the whole stop escalation runs).
+only SIGKILL ends it (the whole stop escalation runs).  SIGUSR1 makes it spin on the CPU for
+2.5 s without a heartbeat (a starved or busy module: working, but silent); SIGUSR2 makes it sleep
+for a minute without one (hung, though not stopped).
 """
 
 import signal
 import sys
+import time
 
 from wurde_core import CommsManager, RunState, global_configuration
 from wurde_core.interfaces import Foo
@@ -26,9 +29,24 @@ def _ignore(signum: int, _frame: object) -> None:
     print(f'stubborn: ignoring {signal.Signals(signum).name}', flush=True)
 
 
+def _spin(_signum: int, _frame: object) -> None:
+    print('spinning', flush=True)
+    end = time.monotonic() + 2.5
+    while time.monotonic() < end:
+        pass
+    print('spun', flush=True)
+
+
+def _hang(_signum: int, _frame: object) -> None:
+    print('hanging', flush=True)
+    time.sleep(60.0)
+
+
 if stubborn:
     signal.signal(signal.SIGINT, _ignore)
     signal.signal(signal.SIGTERM, _ignore)
+signal.signal(signal.SIGUSR1, _spin)
+signal.signal(signal.SIGUSR2, _hang)
 while True:
     state = manager.run_update()
     if state == RunState.QUIT and not stubborn:

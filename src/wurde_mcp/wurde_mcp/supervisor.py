@@ -25,6 +25,7 @@ from .binaries import find_binary
 from .clock import REVIEW_S, SupervisionClock
 from .config import McpConfig, ModuleSpec
 from .process import ModuleProcess
+from .progress import process_state
 from .streams import StreamDesk
 
 #: Restart delays by restart count (s); the last repeats until the cap.
@@ -41,6 +42,12 @@ MAX_RESTARTS = 5
 TTL_RANGE_S = (1.0, 10.0)
 #: Slack on top of the TTL before a silent module is a zombie.
 TTL_GRACE_S = 0.05
+#: A module silent past its TTL whose process is runnable or uses CPU is starved, not hung
+#: (:mod:`wurde_mcp.progress`): it is a zombie only when silent this many TTLs.
+HARD_TTLS = 4.0
+#: A silent module asleep and using no CPU for this long is hung (s; CPU time is counted in
+#: 10 ms ticks, and a healthy module's loop uses more than one tick a second).
+NO_PROGRESS_S = 1.0
 #: A started module that has not sent its first heartbeat by then is taken as hung.
 START_TIMEOUT_S = 30.0
 #: How often the module table is published (s), besides on every change.
@@ -81,6 +88,10 @@ class Module:
     commanded_at: float = 0.0
     #: Silent past its TTL by the wall clock since its last beat (what the old rule judged).
     wall_late: bool = False
+    #: While silent past its TTL: since when (monotonic) its process has made no progress, and
+    #: its CPU time then (None: not overdue, or not looked at yet).
+    stalled_at: float | None = None
+    stalled_cpu: float = 0.0
 
     @property
     def name(self) -> str:
@@ -329,6 +340,7 @@ class Supervisor:
             module.last_beat = self.clock.now()
             module.last_beat_at = now
             module.wall_late = False
+            module.stalled_at = None
             if module.status != StatusMode.ACTIVE:
                 module.status = StatusMode.ACTIVE
                 module.ever_active = True
@@ -375,7 +387,7 @@ class Supervisor:
                 return
             g_warn(f'MCP: {module.name} sent no heartbeat within {START_TIMEOUT_S:.0f} s of its '
                    'start: zombie')
-        elif not self._overdue(module, now, watched):
+        elif not self._overdue(module, now, watched) or self._working(module, now):
             return
         else:
             assert module.last_beat is not None and module.last_beat_at is not None
@@ -388,6 +400,24 @@ class Supervisor:
         if (module.internal and module.wanted and module.process is not None
                 and module.spec.managed != ProcessType.UNMANAGED):
             module.process.signal(9)  # a hung module gets no second chance to hang on exit
+
+    def _working(self, module: Module, now: float) -> bool:
+        """Whether a module silent past its TTL is still working (:mod:`wurde_mcp.progress`):
+        not stopped, silent less than :data:`HARD_TTLS` TTLs, and runnable or using CPU within
+        the last :data:`NO_PROGRESS_S`.  Only the MCP's own children are looked at."""
+        if module.process is None or not module.internal or module.last_beat_at is None:
+            return False
+        state = process_state(module.process.pid)
+        if state is None or state.stopped or now - module.last_beat_at > HARD_TTLS * module.ttl:
+            return False
+        if module.stalled_at is None or state.runnable or state.cpu_s > module.stalled_cpu:
+            if module.stalled_at is None:
+                g_info(f'MCP: {module.name} is silent past its TTL but its process is working '
+                       f'(starved of CPU?): a zombie only if it stays silent {HARD_TTLS:g} TTLs '
+                       f'or stops making progress for {NO_PROGRESS_S:g} s')
+            module.stalled_at, module.stalled_cpu = now, state.cpu_s
+            return True
+        return now - module.stalled_at < NO_PROGRESS_S
 
     def _schedule_restart(self, module: Module, now: float) -> None:
         if module.spec.managed == ProcessType.UNMANAGED or not module.wanted:
