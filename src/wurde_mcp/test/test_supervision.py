@@ -17,14 +17,16 @@ ACTIVE, DEAD, FAILED, ZOMBIE = (StatusMode.ACTIVE, StatusMode.DEAD, StatusMode.F
                                 StatusMode.ZOMBIE)
 
 
-def both_active(rows) -> bool:
-    return all(rows[m]['status'] == ACTIVE for m in rows if m != 'Ext')
+def active(*names: str):
+    """Whether the table lists every one of ``names`` as ACTIVE (a table without them, from an
+    MCP not yet configured or not this test's, does not do)."""
+    return lambda rows: all(n in rows and rows[n]['status'] == ACTIVE for n in names)
 
 
 def test_kill9_of_a_managed_module_restarts_it_and_disturbs_no_other(tmp_path, table) -> None:
     config, mappings = write_config(tmp_path, worker('A') + worker('B'))
     with start_mcp(tmp_path, config, mappings, '-a') as mcp:
-        rows = table.until(both_active, 'A and B active')
+        rows = table.until(active('A', 'B'), 'A and B active')
         a_pid, b_pid = rows['A']['pid'], rows['B']['pid']
         os.kill(a_pid, signal.SIGKILL)
         rows = table.until(lambda r: r['A']['restarts'] == 1 and r['A']['status'] == ACTIVE
@@ -37,7 +39,7 @@ def test_kill9_of_a_managed_module_restarts_it_and_disturbs_no_other(tmp_path, t
 def test_a_hung_module_becomes_a_zombie_and_is_restarted(tmp_path, table) -> None:
     config, mappings = write_config(tmp_path, worker('Hung'))
     with start_mcp(tmp_path, config, mappings, '-a') as mcp:
-        pid = table.until(both_active, 'Hung active')['Hung']['pid']
+        pid = table.until(active('Hung'), 'Hung active')['Hung']['pid']
         os.kill(pid, signal.SIGSTOP)
         table.until(lambda r: r['Hung']['pid'] != pid and r['Hung']['status'] == ACTIVE,
                     'Hung replaced by a live process')
@@ -67,7 +69,7 @@ def test_a_silent_module_that_works_is_left_alone_and_one_asleep_is_a_zombie(tmp
 def test_unmanaged_module_is_left_dead(tmp_path, table) -> None:
     config, mappings = write_config(tmp_path, worker('Loose', 'unmanaged') + worker('Kept'))
     with start_mcp(tmp_path, config, mappings, '-a'):
-        rows = table.until(both_active, 'both active')
+        rows = table.until(active('Loose', 'Kept'), 'both active')
         os.kill(rows['Loose']['pid'], signal.SIGKILL)
         os.kill(rows['Kept']['pid'], signal.SIGKILL)
         # A first restart is started in the very look that sees the exit (no back-off), so a
@@ -80,7 +82,7 @@ def test_unmanaged_module_is_left_dead(tmp_path, table) -> None:
 def test_critical_module_down_idles_everyone_until_it_is_back(tmp_path, table) -> None:
     config, mappings = write_config(tmp_path, worker('Heart', 'critical') + worker('Limb'))
     with start_mcp(tmp_path, config, mappings, '-a'):
-        rows = table.until(both_active, 'both active')
+        rows = table.until(active('Heart', 'Limb'), 'both active')
         os.kill(rows['Heart']['pid'], signal.SIGKILL)
         table.until(lambda r: r['Limb']['state'] == RunState.IDLE, 'Limb idled')
         rows = table.until(lambda r: r['Heart']['status'] == ACTIVE and r['Heart']['restarts'] == 1
@@ -103,7 +105,7 @@ def test_binary_that_cannot_start_is_retried_to_the_cap_without_harm(tmp_path, t
 def test_absurd_ttl_is_clamped_not_trusted(tmp_path, table) -> None:
     config, mappings = write_config(tmp_path, worker('Liar', extra='-t 86400'))
     with start_mcp(tmp_path, config, mappings, '-a') as mcp:
-        pid = table.until(both_active, 'Liar active')['Liar']['pid']
+        pid = table.until(active('Liar'), 'Liar active')['Liar']['pid']
         os.kill(pid, signal.SIGSTOP)
         # Trusting a day-long TTL would leave the hung module alone; the clamp (10 s) does not.
         table.until(lambda r: r['Liar']['status'] == ZOMBIE or r['Liar']['pid'] != pid,
@@ -114,7 +116,7 @@ def test_absurd_ttl_is_clamped_not_trusted(tmp_path, table) -> None:
 def test_controller_and_turn_off(tmp_path, table) -> None:
     config, mappings = write_config(tmp_path, worker('One') + worker('Two'))
     with start_mcp(tmp_path, config, mappings, '-a'):
-        table.until(both_active, 'both active')
+        table.until(active('One', 'Two'), 'both active')
         listing = subprocess.run([sys.executable, find_executable('wurde_mcp', 'mcp_controller'),
                                   'list'], capture_output=True, text=True, timeout=60, check=True)
         assert 'One' in listing.stdout and 'ACTIVE' in listing.stdout
@@ -139,7 +141,7 @@ def test_mcp_killed_by_sigkill_leaves_no_orphans(tmp_path, table) -> None:
     config, mappings = write_config(tmp_path, worker('Child1') + worker('Child2'))
     mcp = start_mcp(tmp_path, config, mappings, '-a')
     try:
-        rows = table.until(both_active, 'children active')
+        rows = table.until(active('Child1', 'Child2'), 'children active')
         pids = [rows['Child1']['pid'], rows['Child2']['pid']]
         mcp.process.kill()
         deadline = time.monotonic() + 20
@@ -153,7 +155,7 @@ def test_mcp_killed_by_sigkill_leaves_no_orphans(tmp_path, table) -> None:
 def test_sigterm_quits_and_reaps_every_module(tmp_path, table) -> None:
     config, mappings = write_config(tmp_path, worker('Tidy'))
     mcp = start_mcp(tmp_path, config, mappings, '-a')
-    rows = table.until(both_active, 'Tidy active')
+    rows = table.until(active('Tidy'), 'Tidy active')
     mcp.process.terminate()
     assert mcp.process.wait(timeout=30) == 0
     mcp.stop()
