@@ -198,6 +198,7 @@ def run(name: str, map_file: pathlib.Path, route: Sequence[tuple[float, float]],
                     manager.wait(0.05)
                 take()
                 tour_output = tour.stdout
+                (directory / 'tour.txt').write_text(tour_output + tour.stderr)
     finally:
         manager.clean_up()
     start = _start_of(map_file)
