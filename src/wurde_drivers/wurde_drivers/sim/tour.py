@@ -208,7 +208,9 @@ def main(argv: list[str] | None = None) -> int:
         # Full speed only when facing the waypoint, none from TURN_FIRST_RAD off: what the robot
         # drives while its heading error is taken out moves it sideways, and doors are narrow.
         aligned = math.cos(min(abs(error) / TURN_FIRST_RAD, 1.0) * math.pi / 2)
-        tv = min(MAX_TV * aligned * min(1.0, distance), distance / horizon)
+        # And no faster than covers half the look-ahead in a control period: when the period
+        # stretches, the leg is still tracked rather than overshot sideways.
+        tv = min(MAX_TV * aligned * min(1.0, distance), distance / horizon, LOOKAHEAD_M / horizon)
         if ahead < SLOW_M:
             tv *= max(0.0, (ahead - STOP_M) / (SLOW_M - STOP_M))
         rv = max(-MAX_RV, min(MAX_RV, error / horizon))
