@@ -56,6 +56,25 @@ def test_connect_streams_samples_in_the_robot_frame(emulator: DmuEmulator) -> No
         driver.close()
 
 
+def test_packets_read_in_one_burst_are_stamped_by_the_units_time_word(emulator: DmuEmulator) -> None:
+    """A loaded machine reads many packets at once: they are stamped apart by the unit's own
+    time word (the emulator's period), not all with the time of the read."""
+    driver = make_driver(emulator)
+    try:
+        driver.connect()
+        collect(driver, 5)
+        time.sleep(0.3)                     # let packets pile up in the pty: one burst read
+        burst = driver.poll(0.1)
+        assert len(burst) >= 10
+        gaps = [b.stamp - a.stamp for a, b in zip(burst, burst[1:])]
+        assert all(0.0 < gap < 3 * emulator.period for gap in gaps), gaps      # the emulator's send times
+        assert sum(gaps) / len(gaps) == pytest.approx(emulator.period, abs=1e-3)
+        later = collect(driver, 1)
+        assert later[0].stamp >= burst[-1].stamp
+    finally:
+        driver.close()
+
+
 def test_scaled_mode_has_rates_but_no_angles(emulator: DmuEmulator) -> None:
     driver = make_driver(emulator, mode=codec.DmuMode.SCALED)
     try:

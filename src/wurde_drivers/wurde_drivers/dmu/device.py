@@ -33,7 +33,8 @@ class RawSample(Inertial):
     """One DMU packet in the robot frame (x forward, y left, z up): Pluto's DMUraw_state.
 
     The :class:`~.sample.Inertial` fields (+g along z at rest), then ``stamp`` the driver clock
-    when it arrived, ``temperature`` in degC and ``time_ticks`` the sensor's raw 16-bit counter.
+    when it was sent (the read's time, an earlier packet of the same read back by the unit's time
+    word), ``temperature`` in degC and ``time_ticks`` the sensor's raw 16-bit counter.
     """
 
     stamp: float
@@ -72,6 +73,7 @@ class DmuDriver:
         self._deframer = codec.DmuDeframer(mode, scale)
         self._counted = (0, 0)
         self._last_packet = clock()
+        self._last_stamp = -float('inf')      # the stamp of the last packet handed out
         self._next_rearm = float('inf')
         #: Times ``poll`` re-sent the start commands to a silent unit.
         self.rearms = 0
@@ -174,7 +176,28 @@ class DmuDriver:
         now = self._clock()
         self._last_packet = now
         self._next_rearm = now + self.rearm_after
-        return [to_robot_frame(packet, now) for packet in packets]
+        stamps = self._stamps(packets, now)
+        return [to_robot_frame(packet, stamp) for packet, stamp in zip(packets, stamps)]
+
+    def _stamps(self, packets: list[codec.DmuPacket], now: float) -> list[float]:
+        """When each packet of one read was sent: the last one now, each earlier one back by the
+        unit's own time word (:data:`codec.TIME_TICK_S` a count; it wraps every 52 ms, longer
+        than a streaming unit's packet period), never before the previous read's last.
+
+        A loaded machine reads a burst of packets at once; stamped all alike, the heading filter
+        would see no time pass between them (and a first burst would leave the heading at 0).
+        """
+        stamps = [now]
+        for later, earlier in zip(reversed(packets), list(reversed(packets))[1:]):
+            stamps.append(stamps[-1] - ((later.time_ticks - earlier.time_ticks) & 0xFFFF) * codec.TIME_TICK_S)
+        stamps.reverse()
+        floor = self._last_stamp
+        out = []
+        for stamp in stamps:
+            floor = max(floor, stamp)
+            out.append(floor)
+        self._last_stamp = now
+        return out
 
     def _maybe_rearm(self) -> None:
         now = self._clock()
