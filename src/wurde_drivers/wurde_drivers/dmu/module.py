@@ -4,8 +4,9 @@ It reads its ``<device>`` (chosen by the module name, ``-n``, default PlutoDMU) 
 ``dmu-config.xml`` (:mod:`wurde_drivers.dmu.config`; ``-c`` or the config directory), drives the
 unit through :class:`~wurde_drivers.dmu.device.DmuDriver` and publishes exactly the streams of
 the dummy DMU (:class:`~wurde_drivers.streams.dmu.DmuStreams`): ``N/Raw`` for every sample,
-stamped when it was sent (a burst read together is spread back by the unit's time word), and ``N``, low-pass filtered with the heading integrated and the stamp
-moved back by the filter delay.
+stamped when it was sent (a burst read together is spread back by the unit's time word), and
+``N``, low-pass filtered with the heading integrated and the stamp moved back by the filter
+delay.
 
 Life cycle: a unit that is not there at start is tried again about once a second from inside the
 loop (the module never exits for a missing device, which would make the MCP restart it in a loop).
