@@ -65,9 +65,18 @@ class PoseInterface:
             if time.monotonic() >= deadline or self.manager.run_update() != RunState.RUN:
                 return False
 
-    def _thread(self, run: bool) -> bool:
-        self.status.requests.element.set_value([1 if run else 0])
+    def _request(self, element: list[int]) -> bool:
+        """Write a status request once the poseModule reads them: a request sent before the
+        stream is matched (discovery takes seconds on a loaded machine) would be lost."""
+        if not self._until(lambda: self.status.peers('request') > 0):
+            return False
+        self.status.requests.element.set_value(element)
         self.status.publish_request()
+        return True
+
+    def _thread(self, run: bool) -> bool:
+        if not self._request([1 if run else 0]):
+            return False
         return self._until(lambda: len(self.element) > 0 and self.element[0] == (1 if run else 0))
 
     def pose(self) -> str:
@@ -107,8 +116,8 @@ class PoseInterface:
     def wall(self) -> str:
         self._take_status()
         self.searching = False
-        self.status.requests.element.set_value([self.element[0] if self.element else 1, 2])
-        self.status.publish_request()
+        if not self._request([self.element[0] if self.element else 1, 2]):
+            return 'error: no poseModule reads pose/status requests'
         if not self._until(lambda: self.searching and self.element[1] >= 0):
             return 'error: no answer from the find-wall'
         if self.element[1] == 0:
