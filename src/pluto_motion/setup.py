@@ -20,5 +20,11 @@ setup(
     tests_require=['pytest'],
     entry_points={'console_scripts': [
         'drive_module = pluto_motion.drive_module:main',
+        'synchro_mover = pluto_motion.synchro_mover:main',
+        'laser_avoider = pluto_motion.laser_avoider:main',
+        # The guide's program names, so that its configurations run as printed (1.1.5, 10.1.1).
+        'synchroMover = pluto_motion.synchro_mover:main',
+        'vectorMover = pluto_motion.synchro_mover:main',
+        'laserAvoider = pluto_motion.laser_avoider:main',
     ]},
 )

@@ -44,6 +44,9 @@ class McpClient:
         # process of the same name (info is transient-local) is never taken for this one's.
         self._ids = itertools.count((os.getpid() % 100_000) * 20_000 + 1)
         self._pending: dict[int, tuple[RobotObject, float]] = {}
+        #: The last refusal told for each object: the same refusal is told once, not every retry
+        #: (a module may declare an alias that only some configurations map).
+        self._told: dict[int, str] = {}
 
     def _request(self, kind: int, **values: Any) -> int:
         request_id = next(self._ids)
@@ -107,9 +110,11 @@ class McpClient:
             if info.success.get_value() and info.stream.get_value():
                 assigned.append((obj, info.stream.get_value()))
             else:
-                self._warn(
-                    f'MCP could not assign a stream to {obj._label()}: '
-                    f'{info.detail.get_value() or "no reason given"}; asking again')
+                detail = info.detail.get_value() or 'no reason given'
+                if self._told.get(id(obj)) != detail:
+                    self._told[id(obj)] = detail
+                    self._warn(f'MCP could not assign a stream to {obj._label()}: {detail}; '
+                               f'asking again every {RETRY_S:g} s')
                 self._pending[info.request_id.get_value()] = (obj, time.monotonic())
         now = time.monotonic()
         for request_id, (obj, sent) in list(self._pending.items()):
@@ -121,6 +126,7 @@ class McpClient:
     def forget(self, obj: RobotObject) -> None:
         """Stop asking for ``obj``'s stream (it was unregistered)."""
         self._pending = {k: v for k, v in self._pending.items() if v[0] is not obj}
+        self._told.pop(id(obj), None)
 
     def waiting(self) -> list[RobotObject]:
         """Objects still waiting for their stream."""

@@ -1,0 +1,283 @@
+"""laser_avoider: WURDE's LaserAvoider (guide 7.7), an ObstacleAvoiderTransport supplier.
+
+"This module implements a laser rangefinder-based obstacle avoidance algorithm.  It requires the
+VectorMover, a source of Egomotion, and a source of RangeFinder (should be laser)" (7.7).  Consumers
+use :class:`wurde_core.wrappers.ObstacleAvoider` (``stop()``, ``move_to_relative_point(p)``,
+``rotate_to_relative_angle(a)``, ``info.brake``), as the guide's BlindTeleop does (1.1.5).  The
+algorithm is :mod:`pluto_motion.corridor_avoid`.
+
+Streams (module ``laserAvoider``):
+
+====================== ======================== ===========================================================
+stream / alias         interface                what
+====================== ======================== ===========================================================
+``SimpleAvoider``      ObstacleAvoiderTransport supplied (``-s`` renames it; BlindTeleop's mapping names it)
+``LaserClient``        RangeFinder              the laser
+``EgoClient``          Egomotion                odometry: relative goals are fixed in its frame when given
+``VectorMoverClient``  VectorMoverTransport     the mover (the guide's appendix mapping) ...
+``NavClient``          NavigatorTransport       ... or its Navigator stream (the chapter-1 mapping)
+====================== ======================== ===========================================================
+
+The consumers are STRAT_ASSIGNED unless ``-L``, ``-e``, ``-m`` (VectorMoverTransport) or ``-N``
+(NavigatorTransport) name their streams.  The avoider starts braked (``info.brake`` true); a
+request releases the brake by carrying ``brake`` false, as every ObstacleAvoider verb does.
+A speed limit or safety distance of 0 in a request means the avoider's own.
+
+Fail-safe: no scan for ``LASER_STALE_S`` (or a scan of the SICK's error values only), no odometry,
+or a blocked way stop the robot (state -1 error or 4 blocked); the way is looked at again on every
+scan, so a blocked robot goes on when the way clears.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import sys
+import time
+
+from wurde_core import CommsManager, ConnectionStrategy, Logger, Point, PVector
+from wurde_core.interfaces import Egomotion, NavigatorTransport, ObstacleAvoiderTransport, RangeFinder, VectorMover
+from wurde_core.module_loop import run_loop, set_loop
+from wurde_core.wrappers import MODE_ANGLE, MODE_POINT, MODE_STOP
+
+from .corridor_avoid import AvoidSettings, Choice, choose, clearance, scan_to_points
+from .vector_follower import wrap
+
+__all__ = ['LaserAvoider', 'main']
+
+LOOP_S = 0.05
+#: A scan older than this (s) is no scan: the robot is stopped (the SICK at 38400 baud sends one
+#: every ~0.2 s).
+LASER_STALE_S = 1.0
+EGO_STALE_S = 0.5
+STATUS_PERIOD_S = 1.0
+#: ObstacleAvoiderTransport states (see its interface description).
+IDLE, MOVING, ROTATING, REACHED, BLOCKED, BRAKED, ERROR = 0, 1, 2, 3, 4, 5, -1
+DEFAULT_TV, DEFAULT_RV = 0.4, 0.8
+HELP = ('  -s STREAM    the ObstacleAvoiderTransport stream supplied (SimpleAvoider)\n'
+        '  -L LASER     the laser stream (default: assigned to LaserClient)\n'
+        '  -e EGO       the Egomotion stream (default: assigned to EgoClient)\n'
+        '  -m MOVER     the VectorMoverTransport stream (default: assigned to VectorMoverClient)\n'
+        '  -N NAV       the NavigatorTransport stream (default: assigned to NavClient)\n'
+        '  -R RADIUS    the robot radius, m (0.35)\n'
+        '  -S SAFETY    default safety distance, m (0.15)')
+
+
+def _consumer(cls: type, stream: str | None, alias: str):
+    return cls(stream) if stream else cls(ConnectionStrategy.ASSIGNED, alias)
+
+
+def _to_world(pose: tuple[float, float, float], x: float, y: float) -> tuple[float, float]:
+    px, py, th = pose
+    return px + x * math.cos(th) - y * math.sin(th), py + x * math.sin(th) + y * math.cos(th)
+
+
+def _to_robot(pose: tuple[float, float, float], x: float, y: float) -> tuple[float, float]:
+    px, py, th = pose
+    dx, dy = x - px, y - py
+    return dx * math.cos(th) + dy * math.sin(th), -dx * math.sin(th) + dy * math.cos(th)
+
+
+class LaserAvoider:
+    """The avoider's streams around :func:`pluto_motion.corridor_avoid.choose`."""
+
+    def __init__(self, manager: CommsManager, logger: Logger, settings: AvoidSettings, *, stream: str,
+                 laser: str | None = None, ego: str | None = None, mover: str | None = None,
+                 nav: str | None = None) -> None:
+        self.manager, self.logger, self.settings = manager, logger, settings
+        self.avoider = ObstacleAvoiderTransport(stream)
+        self.avoider.set_queue_mode(True)
+        self.laser = _consumer(RangeFinder, laser, 'LaserClient')
+        self.ego = _consumer(Egomotion, ego, 'EgoClient')
+        self.mover = _consumer(VectorMover, mover, 'VectorMoverClient')
+        self.nav = _consumer(NavigatorTransport, nav, 'NavClient')
+        manager.register_supplier(self.avoider)
+        for obj in (self.laser, self.ego, self.mover, self.nav):
+            manager.register_consumer(obj)
+        self.brake = True
+        self.mode = MODE_STOP
+        self.goal: tuple[float, float] | None = None          # Egomotion frame
+        self.heading: float | None = None                     # Egomotion frame, MODE_ANGLE
+        #: A relative command (x, y or angle, 0) waiting for the first pose to be fixed to.
+        self.pending: tuple[float, float] | None = None
+        self.limits = (DEFAULT_TV, DEFAULT_RV)
+        self.safety = settings.safety
+        self.state = BRAKED
+        self.pose: tuple[float, float, float] | None = None
+        self.pose_at = self.scan_at = -math.inf
+        self.fan: tuple[float, float, float, float, float] | None = None
+        self.points = None
+        self.closest = math.inf
+        self.driving = False
+        self.sent: tuple | None = None
+        self.sent_at = -math.inf
+        self._publish_info()
+
+    # -- inputs ----------------------------------------------------------------------------------
+    def _take_sensors(self, now: float) -> None:
+        while self.ego.get_next_data():
+            loc = self.ego.data.location
+            self.pose, self.pose_at = (loc.x(), loc.y(), loc.theta()), now
+        while self.laser.get_next_info():
+            i = self.laser.info
+            self.fan = (float(i.theta_offset.get_value()), float(i.theta_separation.get_value()),
+                        float(i.x_offset.get_value()), float(i.y_offset.get_value()),
+                        float(i.max_range.get_value()))
+        while self.laser.get_next_data():
+            if self.fan is None:
+                continue
+            first, separation, x0, y0, max_range = self.fan
+            ranges = list(self.laser.data.ranges)
+            if ranges and all(r < 0 for r in ranges):
+                continue                       # the SICK's fatal-error scan: not a scan
+            self.points = scan_to_points(ranges, first, separation, x_offset=x0, y_offset=y0,
+                                         max_range=max_range)
+            self.scan_at = now
+
+    def _take_requests(self) -> None:
+        while self.avoider.get_next_request():
+            r = self.avoider.requests
+            self.brake = bool(r.brake.get_value())
+            self.limits = (float(r.max_trans_speed.get_value()) or DEFAULT_TV,
+                           float(r.max_rot_speed.get_value()) or DEFAULT_RV)
+            self.safety = float(r.safety_distance.get_value()) or self.settings.safety
+            mode = int(r.mode.get_value())
+            self.mode, self.goal, self.heading, self.pending = MODE_STOP, None, None, None
+            goal, angle = r.goal.get_value(), float(r.angle.get_value())
+            if self.brake or mode == MODE_STOP:
+                pass
+            elif mode == MODE_POINT and math.isfinite(goal.x()) and math.isfinite(goal.y()):
+                self.mode, self.pending = mode, (goal.x(), goal.y())
+            elif mode == MODE_ANGLE and math.isfinite(angle):
+                self.mode, self.pending = mode, (angle, 0.0)
+            else:
+                self.logger.warn(f'{self.manager.name}: command refused: mode {mode}, goal '
+                                 f'({goal.x()}, {goal.y()}), angle {angle}')
+        if self.pending is not None and self.pose is not None:
+            # A relative command is fixed in the Egomotion frame at the first pose after it came.
+            if self.mode == MODE_POINT:
+                self.goal = _to_world(self.pose, *self.pending)
+            else:
+                self.heading = wrap(self.pose[2] + self.pending[0])
+            self.pending = None
+            self._publish_info()
+
+    # -- outputs ---------------------------------------------------------------------------------
+    def _move(self, magnitude: float, angle: float) -> None:
+        if self.mover.is_connected():
+            r = self.mover.requests
+            r.max_trans_speed.set_value(self.limits[0])
+            r.max_rot_speed.set_value(self.limits[1])
+            self.mover.move(PVector(magnitude, angle))
+        if self.nav.is_connected() and self.pose is not None:
+            if magnitude < 1e-3 and abs(angle) > 0:
+                self.logger.warn(f'{self.manager.name}: the Navigator cannot turn on the spot; '
+                                 'a rotation is driven as a short step')
+                magnitude = 0.1
+            x, y = _to_world(self.pose, magnitude * math.cos(angle), magnitude * math.sin(angle))
+            self.nav.requests.goal.set_value(Point(x, y))
+            self.nav.requests.autonomous.set_value(True)
+            self.nav.publish_request()
+        self.driving = True
+
+    def _halt(self) -> None:
+        if not self.driving:
+            return
+        if self.mover.is_connected():
+            self.mover.stop()
+        if self.nav.is_connected():
+            self.nav.requests.autonomous.set_value(False)
+            self.nav.publish_request()
+        self.driving = False
+
+    def _publish_info(self) -> None:
+        info = self.avoider.info
+        info.brake.set_value(self.brake)
+        info.mode.set_value(self.mode)
+        info.max_trans_speed.set_value(self.limits[0])
+        info.max_rot_speed.set_value(self.limits[1])
+        info.safety_distance.set_value(self.safety)
+        self.avoider.publish_info()
+
+    def _publish_state(self, now: float, distance: float, angle: float) -> None:
+        closest = round(self.closest, 2) if math.isfinite(self.closest) else -1.0
+        value = (self.state, round(distance, 2), round(angle, 2), closest)
+        if value == self.sent and now - self.sent_at < STATUS_PERIOD_S:
+            return
+        data = self.avoider.data
+        data.state, data.distance_to_goal, data.angle_to_goal = self.state, distance, angle
+        data.blocked, data.closest_obstacle = self.state == BLOCKED, closest
+        self.avoider.publish_data()
+        self.sent, self.sent_at = value, now
+
+    # -- one loop --------------------------------------------------------------------------------
+    def _decide(self, now: float) -> tuple[int, float, float, Choice | None]:
+        """The state, distance and angle to the goal, and the move to make (None: stop)."""
+        if self.brake:
+            return BRAKED, 0.0, 0.0, None
+        if self.mode == MODE_STOP:
+            return IDLE, 0.0, 0.0, None
+        if self.pending is not None or now - self.pose_at > EGO_STALE_S or now - self.scan_at > LASER_STALE_S:
+            return ERROR, 0.0, 0.0, None
+        settings = dataclasses.replace(self.settings, safety=self.safety)
+        self.closest = clearance(self.points, settings.radius)
+        if self.mode == MODE_ANGLE:
+            angle = wrap(self.heading - self.pose[2])
+            if abs(angle) < 0.03:
+                return REACHED, 0.0, 0.0, None
+            return ROTATING, 0.0, angle, Choice(angle, 0.0, True, False, False, self.closest)
+        gx, gy = _to_robot(self.pose, *self.goal)
+        choice = choose(self.points, (gx, gy), settings)
+        distance, angle = math.hypot(gx, gy), math.atan2(gy, gx)
+        if choice.reached:
+            return REACHED, distance, angle, None
+        if choice.blocked:
+            return BLOCKED, distance, angle, None
+        return MOVING, distance, angle, choice
+
+    def step(self) -> None:
+        now = time.monotonic()
+        self._take_sensors(now)
+        self._take_requests()
+        state, distance, angle, choice = self._decide(now)
+        if state != self.state:
+            if state in (BLOCKED, ERROR):
+                self.logger.warn(f'{self.manager.name}: stopped: '
+                                 f'{"way blocked" if state == BLOCKED else "no laser scan or odometry"}')
+            self.state = state
+        if state == REACHED:
+            self.mode, self.goal, self.heading = MODE_STOP, None, None
+            self._publish_info()
+        if choice is None:
+            self._halt()
+        else:
+            self._move(choice.length, choice.heading)
+        self._publish_state(now, distance, angle)
+
+    def close(self) -> None:
+        """Leave the robot stopped."""
+        self._halt()
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv if argv is None else argv)
+    manager = CommsManager('laserAvoider')
+    manager.set_help_string(HELP)
+    user = manager.parse_options(argv, 's:L:e:m:N:R:S:').user
+    try:
+        settings = AvoidSettings(radius=float(user.get('R', AvoidSettings.radius)),
+                                 safety=float(user.get('S', AvoidSettings.safety)))
+    except ValueError as error:
+        print(f'laser_avoider: {error}', file=sys.stderr, flush=True)
+        return 2
+    logger = Logger(manager.name)
+    manager.register_supplier(logger)
+    module = LaserAvoider(manager, logger, settings, stream=user.get('s', 'SimpleAvoider'),
+                          laser=user.get('L'), ego=user.get('e'), mover=user.get('m'), nav=user.get('N'))
+    set_loop(manager, LOOP_S)
+    logger.notice(f'{manager.name}: supplying {module.avoider.stream}; {settings}')
+    return run_loop(manager, module.step, module.close)
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,58 @@
+"""The LaserAvoider's choice of a free direction (pluto_motion.corridor_avoid)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from hypothesis import given, settings, strategies as st
+
+from pluto_motion.corridor_avoid import AvoidSettings, choose, free_lengths, scan_to_points
+
+HALF = 0.5
+points_st = st.lists(st.tuples(st.floats(-3, 3), st.floats(-3, 3)), min_size=1, max_size=30)
+
+
+def _touches(points: np.ndarray, center: np.ndarray) -> bool:
+    return bool((np.hypot(*(points - center).T) < HALF - 1e-6).any())
+
+
+@settings(max_examples=200, deadline=None)
+@given(points_st, st.floats(-math.pi, math.pi))
+def test_the_free_length_is_exact_for_a_swept_disc(raw: list, heading: float) -> None:
+    points = np.array(raw)
+    limit = 2.5
+    free = float(free_lengths(points, np.array([heading]), HALF, limit)[0])
+    direction = np.array([math.cos(heading), math.sin(heading)])
+    if _touches(points, np.zeros(2)):
+        assert free == 0.0              # already touching: no move at all (fail closed)
+    for s in np.linspace(0.0, max(free - 1e-4, 0.0), 60):
+        assert not _touches(points, s * direction) or free == 0.0
+    if free < limit - 1e-3 and free > 0:
+        assert _touches(points, (free + 1e-3) * direction)
+
+
+def test_a_wall_ahead_is_steered_round_and_a_box_is_blocked() -> None:
+    wall = np.array([[1.2, y] for y in np.linspace(-0.8, 0.8, 33)])
+    choice = choose(wall, (3.0, 0.0), AvoidSettings())
+    assert not choice.blocked and abs(choice.heading) > math.radians(20)
+    free = free_lengths(wall, np.array([choice.heading]), 0.5, choice.length + 1e-3)[0]
+    assert free >= choice.length - 1e-9 and choice.length >= AvoidSettings().min_step
+    ring = np.array([[0.6 * math.cos(a), 0.6 * math.sin(a)] for a in np.linspace(-math.pi, math.pi, 72)])
+    assert choose(ring, (3.0, 0.0)).blocked
+
+
+def test_goals_behind_are_turned_to_and_near_goals_are_reached() -> None:
+    empty = np.zeros((0, 2))
+    behind = choose(empty, (-2.0, 0.5))
+    assert behind.rotate and abs(behind.heading) > math.radians(160)
+    assert choose(empty, (0.1, 0.0)).reached
+    straight = choose(empty, (4.0, 0.0))
+    assert straight.heading == 0.0 and straight.length == AvoidSettings().lookahead
+
+
+def test_scan_points_drop_invalid_readings_and_apply_the_mount() -> None:
+    points = scan_to_points([1.0, -1.0, math.inf, 9.0, 2.0], -math.pi / 2, math.pi / 4, x_offset=0.2,
+                            max_range=8.0)
+    assert points.shape == (2, 2)
+    assert np.allclose(points[0], [0.2, -1.0]) and np.allclose(points[1], [0.2 + 2.0 * math.cos(math.pi / 2), 2.0])

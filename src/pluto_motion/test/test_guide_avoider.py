@@ -1,0 +1,129 @@
+"""The guide's appendix movers under the MCP (WURDE 7.3 SynchroMover, 7.7 LaserAvoider, 10.1.1).
+
+The appendix configuration's SynchroMover, laserAvoider and BlindTeleop modules as printed (their
+``connect`` lines verbatim; OCR damage fixed: ``0ObstacleAvoiderTransport``), on the dummy B21r
+``TomRFlex`` and dummy laser ``TomPLS`` in a room with a box between the robot and its goal.  The
+test is the BlindTeleop program: an external module whose ``AvoiderClient`` the MCP assigns, which
+releases the brake and asks for a point 5 m ahead.  The simulator's truth must reach it without
+ever coming nearer to a wall than the robot's radius.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import pathlib
+import time
+
+from lxml import etree
+from wurde_core import CommsManager, ConnectionStrategy, Point
+from wurde_core.interfaces import Egomotion, ObstacleAvoider
+from wurde_drivers.sim.mapfile import load_map
+from wurde_testing import ChildProcess, find_executable
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
+RADIUS = 0.35
+#: A room 8 m x 4 m with a 0.8 m box in the middle of the robot's straight way to its goal.
+ROOM = """<?xml version="1.0"?>
+<map name="box-room" version="1.0">
+  <bounds xmin="0" ymin="0" xmax="8" ymax="4"/>
+  <polyline points="0,0 8,0 8,4 0,4" closed="true"/>
+  <polyline points="3.6,1.6 4.4,1.6 4.4,2.4 3.6,2.4" closed="true"/>
+  <place name="start" x="1.2" y="2" theta="0"/>
+</map>
+"""
+CONFIG = """<?xml version="1.0" encoding="UTF-8"?>
+<robot>
+<mcp-config xmlns:xs="http://www.w3.org/2001/XMLSchema-instance"
+xmlns="http://wurde.sf.net/mcp-config"
+xs:schemalocation="http://wurde.sf.net/mcp-config mcp.xsd">
+<module name="TomRFlex" binary="wurde_drivers/dummy_base"><arg value="-n TomRFlex"/></module>
+<module name="TomPLS" binary="wurde_drivers/dummy_sick"><arg value="-n TomPLS"/></module>
+<module name="SynchroMover" binary="synchroMover">
+<connect consumer="DriveClient" supplier="TomRFlexDrive"
+interface="RobotDrive"/>
+<connect consumer="EgoClient" supplier="TomRFlexMotion"
+interface="Egomotion"/>
+</module>
+<module name="laserAvoider" binary="laserAvoider">
+<connect consumer="LaserClient" supplier="TomPLS"
+interface="RangeFinder"/>
+<connect consumer="EgoClient" supplier="TomRFlexMotion"
+interface="Egomotion"/>
+<connect consumer="VectorMoverClient" supplier="SynchroMover"
+interface="VectorMoverTransport"/>
+</module>
+<module name="BlindTeleop">
+<connect consumer="EgoClient" supplier="TomRFlexMotion"
+interface="Egomotion"/>
+<connect consumer="AvoiderClient" supplier="SimpleAvoider"
+interface="ObstacleAvoiderTransport"/>
+</module>
+</mcp-config>
+</robot>
+"""
+REACHED = 3
+
+
+def _sim_config(directory: pathlib.Path) -> None:
+    tree = etree.parse(str(ROOT / 'config' / 'pluto' / 'sim-config.xml'))
+    root = tree.getroot()
+    root.find('map').attrib.update({'file': str(directory / 'room.xml'), 'start': 'start'})
+    root.find('base').attrib.update({'name': 'TomRFlex', 'type': 'B21r'})
+    root.find('laser').set('name', 'TomPLS')
+    for key in ('trans', 'rot', 'drift'):      # the avoider goes by odometry: make it the truth
+        root.find('odometry-noise').set(key, '0')
+    tree.write(str(directory / 'sim-config.xml'))
+    (directory / 'room.xml').write_text(ROOM)
+    (directory / 'robot.xml').write_text(CONFIG)
+
+
+def test_blind_teleop_moves_round_a_box_through_the_appendix_avoider(ros_domain: int,
+                                                                     tmp_path: pathlib.Path) -> None:
+    _sim_config(tmp_path)
+    world = load_map(tmp_path / 'room.xml')
+    env = dict(os.environ, WURDE_CONFIG_DIR=str(tmp_path), WURDE_LOG_DIRECTORY=str(tmp_path))
+    manager = CommsManager('BlindTeleop')
+    manager.set_no_sleep()
+    avoider = ObstacleAvoider(ConnectionStrategy.ASSIGNED, 'AvoiderClient')
+    ego = Egomotion(ConnectionStrategy.ASSIGNED, 'EgoClient')
+    truth = Egomotion('TomRFlexTruth')
+    truth.set_queue_mode(True)
+    for obj in (avoider, ego, truth):
+        manager.register_consumer(obj)
+    path: list[tuple[float, float]] = []
+    states: list[int] = []
+
+    def pump() -> None:
+        manager.step()
+        while truth.get_next_data():
+            path.append((truth.data.location.x(), truth.data.location.y()))
+        while avoider.get_next_data():
+            states.append(int(avoider.data.state))
+        avoider.get_next_info()
+        ego.get_next_data()
+
+    def until(predicate, what: str, timeout: float, mcp: ChildProcess) -> None:
+        deadline = time.monotonic() + timeout
+        while not predicate():
+            assert mcp.process.poll() is None, f'{what}: the MCP exited: {mcp.stderr}'
+            assert time.monotonic() < deadline, f'{what}: not within {timeout} s (states {states[-5:]})'
+            pump()
+            manager.wait(0.05)
+
+    try:
+        with ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', str(tmp_path / 'robot.xml'), '-a'],
+                          env=env) as mcp:
+            mcp.expect('MCP ready', timeout=90)
+            until(lambda: avoider.is_connected() and avoider.peers('request') > 0 and path and states,
+                  'the avoider assigned and answering', 120, mcp)
+            assert avoider.info.brake.get_value() is True          # it starts braked
+            avoider.move_to_relative_point(Point(5.0, 0.0))        # brake false, as every verb sends
+            until(lambda: states[-1] == REACHED, 'goal reached', 120, mcp)
+    finally:
+        manager.clean_up()
+    end = path[-1]
+    assert math.dist(end, (6.2, 2.0)) < 0.2, f'ended at {end}'
+    clearance = min(world.distance_to_nearest_wall(p) for p in path)
+    assert clearance > RADIUS, f'came within {clearance:.2f} m of a wall'
+    assert max(abs(p[1] - 2.0) for p in path) > 0.4            # it went round the box, not through
