@@ -1,8 +1,11 @@
-"""The guide's appendix movers under the MCP (WURDE 7.3 SynchroMover, 7.7 LaserAvoider, 10.1.1).
+"""The guide's movers under the MCP (WURDE 7.3 SynchroMover, 7.7 LaserAvoider, 1.1.5, 10.1.1).
 
-The appendix configuration's SynchroMover, laserAvoider and BlindTeleop modules as printed (their
-``connect`` lines verbatim; OCR damage fixed: ``0ObstacleAvoiderTransport``), on the dummy B21r
-``TomRFlex`` and dummy laser ``TomPLS`` in a room with a box between the robot and its goal.  The
+Both of the guide's configurations of them: the appendix's SynchroMover, laserAvoider and
+BlindTeleop modules as printed (their ``connect`` lines verbatim; OCR damage fixed:
+``0ObstacleAvoiderTransport``) on the dummy B21r ``TomRFlex`` and laser ``TomPLS``; and chapter
+1's VectorMover (a SynchroDrive consumer) and laserAvoider (driving the mover through its
+Navigator stream) on the dummy ATRV Jr ``HollowayRFlex`` and laser ``HollowayLMS``.  The robot is
+in a room with a box between it and its goal.  The
 test is the BlindTeleop program: an external module whose ``AvoiderClient`` the MCP assigns, which
 releases the brake and asks for a point 5 m ahead.  The simulator's truth must reach it without
 ever coming nearer to a wall than the robot's radius.
@@ -15,6 +18,7 @@ import os
 import pathlib
 import time
 
+import pytest
 from lxml import etree
 from wurde_core import CommsManager, ConnectionStrategy, Point
 from wurde_core.interfaces import Egomotion, ObstacleAvoider
@@ -62,68 +66,132 @@ interface="ObstacleAvoiderTransport"/>
 </mcp-config>
 </robot>
 """
+#: The guide's chapter-1 files (1.1.5), their VectorMover and laserAvoider lines as printed (OCR
+#: fixes as in config/guide-ch1), on the dummy ATRV Jr HollowayRFlex and laser HollowayLMS.
+CHAPTER1_CONFIG = """<?xml version="1.0" encoding="UTF-8"?>
+<mcp-config>
+<module name="VectorMover">
+<binary>vectorMover</binary>
+</module>
+<module name="laserAvoider">
+<binary>laserAvoider</binary>
+</module>
+<module name="HollowayLMS" managed="managed"><binary>wurde_drivers/dummy_sick</binary>
+<options>-n HollowayLMS</options></module>
+<module name="HollowayRFlex" managed="critical"><binary>wurde_drivers/dummy_base</binary>
+<options>-n HollowayRFlex</options></module>
+</mcp-config>
+"""
+CHAPTER1_MAPPINGS = """<?xml version="1.0" encoding="UTF-8"?>
+<mcp-mappings>
+<connect module="VectorMover">
+<input interface="SynchroDrive" source="HollowayRFlexDrive" object="DriveClient" />
+<input interface="Egomotion" source="HollowayRFlexMotion" object="EgoClient" />
+</connect>
+<connect module="laserAvoider">
+<input interface="RangeFinder" source="HollowayLMS" object="LaserClient"/>
+<input interface="Egomotion" source="HollowayRFlexMotion" object="EgoClient"/>
+<input interface="NavigatorTransport" source="VectorMoverNavigator" object="NavClient"/>
+</connect>
+<connect module="BlindTeleop">
+<input interface="ObstacleAvoiderTransport" source="SimpleAvoider" object="AvoiderClient"/>
+<input interface="Egomotion" source="HollowayRFlexMotion" object="EgoClient" />
+</connect>
+</mcp-mappings>
+"""
+#: case: base type, base, laser, MCP arguments (files written to the test's directory)
+CASES = {
+    'appendix': ('B21r', 'TomRFlex', 'TomPLS', {'robot.xml': CONFIG}, ['-c', 'robot.xml']),
+    'chapter1': ('ATRVJr', 'HollowayRFlex', 'HollowayLMS',
+                 {'mcp-config.xml': CHAPTER1_CONFIG, 'mcp-mappings.xml': CHAPTER1_MAPPINGS},
+                 ['-c', 'mcp-config.xml', '-m', 'mcp-mappings.xml']),
+}
 REACHED = 3
 
 
-def _sim_config(directory: pathlib.Path) -> None:
+def _sim_config(directory: pathlib.Path, base_type: str, base: str, laser: str, files: dict[str, str]) -> None:
     tree = etree.parse(str(ROOT / 'config' / 'pluto' / 'sim-config.xml'))
     root = tree.getroot()
     root.find('map').attrib.update({'file': str(directory / 'room.xml'), 'start': 'start'})
-    root.find('base').attrib.update({'name': 'TomRFlex', 'type': 'B21r'})
-    root.find('laser').set('name', 'TomPLS')
+    root.find('base').attrib.update({'name': base, 'type': base_type})
+    root.find('laser').set('name', laser)
     for key in ('trans', 'rot', 'drift'):      # the avoider goes by odometry: make it the truth
         root.find('odometry-noise').set(key, '0')
     tree.write(str(directory / 'sim-config.xml'))
     (directory / 'room.xml').write_text(ROOM)
-    (directory / 'robot.xml').write_text(CONFIG)
+    for name, text in files.items():
+        (directory / name).write_text(text)
 
 
-def test_blind_teleop_moves_round_a_box_through_the_appendix_avoider(ros_domain: int,
-                                                                     tmp_path: pathlib.Path) -> None:
-    _sim_config(tmp_path)
-    world = load_map(tmp_path / 'room.xml')
-    env = dict(os.environ, WURDE_CONFIG_DIR=str(tmp_path), WURDE_LOG_DIRECTORY=str(tmp_path))
+def blind_teleop(directory: pathlib.Path, args: list[str], base: str,
+                 goal: tuple[float, float]) -> list[tuple[float, float]]:
+    """Run the MCP with ``args`` in ``directory`` (its config directory), be BlindTeleop: wait for
+    the assigned avoider, release its brake by asking for the relative point ``goal``, and wait
+    until it reports the goal reached.  Returns the simulator's true path."""
+    env = dict(os.environ, WURDE_CONFIG_DIR=str(directory), WURDE_LOG_DIRECTORY=str(directory))
     manager = CommsManager('BlindTeleop')
     manager.set_no_sleep()
     avoider = ObstacleAvoider(ConnectionStrategy.ASSIGNED, 'AvoiderClient')
     ego = Egomotion(ConnectionStrategy.ASSIGNED, 'EgoClient')
-    truth = Egomotion('TomRFlexTruth')
+    truth = Egomotion(f'{base}Truth')
     truth.set_queue_mode(True)
     for obj in (avoider, ego, truth):
         manager.register_consumer(obj)
     path: list[tuple[float, float]] = []
     states: list[int] = []
 
-    def pump() -> None:
-        manager.step()
-        while truth.get_next_data():
-            path.append((truth.data.location.x(), truth.data.location.y()))
-        while avoider.get_next_data():
-            states.append(int(avoider.data.state))
-        avoider.get_next_info()
-        ego.get_next_data()
-
     def until(predicate, what: str, timeout: float, mcp: ChildProcess) -> None:
         deadline = time.monotonic() + timeout
         while not predicate():
             assert mcp.process.poll() is None, f'{what}: the MCP exited: {mcp.stderr}'
             assert time.monotonic() < deadline, f'{what}: not within {timeout} s (states {states[-5:]})'
-            pump()
+            manager.step()
+            while truth.get_next_data():
+                path.append((truth.data.location.x(), truth.data.location.y()))
+            while avoider.get_next_data():
+                states.append(int(avoider.data.state))
+            avoider.get_next_info()
+            ego.get_next_data()
             manager.wait(0.05)
 
     try:
-        with ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', str(tmp_path / 'robot.xml'), '-a'],
-                          env=env) as mcp:
+        with ChildProcess([find_executable('wurde_mcp', 'mcp'), *args, '-a'], env=env,
+                          cwd=str(directory)) as mcp:
             mcp.expect('MCP ready', timeout=90)
             until(lambda: avoider.is_connected() and avoider.peers('request') > 0 and path and states,
                   'the avoider assigned and answering', 120, mcp)
             assert avoider.info.brake.get_value() is True          # it starts braked
-            avoider.move_to_relative_point(Point(5.0, 0.0))        # brake false, as every verb sends
+            avoider.move_to_relative_point(Point(*goal))           # brake false, as every verb sends
             until(lambda: states[-1] == REACHED, 'goal reached', 120, mcp)
     finally:
         manager.clean_up()
+    return path
+
+
+@pytest.mark.parametrize('case', sorted(CASES))
+def test_blind_teleop_moves_round_a_box_through_the_guides_avoider(case: str, ros_domain: int,
+                                                                   tmp_path: pathlib.Path) -> None:
+    base_type, base, laser, files, args = CASES[case]
+    _sim_config(tmp_path, base_type, base, laser, files)
+    world = load_map(tmp_path / 'room.xml')
+    path = blind_teleop(tmp_path, args, base, (5.0, 0.0))
     end = path[-1]
     assert math.dist(end, (6.2, 2.0)) < 0.2, f'ended at {end}'
     clearance = min(world.distance_to_nearest_wall(p) for p in path)
     assert clearance > RADIUS, f'came within {clearance:.2f} m of a wall'
     assert max(abs(p[1] - 2.0) for p in path) > 0.4            # it went round the box, not through
+
+
+def test_the_shipped_blind_teleop_configuration_runs(ros_domain: int, tmp_path: pathlib.Path) -> None:
+    """config/blind-teleop as shipped (a copy, so that logs stay out of the tree): along the office
+    corridor from the start place."""
+    shipped = ROOT / 'config' / 'blind-teleop'
+    for name in ('mcp-config.xml', 'mcp-mappings.xml', 'sim-config.xml'):
+        text = (shipped / name).read_text()
+        (tmp_path / name).write_text(text.replace('../maps/', f'{ROOT}/config/maps/'))
+    world = load_map(ROOT / 'config' / 'maps' / 'office.xml')
+    start = world.places['start']
+    path = blind_teleop(tmp_path, ['-c', 'mcp-config.xml', '-m', 'mcp-mappings.xml'], 'HollowayRFlex',
+                        (4.0, 0.0))
+    assert math.dist(path[-1], (start[0] + 4.0, start[1])) < 0.2, f'ended at {path[-1]}'
+    assert min(world.distance_to_nearest_wall(p) for p in path) > RADIUS
