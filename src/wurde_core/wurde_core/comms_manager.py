@@ -95,6 +95,7 @@ class CommsManager:
         self._waiters: dict[bool, SubscriptionWaiter] = {}
         self._previous_handlers: dict[int, Any] = {}
         self._signals = 0
+        self._told_to_quit = False
         self._hooks: dict[RunState, list[StateCallback]] = {}
         self._entered: list[RunState] = []
         # From here on SIGINT/SIGTERM mean Quit, also while the node is being created (seconds on
@@ -489,6 +490,9 @@ class CommsManager:
         if self._heartbeat is not None:
             for state in self._heartbeat.commands():
                 self._change_state(state)
+                # Told to quit: whoever told us already knows, so the goodbye need not wait
+                # for their acknowledgement (clean_up).
+                self._told_to_quit = state == RunState.QUIT
         if self._mcp is not None:
             for obj, stream in self._mcp.poll():
                 self._connect_assigned(obj, stream)
@@ -520,8 +524,12 @@ class CommsManager:
                 if self._heartbeat is not None and goodbye:
                     self.state = RunState.QUIT
                     self._describe()
-                    # Let the goodbye reach the MCP before the writer disappears (bounded).
-                    self._heartbeat.obj.wait_delivered(GOODBYE_WAIT_S, channel='info')
+                    # Let the goodbye reach the MCP before the writer disappears (bounded) —
+                    # unless the MCP (or a controller) commanded the Quit: it knows, and waits for
+                    # the exit.  A reliable writer's acknowledgements can take the DDS heartbeat
+                    # period, and every module of an MCP stopping at once must end in seconds.
+                    if not self._told_to_quit:
+                        self._heartbeat.obj.wait_delivered(GOODBYE_WAIT_S, channel='info')
                 for obj in self._objects + self._system_objects:
                     obj._disconnect()
                 self.node.destroy_node()

@@ -118,8 +118,9 @@ def test_controller_and_turn_off(tmp_path, table) -> None:
     with start_mcp(tmp_path, config, mappings, '-a'):
         table.until(active('One', 'Two'), 'both active')
         listing = subprocess.run([sys.executable, find_executable('wurde_mcp', 'mcp_controller'),
-                                  'list'], capture_output=True, text=True, timeout=60, check=True)
-        assert 'One' in listing.stdout and 'ACTIVE' in listing.stdout
+                                  'status'], capture_output=True, text=True, timeout=60, check=True)
+        one = next(line.split() for line in listing.stdout.splitlines() if line.startswith('One '))
+        assert one[1:4] == ['ACTIVE', 'MANAGED', 'RUN']          # names, not numbers
         off = subprocess.run([sys.executable, find_executable('wurde_mcp', 'turn_off'), 'One'],
                              capture_output=True, text=True, timeout=60, check=True)
         assert 'quit One' in off.stdout

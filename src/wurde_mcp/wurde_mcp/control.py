@@ -4,7 +4,7 @@ Both tools talk to the MCP through the SimpleControl interface on stream ``mcp_c
 commands go as requests, and the MCP's module table arrives as data (any ROS 2 tool can read it
 too, on ``/wurde/mcp_control/data``).  ``turn_off`` lives in :mod:`wurde_mcp.turn_off`.
 
-- ``mcp_controller list``: the module table (status, managed, state, pid, host, heartbeat age,
+- ``mcp_controller list`` (or ``status``): the module table (status, managed, state, pid, host, heartbeat age,
   restarts); ``mcp_controller start|stop|restart MODULE``;
   ``mcp_controller state MODULE RUN|IDLE|RESET|RESTART|QUIT``.
 """
@@ -70,9 +70,11 @@ def read_table(manager: CommsManager, control: Any,
 
 
 def mcp_controller(argv: list[str] | None = None) -> int:
-    """``mcp_controller list | start M | stop M | restart M | state M STATE``."""
+    """``mcp_controller list | status | start M | stop M | restart M | state M STATE``."""
     args = list(sys.argv[1:] if argv is None else argv)
-    usage = 'usage: mcp_controller list | start M | stop M | restart M | state M STATE'
+    if args[:1] == ['status']:
+        args[0] = 'list'                  # the name a ROS 2 user tries first
+    usage = 'usage: mcp_controller list | status | start M | stop M | restart M | state M STATE'
     commands = {'start': CMD_START, 'stop': CMD_STOP, 'restart': CMD_RESTART}
     if not args or args[0] not in ('list', 'state', *commands) or \
             (args[0] in commands and len(args) != 2) or (args[0] == 'state' and len(args) != 3):
