@@ -20,5 +20,6 @@ setup(
     tests_require=['pytest'],
     entry_points={'console_scripts': [
         'drive_module = pluto_motion.drive_module:main',
+        'avoid_module = pluto_motion.avoid_module:main',
     ]},
 )
