@@ -90,6 +90,8 @@ class AvoidController:
         self.written: DriveOrder | None = None
         self.stop_sent = True
         self.failure: str | None = None
+        #: Why the last goto got stuck (for the log).
+        self.stuck_reason = ''
         self.laser = (np.zeros((0, 2)), None)
         self.sonar = (np.zeros((0, 2)), np.zeros(0), None)
 
@@ -176,8 +178,9 @@ class AvoidController:
         if step.reached:
             self.goto_code = GOTO_REACHED
             return _stop(c.sonar)
-        if self.progress.stuck(step, now):
-            self.goto_code = GOTO_STUCK
+        why = self.progress.stuck(step, now)
+        if why is not None:
+            self.goto_code, self.stuck_reason = GOTO_STUCK, f'goto stuck at {pose[0]:.2f}, {pose[1]:.2f}: {why}'
             return _stop(c.sonar)
         self.goto_code = GOTO_NORMAL
         speed = self._guarded(c, step.speed, math.nan, laser_points)

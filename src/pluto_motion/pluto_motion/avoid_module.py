@@ -2,7 +2,7 @@
 
 It reads its command interface ``avoidance/command`` (ActuatorState requests) and writes the
 driveModule's, ``drive/command``, "after possibly modifying the command" (Pluto 4); the drive's
-``drive/status`` comes back up as ``avoidance/status``.  It reads the laser (``-l``, default
+``drive/status`` comes back up as ``avoidance/status``.  It reads the laser (``-L``, default
 PlutoLaser: the RangeFinder of config/pluto's dummy SICK), the base's sonar ``<base>Sonar`` and the
 pose (:class:`pluto_motion.pose_source.PoseSource`: Localization/Pose, else Dead-Reckoning, else the
 base odometry, each fall-back warned once).
@@ -53,9 +53,9 @@ from wurde_core.module_loop import run_loop, set_loop
 
 from . import drive_command
 from .avoid_command import COMMAND, STATUS, AvoidCommand, CommandRefused, parse_command
-from .avoid_control import THREAD_STOPPED, AvoidController, DriveOrder
+from .avoid_control import GOTO_REACHED, GOTO_STUCK, THREAD_STOPPED, AvoidController, DriveOrder
 from .goto_field import FieldSettings
-from .laser_guard import GuardLimits
+from .laser_guard import LASER_FATAL, GuardLimits
 from .pose_source import PoseSource
 from .scan_points import Beams
 
@@ -68,8 +68,8 @@ STATUS_PERIOD_S = 1.0
 #: A sonar reading older than this (s) is left out of the goto's field.
 SONAR_FRESH_S = 1.0
 HELP = ('  -b BASE      the base module (default PlutoBase): reads <BASE>Sonar, <BASE>Motion\n'
-        '  -l LASER     the laser (default PlutoLaser): RangeFinder stream LASER\n'
-        '  -r RADIUS    the robot\'s radius, m (0.35)\n'
+        '  -L LASER     the laser (default PlutoLaser): RangeFinder stream LASER\n'
+        '  -R RADIUS    the robot\'s radius, m (0.35)\n'
         '  -S STALE     seconds without a scan after which the laser is dead (default: from its period)')
 
 
@@ -92,13 +92,14 @@ class Every(Trigger):
         return True
 
 
-def _beams(info: object) -> Beams:
+def _beams(info: object, count: int) -> Beams:
+    """The beams of a RangeFinder whose readings have ``count`` values: its sensor poses, or a
+    uniform fan (the info gives no count: the readings do)."""
     positions = list(info.sensor_positions.get_value())  # type: ignore[attr-defined]
     half = float(info.half_angle.get_value())  # type: ignore[attr-defined]
     if positions:
         return Beams.ring([(p.x(), p.y(), p.theta()) for p in positions], half)
-    return Beams.fan(int(info.range_count.get_value()),  # type: ignore[attr-defined]
-                     first=float(info.theta_offset.get_value()),  # type: ignore[attr-defined]
+    return Beams.fan(count, first=float(info.theta_offset.get_value()),  # type: ignore[attr-defined]
                      step=float(info.theta_separation.get_value()),  # type: ignore[attr-defined]
                      x=float(info.x_offset.get_value()), y=float(info.y_offset.get_value()),  # type: ignore[attr-defined]
                      half_angle=half)
@@ -125,6 +126,7 @@ class AvoidModule:
             manager.register_trigger(trigger)
         self.pose = PoseSource(manager, base, lambda text: logger.warn(f'{manager.name}: {text}'),
                                user='the goto and the regulator steer')
+        self.laser_info = self.sonar_info = False
         self.laser_beams: Beams | None = None
         self.sonar_beams: Beams | None = None
         self.sonar_at = -math.inf
@@ -133,7 +135,7 @@ class AvoidModule:
         self.drive_element: list[int] = []
         self.sent_status: tuple[list[float], list[int]] | None = None
         self.status_at = -math.inf
-        self.failure: str | None = None
+        self.laser_dead = False
 
     # -- inputs ----------------------------------------------------------------------------------
     def _take_commands(self, now: float) -> None:
@@ -171,15 +173,19 @@ class AvoidModule:
 
     def _take_sensors(self, now: float, pose: tuple[float, float, float] | None) -> None:
         while self.laser.get_next_info():
-            self.laser_beams = _beams(self.laser.info)
+            self.laser_info, self.laser_beams = True, None
         while self.sonar.get_next_info():
-            self.sonar_beams = _beams(self.sonar.info)
-        if self.laser.get_next_data() and self.laser_beams is not None:
+            self.sonar_info, self.sonar_beams = True, None
+        if self.laser.get_next_data() and self.laser_info:
             ranges = [float(r) for r in self.laser.data.ranges]
+            if self.laser_beams is None or len(self.laser_beams) != len(ranges):
+                self.laser_beams = _beams(self.laser.info, len(ranges))
             stamp = self.laser.data.timestamp.get_seconds()
             self.control.set_laser(ranges, self.laser_beams.points(ranges), stamp, now, pose)
-        if self.sonar.get_next_data() and self.sonar_beams is not None:
+        if self.sonar.get_next_data() and self.sonar_info:
             ranges = np.asarray(self.sonar.data.ranges, dtype=float)
+            if self.sonar_beams is None or len(self.sonar_beams) != len(ranges):
+                self.sonar_beams = _beams(self.sonar.info, len(ranges))
             points = self.sonar_beams.points(ranges)
             cones = np.full(len(points), self.sonar_beams.half_angle)
             self.control.set_sonar(points, cones, pose)
@@ -221,14 +227,20 @@ class AvoidModule:
         self._take_commands(now)
         pose = self.pose.pose()
         self._take_sensors(now, pose)
+        before = self.control.goto_code
         order = self.control.step(now, pose)
+        if self.control.goto_code != before and self.control.goto_code == GOTO_STUCK:
+            self.logger.warn(f'{self.manager.name}: {self.control.stuck_reason}')
+        elif self.control.goto_code != before and self.control.goto_code == GOTO_REACHED:
+            self.logger.notice(f'{self.manager.name}: goto point reached')
         if order is not None:
             self._write_drive(order)
-        failure = self.control.failure if self.control.laser_code == 7 else None
-        if failure != self.failure:
-            if failure is not None:
-                self.logger.warn(f'{self.manager.name}: laser {failure}: robot stopped')
-            self.failure = failure
+        dead = self.control.laser_code == LASER_FATAL
+        if dead and not self.laser_dead:
+            self.logger.warn(f'{self.manager.name}: laser {self.control.failure}: robot stopped')
+        elif self.laser_dead and not dead:
+            self.logger.notice(f'{self.manager.name}: laser stop over')
+        self.laser_dead = dead
         self._publish_status(now)
 
     def close(self) -> None:
@@ -253,9 +265,9 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('avoidModule')
     manager.set_help_string(HELP)
-    user = manager.parse_options(argv, 'b:l:r:S:').user
+    user = manager.parse_options(argv, 'b:L:R:S:').user
     try:
-        radius, stale = _number(user, 'r'), _number(user, 'S')
+        radius, stale = _number(user, 'R'), _number(user, 'S')
     except ValueError as error:
         print(f'avoid_module: {error}', file=sys.stderr, flush=True)
         return 2
@@ -264,7 +276,7 @@ def main(argv: list[str] | None = None) -> int:
         field, guard = FieldSettings(radius=radius), GuardLimits(radius=radius)
     logger = Logger(manager.name)
     manager.register_supplier(logger)
-    base, laser = user.get('b', 'PlutoBase'), user.get('l', 'PlutoLaser')
+    base, laser = user.get('b', 'PlutoBase'), user.get('L', 'PlutoLaser')
     module = AvoidModule(manager, logger, AvoidController(field, guard, stale), base=base, laser=laser)
     set_loop(manager, 0.0)
     logger.notice(f'{manager.name}: driving drive/command; laser {laser}, sonar {base}Sonar')

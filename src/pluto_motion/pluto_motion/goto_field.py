@@ -193,8 +193,13 @@ class GotoProgress:
     def start(self, now: float) -> None:
         self.best, self.since = math.inf, now
 
-    def stuck(self, step: GotoStep, now: float) -> bool:
+    def stuck(self, step: GotoStep, now: float) -> str | None:
+        """Why the goto is stuck after ``step``, or None when it is not."""
         s = self.settings
         if step.distance < self.best - s.progress:
             self.best, self.since = step.distance, now
-        return step.nearest_gap < s.too_close or now - self.since > s.stuck_s
+        if step.nearest_gap < s.too_close:
+            return f'an obstacle {step.nearest_gap:.3f} m from the footprint'
+        if now - self.since > s.stuck_s:
+            return f'no {s.progress} m of progress in {s.stuck_s} s ({step.distance:.2f} m to go)'
+        return None

@@ -75,7 +75,7 @@ def run_goto(walls: Sequence[Segment], start: tuple[float, float, float], goal: 
         side = step.side
         if step.reached:
             return Run('reached', path, low, t)
-        if progress.stuck(step, t):
+        if progress.stuck(step, t) is not None:
             return Run('stuck', path, low, t)
         error = math.atan2(math.sin(step.heading - theta), math.cos(step.heading - theta))
         rv = max(-1.5, min(1.5, settings.heading_gain * error))

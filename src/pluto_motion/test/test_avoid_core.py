@@ -158,7 +158,7 @@ def test_wall_follow_settles_at_the_distance() -> None:
 
 
 def test_wall_follow_turns_right_at_an_inside_corner() -> None:
-    walls = [(-5.0, 1.5, 0.8, 1.5), (0.8, 1.5, 0.8, -5.0)]        # 0.05 m of free distance ahead
+    walls = [(-5.0, 1.5, 0.8, 1.5), (0.8, 1.5, 0.8, -5.0)]        # 0.4 m of free distance ahead
     tv, rv = wall_follow_step(_scan_at(walls, 0.0, 0.0, 0.0), 0.3)
     assert tv == 0.0 and rv < 0.0
 
