@@ -28,7 +28,7 @@ import enum
 import math
 from collections.abc import Sequence
 
-from .drive_command import RELEASE, CommandRefused
+from .drive_command import RELEASE, CommandRefused, finite
 
 __all__ = ['COMMAND', 'RELEASE', 'STATUS', 'AvoidCommand', 'CommandRefused', 'Kind', 'parse_command']
 
@@ -73,15 +73,6 @@ class AvoidCommand:
         return 10 * (int(self.sonar) + 2 * int(self.laser)) + int(self.kind)
 
 
-def _finite(name: str, values: Sequence[float], count: int) -> list[float]:
-    if len(values) < count:
-        raise CommandRefused(f'{name} needs {count} value(s), got {list(values)}')
-    used = [float(v) for v in values[:count]]
-    if not all(math.isfinite(v) for v in used):
-        raise CommandRefused(f'{name} not finite: {used}')
-    return used
-
-
 def parse_command(cmd_flags: int, velocity: Sequence[float], position: Sequence[float],
                   force: Sequence[float] = ()) -> AvoidCommand | None:
     """The command of one request; None for a release (cmdFlags -1).
@@ -97,22 +88,22 @@ def parse_command(cmd_flags: int, velocity: Sequence[float], position: Sequence[
     kind, avoid = Kind(cmd_flags % 10), cmd_flags // 10
     common = {'kind': kind, 'sonar': bool(avoid & 1), 'laser': bool(avoid & 2)}
     if kind is Kind.VELOCITY:
-        tv, rv = _finite('velocity', velocity, 2)
+        tv, rv = finite('velocity', velocity, 2)
         return AvoidCommand(tv=tv, rv=rv, **common)
     if kind is Kind.REGULATOR:
-        (tv,) = _finite('velocity', velocity, 1)
-        return AvoidCommand(tv=tv, heading=_finite('position', position, 2)[1], **common)
+        (tv,) = finite('velocity', velocity, 1)
+        return AvoidCommand(tv=tv, heading=finite('position', position, 2)[1], **common)
     if kind is Kind.GOTO:
-        x, y = _finite('position', position, 2)
-        max_tv, max_rv = _finite('velocity', velocity, 2)
+        x, y = finite('position', position, 2)
+        max_tv, max_rv = finite('velocity', velocity, 2)
         if max_tv <= 0 or max_rv <= 0:
             raise CommandRefused(f'goto velocity limits must be > 0, got {[max_tv, max_rv]}')
-        strength = _finite('force', force, 1)[0] if len(force) else 1.0
+        strength = finite('force', force, 1)[0] if len(force) else 1.0
         if strength <= 0:
             raise CommandRefused(f'goto force[0] (goal strength) must be > 0, got {strength}')
         return AvoidCommand(goal=(x, y), max_tv=max_tv, max_rv=max_rv, strength=strength, **common)
-    (tv,) = _finite('velocity', velocity, 1)
-    distance = _finite('position', position, 1)[0] if len(position) else 0.0
+    (tv,) = finite('velocity', velocity, 1)
+    distance = finite('position', position, 1)[0] if len(position) else 0.0
     if tv < 0 or distance < 0:
         raise CommandRefused(f'wall follow needs speed >= 0 and distance >= 0, got {tv}, {distance}')
     return AvoidCommand(tv=tv, distance=distance, **common)

@@ -52,8 +52,9 @@ from wurde_core.interfaces import ActuatorState, FVectorState, RangeFinder
 from wurde_core.module_loop import run_loop, set_loop
 
 from . import drive_command
-from .avoid_command import COMMAND, STATUS, AvoidCommand, CommandRefused, parse_command
-from .avoid_control import GOTO_REACHED, GOTO_STUCK, THREAD_STOPPED, AvoidController, DriveOrder
+from .avoid_command import COMMAND, STATUS, AvoidCommand, parse_command
+from .avoid_control import GOTO_REACHED, GOTO_STUCK, AvoidController, DriveOrder
+from .chain_link import ChainLink
 from .goto_field import FieldSettings
 from .laser_guard import LASER_FATAL, GuardLimits
 from .pose_source import PoseSource
@@ -63,8 +64,6 @@ __all__ = ['COMMAND', 'STATUS', 'AvoidModule', 'Every', 'main']
 
 #: Longest time between two loops (s) when no scan or command wakes the module.
 LOOP_S = 0.05
-#: Seconds between two publications of an unchanged status.
-STATUS_PERIOD_S = 1.0
 #: A sonar reading older than this (s) is left out of the goto's field.
 SONAR_FRESH_S = 1.0
 HELP = ('  -b BASE      the base module (default PlutoBase): reads <BASE>Sonar, <BASE>Motion\n'
@@ -101,7 +100,8 @@ def _beams(info: object, count: int) -> Beams:
         return Beams.ring([(p.x(), p.y(), p.theta()) for p in positions], half)
     return Beams.fan(count, first=float(info.theta_offset.get_value()),  # type: ignore[attr-defined]
                      step=float(info.theta_separation.get_value()),  # type: ignore[attr-defined]
-                     x=float(info.x_offset.get_value()), y=float(info.y_offset.get_value()),  # type: ignore[attr-defined]
+                     x=float(info.x_offset.get_value()),  # type: ignore[attr-defined]
+                     y=float(info.y_offset.get_value()),  # type: ignore[attr-defined]
                      half_angle=half)
 
 
@@ -111,18 +111,15 @@ class AvoidModule:
     def __init__(self, manager: CommsManager, logger: Logger, control: AvoidController, *,
                  base: str, laser: str) -> None:
         self.manager, self.logger, self.control = manager, logger, control
-        self.commands = ActuatorState(COMMAND)
-        self.commands.set_queue_mode(True)              # every request is judged (and counted)
-        self.status = FVectorState(STATUS)
+        self.link = ChainLink(manager, logger, COMMAND, STATUS, parse=parse_command, accept=self._accept,
+                              set_running=control.set_running, running=lambda: control.running)
         self.drive = ActuatorState(drive_command.COMMAND)
         self.drive_status = FVectorState(drive_command.STATUS)
         self.laser = RangeFinder(laser)
         self.sonar = RangeFinder(f'{base}Sonar')
-        for obj in (self.commands, self.status):
-            manager.register_supplier(obj)
         for obj in (self.drive, self.drive_status, self.laser, self.sonar):
             manager.register_consumer(obj)
-        for trigger in (Trigger(self.laser), Trigger(self.commands), Trigger(self.status), Every(LOOP_S)):
+        for trigger in (Trigger(self.laser), Trigger(self.link.commands), Trigger(self.link.status), Every(LOOP_S)):
             manager.register_trigger(trigger)
         self.pose = PoseSource(manager, base, lambda text: logger.warn(f'{manager.name}: {text}'),
                                user='the goto and the regulator steer')
@@ -130,46 +127,19 @@ class AvoidModule:
         self.laser_beams: Beams | None = None
         self.sonar_beams: Beams | None = None
         self.sonar_at = -math.inf
-        self.refused = 0
         self.drive_data: list[float] = []
         self.drive_element: list[int] = []
-        self.sent_status: tuple[list[float], list[int]] | None = None
-        self.status_at = -math.inf
         self.laser_dead = False
 
     # -- inputs ----------------------------------------------------------------------------------
-    def _take_commands(self, now: float) -> None:
-        while self.commands.get_next_request():
-            r = self.commands.requests
-            flags = int(r.cmd_flags.get_value())
-            try:
-                command = parse_command(flags, list(r.velocity.get_value()), list(r.position.get_value()),
-                                        list(r.force.get_value()))
-            except CommandRefused as error:
-                self.refused += 1
-                self.logger.warn(f'{self.manager.name}: refused command ({self.refused} so far): {error}')
-                continue
-            if command is None:
-                self._set_running(False, 'released (cmdFlags -1)')
-            elif not self.control.running:
-                self.logger.warn(f'{self.manager.name}: thread stopped; cmdFlags {flags} ignored '
-                                 '(start_activity first)')
-            else:
-                self.control.accept(command, now)
-                self._publish_command(command)
-        while self.status.get_next_request():
-            element = list(self.status.requests.element.get_value())
-            if element and element[0] == 0:
-                self._set_running(True, 'start_activity')
-                self.drive_status.requests.element.set_value([0])     # the drive's start_activity
-                self.drive_status.publish_request()
-            elif element and element[0] == THREAD_STOPPED:
-                self._set_running(False, 'stopped by request')
+    def _accept(self, command: AvoidCommand, now: float) -> None:
+        self.control.accept(command, now)
+        self._publish_command(command)
 
-    def _set_running(self, running: bool, why: str) -> None:
-        if running != self.control.running:
-            self.control.set_running(running)
-            self.logger.notice(f'{self.manager.name}: thread {"started" if running else "stopped"}: {why}')
+    def _take_commands(self, now: float) -> None:
+        if 0 in self.link.take_commands(now):
+            self.drive_status.requests.element.set_value([0])     # the drive's start_activity
+            self.drive_status.publish_request()
 
     def _take_sensors(self, now: float, pose: tuple[float, float, float] | None) -> None:
         while self.laser.get_next_info():
@@ -205,21 +175,14 @@ class AvoidModule:
         self.drive.publish_request()
 
     def _publish_command(self, command: AvoidCommand) -> None:
-        data = self.commands.data
+        data = self.link.commands.data
         data.cmd_flags = command.cmd_flags
         if command.kind.name == 'GOTO':
-            data.position, data.velocity, data.force = list(command.goal), [command.max_tv, command.max_rv], [command.strength]
+            data.position, data.velocity = list(command.goal), [command.max_tv, command.max_rv]
+            data.force = [command.strength]
         else:
             data.position, data.velocity, data.force = [command.distance, command.heading], [command.tv, command.rv], []
-        self.commands.publish_data()
-
-    def _publish_status(self, now: float) -> None:
-        value = self.control.status(self.drive_data, self.drive_element, self.refused)
-        if value == self.sent_status and now - self.status_at < STATUS_PERIOD_S:
-            return
-        self.status.data.data, self.status.data.element = value
-        self.status.publish_data()
-        self.sent_status, self.status_at = value, now
+        self.link.commands.publish_data()
 
     # -- one loop --------------------------------------------------------------------------------
     def step(self) -> None:
@@ -241,7 +204,8 @@ class AvoidModule:
         elif self.laser_dead and not dead:
             self.logger.notice(f'{self.manager.name}: laser stop over')
         self.laser_dead = dead
-        self._publish_status(now)
+        data, element = self.control.status(self.drive_data, self.drive_element, self.link.refused)
+        self.link.publish_status(data, element, now)
 
     def close(self) -> None:
         """Leave the drive stopped (idempotent)."""

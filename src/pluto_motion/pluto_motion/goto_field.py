@@ -1,13 +1,13 @@
-"""The avoid goto's vector summation (Pluto 6.2: "The goto command ... will try to go around
-obstacles using a vector summation rule.  It reacts to near (<3m) obstacles using the laser and
-sonar.  It then will steer around the obstacle.").
+"""The avoid goto's vector summation (Pluto 6.2: "The goto command ... will try to go around obstacles
+using a vector summation rule.  It reacts to near (<3m) obstacles using the laser and sonar.  It
+then will steer around the obstacle.").
 
 Per step, in the robot frame (x forward, y left):
 
-1. **Nearest obstacle per direction.**  Laser and sonar points nearer than :attr:`FieldSettings.reach`
-   (3 m) are put in ``bins`` bearing bins round the robot; a sonar echo fills every bin its cone
-   covers.  Each bin keeps its nearest point, so a wall pushes as hard whether 361 laser beams or
-   one sonar see it, and the two sensors do not add up.
+1. **Nearest obstacle per direction.**  Laser and sonar points nearer than
+   :attr:`FieldSettings.reach` (3 m) are put in ``bins`` bearing bins round the robot; a sonar echo
+   fills every bin its cone covers.  Each bin keeps its nearest point, so a wall pushes as hard
+   whether 361 laser beams or one sonar see it, and the two sensors do not add up.
 2. **Repulsion** of bin ``i`` at distance ``d`` (centre) and gap ``g = d - radius`` (floor
    ``min_gap``): ``gain * width * (1/g - 1/(reach - radius))`` away from the point, ``width`` the
    bin's angle (rad).  A point beside the way to the goal (outside the footprint's corridor towards
@@ -18,24 +18,24 @@ Per step, in the robot frame (x forward, y left):
 4. **Steering round.**  Repulsion straight against the goal (an obstacle dead ahead) would only slow
    the robot down in front of it.  When something lies in the way to the goal (the footprint,
    widened by ``way_margin``, would meet it within ``way_reach`` metres, and before the goal), the
-   part of the repulsion opposing the goal, ``block``, is therefore also added sideways, ``side * block * tangent_gain`` along the goal direction's normal,
-   to the side the repulsion already leans to; when it leans to neither (less than ``tie`` of
-   ``block``) the side chosen before is kept (left at first).  Once ``block`` passes ``commit``
-   times the goal strength the side is kept whatever the lean (the lean turns with the robot, as
-   the laser sees only its front half: without this the robot dithers in front of the obstacle),
-   and the choice is forgotten once nothing blocks.  This slides the robot round a person or a box
-   and along a wall.
+   part of the repulsion opposing the goal, ``block``, is therefore also added sideways, ``side *
+   block * tangent_gain`` along the goal direction's normal, to the side the repulsion already leans
+   to; when it leans to neither (less than ``tie`` of ``block``) the side chosen before is kept
+   (left at first).  Once ``block`` passes ``commit`` times the goal strength the side is kept
+   whatever the lean (the lean turns with the robot, as the laser sees only its front half: without
+   this the robot dithers in front of the obstacle), and the choice is forgotten once nothing
+   blocks.  This slides the robot round a person or a box and along a wall.
 5. **Heading and speed.**  The heading is the sum's direction.  The speed is the maximum linear
    velocity, scaled down within ``goal_slow`` metres of the goal, by the free distance along the
    heading and straight ahead (full from ``clear_slow``, zero at ``clear_stop`` metres from the
    footprint's edge), by the nearest obstacle in any direction (full from ``near_slow``, down to
-   ``near_floor`` of it, zero at ``too_close``: the drive's acceleration limit needs room to brake) and by the cosine of the turn
-   still to make (zero beyond 90 degrees: turn first).  The commanded
+   ``near_floor`` of it, zero at ``too_close``: the drive's acceleration limit needs room to brake)
+   and by the cosine of the turn still to make (zero beyond 90 degrees: turn first).  The commanded
    heading leads the robot by at most ``max_rv / heading_gain`` (the drive's regulator turns at
    ``heading_gain`` rad/s per rad), so the maximum angular velocity holds.
 
-The goal is reached within :attr:`FieldSettings.reach_goal` metres; :class:`GotoProgress` calls
-the goto stuck when the distance to the goal has not shrunk by ``progress`` metres in ``stuck_s``
+The goal is reached within :attr:`FieldSettings.reach_goal` metres; :class:`GotoProgress` calls the
+goto stuck when the distance to the goal has not shrunk by ``progress`` metres in ``stuck_s``
 seconds, or something is closer than ``too_close`` metres to the footprint's edge.
 """
 

@@ -103,7 +103,7 @@ class LaserWatch:
 
     def scan(self, ranges: Sequence[float], stamp: float, now: float) -> None:
         """A scan arrived at ``now`` (monotonic s), taken at ``stamp`` (the laser's clock)."""
-        self.fatal = any(r < 0.0 for r in ranges)
+        self.fatal = bool(len(ranges)) and min(ranges) < 0.0
         if self.stamp is not None and stamp > self.stamp:
             gap = stamp - self.stamp
             self.period = gap if self.period is None else min(self.period, gap)

@@ -12,7 +12,8 @@ to it with the camera (:data:`CAMERA`, back-left of the robot centre) at the dis
 
 ``wall_angle`` is the wall's direction relative to the robot's heading (positive: the wall bends
 away to the left); ``approach`` the angle (towards the wall when too far) the robot should hold
-relative to it.  The speed is ``cos(wall_angle)`` of the speed asked for, at least ``SLOW_SHARE``.  A wall ahead nearer than :data:`CORNER_M` (free distance of the footprint) is an
+relative to it.  The speed is ``cos(wall_angle)`` of the speed asked for, at least ``SLOW_SHARE``.
+A wall ahead nearer than :data:`CORNER_M` (free distance of the footprint) is an
 inside corner: the robot turns right in place.  No wall seen: straight on, slowly turning left to
 find one (``SEARCH_RV``).  Velocities go to the drive in velocity mode.
 """
