@@ -69,6 +69,9 @@ class Avoider(Driver):
         self.checked = len(self.truths)
 
     def ready(self) -> float:
-        """Wait until the chain is up: avoid and drive statuses heard, the truth moving in."""
-        return self.until(lambda: self.avoid.code is not None and self.drive.code == 0 and self.pose is not None,
-                          'avoid and drive status and the truth', timeout=60)
+        """Wait until the chain is up: avoid and drive statuses heard, the truth moving in, and the
+        avoidModule steering on the localModule's Dead-Reckoning (not on the base odometry it
+        uses before the localModule is heard, whose frame starts at the origin)."""
+        return self.until(lambda: self.avoid.code is not None and self.drive.code == 0 and self.pose is not None
+                          and 'steer on Localization/Dead-Reckoning' in self.children['avoid'].stderr,
+                          'avoid and drive status, the truth and the pose source', timeout=60)
