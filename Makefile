@@ -67,3 +67,9 @@ bench-nav: build
 .PHONY: bench-slam
 bench-slam: build
 	$(IN_ENV) python bench/nav_slam.py
+
+# The avoidModule (issue 12): the avoidance computation for a 361-point scan and the laser scan in
+# -> drive command out latency through a real avoid_module, beside a raw rclpy relay (about 1 minute).
+.PHONY: bench-avoid
+bench-avoid: build
+	$(IN_ENV) python bench/avoid_latency.py

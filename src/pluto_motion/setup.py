@@ -20,6 +20,7 @@ setup(
     tests_require=['pytest'],
     entry_points={'console_scripts': [
         'drive_module = pluto_motion.drive_module:main',
+        'avoid_module = pluto_motion.avoid_module:main',
         'drive_i = pluto_motion.drive_i:main',
         'synchro_mover = pluto_motion.synchro_mover:main',
         'laser_avoider = pluto_motion.laser_avoider:main',

@@ -18,7 +18,7 @@ import enum
 import math
 from collections.abc import Sequence
 
-__all__ = ['COMMAND', 'RELEASE', 'STATUS', 'CommandRefused', 'DriveCommand', 'Mode', 'parse_command']
+__all__ = ['COMMAND', 'RELEASE', 'STATUS', 'CommandRefused', 'DriveCommand', 'Mode', 'finite', 'parse_command']
 
 #: The driveModule's streams (Pluto 4: "drive/command" "drive/status").
 COMMAND = 'drive/command'
@@ -61,7 +61,11 @@ class DriveCommand:
 STOP = DriveCommand(Mode.VELOCITY, 0.0, 0.0)
 
 
-def _finite(name: str, values: Sequence[float], count: int) -> list[float]:
+def finite(name: str, values: Sequence[float], count: int) -> list[float]:
+    """The first ``count`` of ``values`` as floats.
+
+    :raises CommandRefused: fewer than ``count`` values, or one not finite.
+    """
     if len(values) < count:
         raise CommandRefused(f'{name} needs {count} value(s), got {list(values)}')
     used = [float(v) for v in values[:count]]
@@ -82,8 +86,8 @@ def parse_command(cmd_flags: int, velocity: Sequence[float], position: Sequence[
         raise CommandRefused(f'cmdFlags {cmd_flags}: the drive takes 0, 1, 10, 11 (or -1 to release)')
     mode, sonar = Mode(cmd_flags % 10), cmd_flags >= 10
     if mode is Mode.VELOCITY:
-        tv, rv = _finite('velocity', velocity, 2)
+        tv, rv = finite('velocity', velocity, 2)
         return DriveCommand(mode, tv, rv, sonar=sonar)
-    (tv,) = _finite('velocity', velocity, 1)
-    heading = _finite('position', position, 2)[1]
+    (tv,) = finite('velocity', velocity, 1)
+    heading = finite('position', position, 2)[1]
     return DriveCommand(mode, tv, heading=heading, sonar=sonar)

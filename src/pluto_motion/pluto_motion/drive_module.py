@@ -45,18 +45,17 @@ import sys
 import time
 
 from wurde_core import CommsManager, Logger
-from wurde_core.interfaces import ActuatorState, Bumper, FVectorState, RangeFinder
+from wurde_core.interfaces import ActuatorState, Bumper, RangeFinder
 from wurde_core.module_loop import run_loop, set_loop
 
-from .drive_command import COMMAND, STATUS, CommandRefused, DriveCommand, Mode, parse_command
-from .drive_control import THREAD_STOPPED, DriveController, DriveSettings
+from .chain_link import ChainLink
+from .drive_command import COMMAND, STATUS, DriveCommand, Mode, parse_command
+from .drive_control import DriveController, DriveSettings
 from .heading_source import HeadingSource
 
 __all__ = ['COMMAND', 'STATUS', 'DriveModule', 'main']
 
 LOOP_S = 0.05
-#: Seconds between two publications of an unchanged status (a late reader must get one).
-STATUS_PERIOD_S = 1.0
 #: A sonar reading older than this (s) is no reading: sonar protection then stops the robot.
 SONAR_FRESH_S = 1.0
 #: Longest time step the ramps use (a stalled loop must not allow a jump).
@@ -77,55 +76,30 @@ class DriveModule:
     def __init__(self, manager: CommsManager, logger: Logger, settings: DriveSettings, *, base: str) -> None:
         self.manager, self.logger = manager, logger
         self.control = DriveController(settings)
-        self.commands = ActuatorState(COMMAND)
-        self.commands.set_queue_mode(True)          # every request is judged (and counted)
-        self.status = FVectorState(STATUS)
+        self.link = ChainLink(manager, logger, COMMAND, STATUS,
+                              parse=lambda flags, velocity, position, _force: parse_command(flags, velocity, position),
+                              accept=self._accept, set_running=self._set_running,
+                              running=lambda: self.control.running)
         self.base = ActuatorState(f'{base}Command')
         self.bumpers = Bumper(f'{base}Bumpers')
         self.bumpers.set_queue_mode(True)           # a short press is not missed
         self.sonar = RangeFinder(f'{base}Sonar')
-        for obj in (self.commands, self.status):
-            manager.register_supplier(obj)
         for obj in (self.base, self.bumpers, self.sonar):
             manager.register_consumer(obj)
         self.heading = HeadingSource(manager, base, lambda text: logger.warn(f'{manager.name}: {text}'))
-        self.refused = 0
         self.ranges: list[float] | None = None
         self.ranges_at = -math.inf
         self.last_step = time.monotonic()
-        self.sent_status: tuple[list[float], list[int]] | None = None
-        self.status_at = -math.inf
         self.base_stopped = False
 
     # -- inputs ----------------------------------------------------------------------------------
-    def _take_commands(self, now: float) -> None:
-        while self.commands.get_next_request():
-            r = self.commands.requests
-            flags = int(r.cmd_flags.get_value())
-            try:
-                command = parse_command(flags, list(r.velocity.get_value()), list(r.position.get_value()))
-            except CommandRefused as error:
-                self.refused += 1
-                self.logger.warn(f'{self.manager.name}: refused command ({self.refused} so far): {error}')
-                continue
-            if command is None:
-                self._set_running(False, 'released (cmdFlags -1)')
-            elif not self.control.running:
-                self.logger.warn(f'{self.manager.name}: thread stopped; cmdFlags {flags} ignored '
-                                 '(start_activity first)')
-            else:
-                self.control.accept(command, now)
-                self._publish_command(command)
-        while self.status.get_next_request():
-            element = list(self.status.requests.element.get_value())
-            if element and element[0] in (0, THREAD_STOPPED):
-                self._set_running(element[0] == 0, 'start_activity' if element[0] == 0 else 'stopped by request')
+    def _accept(self, command: DriveCommand, now: float) -> None:
+        self.control.accept(command, now)
+        self._publish_command(command)
 
-    def _set_running(self, running: bool, why: str) -> None:
-        if running != self.control.running:
-            self.control.set_running(running)
-            self.base_stopped = False
-            self.logger.notice(f'{self.manager.name}: thread {"started" if running else "stopped"}: {why}')
+    def _set_running(self, running: bool) -> None:
+        self.control.set_running(running)
+        self.base_stopped = False
 
     def _take_sensors(self, now: float) -> None:
         while self.bumpers.get_next_data():
@@ -153,25 +127,17 @@ class DriveModule:
         self.base.publish_request()
 
     def _publish_command(self, command: DriveCommand) -> None:
-        data = self.commands.data
+        data = self.link.commands.data
         data.cmd_flags = command.cmd_flags
         data.velocity = [command.tv, command.rv] if command.mode is Mode.VELOCITY else [command.tv]
         data.position = [] if command.mode is Mode.VELOCITY else [0.0, command.heading]
-        self.commands.publish_data()
-
-    def _publish_status(self, now: float) -> None:
-        value = ([float(v) for v in self.control.output], [self.control.code, self.refused])
-        if value == self.sent_status and now - self.status_at < STATUS_PERIOD_S:
-            return
-        self.status.data.data, self.status.data.element = value
-        self.status.publish_data()
-        self.sent_status, self.status_at = value, now
+        self.link.commands.publish_data()
 
     # -- one loop --------------------------------------------------------------------------------
     def step(self) -> None:
         now = time.monotonic()
         dt, self.last_step = min(now - self.last_step, MAX_DT), now
-        self._take_commands(now)
+        self.link.take_commands(now)
         self._take_sensors(now)
         self.heading.update()
         regulating = self.control.command.mode is Mode.REGULATOR and self.control.running
@@ -183,7 +149,7 @@ class DriveModule:
         elif not self.base_stopped:
             self._write_base(0.0, 0.0)              # the thread stops: one stop, then hands off
             self.base_stopped = True
-        self._publish_status(now)
+        self.link.publish_status(self.control.output, [self.control.code, self.link.refused], now)
 
     def close(self) -> None:
         """Leave the base stopped (idempotent)."""
