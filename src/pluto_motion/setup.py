@@ -20,5 +20,6 @@ setup(
     tests_require=['pytest'],
     entry_points={'console_scripts': [
         'drive_module = pluto_motion.drive_module:main',
+        'motion_module = pluto_motion.motion_module:main',
     ]},
 )
