@@ -20,6 +20,7 @@ setup(
     tests_require=['pytest'],
     entry_points={'console_scripts': [
         'drive_module = pluto_motion.drive_module:main',
+        'avoid_module = pluto_motion.avoid_module:main',
         'motion_module = pluto_motion.motion_module:main',
     ]},
 )

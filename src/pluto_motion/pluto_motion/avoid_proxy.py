@@ -1,0 +1,125 @@
+"""AvoidProxy: Pluto's avoid proxy (Pluto 5) for WURDE programs, with a nav2_simple_commander-like
+``go_to`` on top.
+
+Verbs write ``avoidance/command`` (cmdFlags 10*A+T, Pluto 6.2: the keyword arguments ``sonar`` and
+``laser`` make A) or the status request that starts the threads (start_activity starts the avoid
+thread and, through it, the drive's); accessors read ``avoidance/status``.
+
+``go_to(x, y)`` sends a goto and returns a :class:`pluto_motion.task.Task`: SUCCEEDED when
+element[1] says the point is reached, FAILED when the goto is stuck, the avoid thread stops, the
+command is refused or the deadline passes, CANCELED after ``cancel()`` (which stops the robot).
+Only a status stamped after the avoidModule's echo of this very goto counts, so the result of an
+earlier goto is never taken for this one's.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+from wurde_core import CommsManager
+
+from .avoid_command import COMMAND, STATUS, Kind
+from .avoid_control import GOTO_REACHED, GOTO_STUCK, THREAD_STOPPED
+from .chain_proxy import ChainProxy
+from .task import Task, TaskResult
+
+__all__ = ['AvoidProxy']
+
+#: Seconds between two sends of a goto the avoidModule has not echoed yet (a request sent before
+#: discovery matched the stream is lost).
+RESEND_S = 1.0
+
+
+def _flags(kind: Kind, sonar: bool, laser: bool) -> int:
+    return 10 * (int(sonar) + 2 * int(laser)) + int(kind)
+
+
+class AvoidProxy(ChainProxy):
+    """The avoidModule as seen from ``manager``.
+
+    ``code`` is element[0] (the drive's, or 6 laser slow/stop, 7 laser dead); ``goto_status`` is
+    element[1] (1 reached, 2 stuck, -1 goto normal, -10 thread stopped, 0 otherwise).
+    """
+
+    def __init__(self, manager: CommsManager, *, queue_mode: bool = False) -> None:
+        super().__init__(manager, COMMAND, STATUS, queue_mode=queue_mode)
+        self.echo: tuple[int, list[float], float] | None = None
+
+    # -- the seed's verbs ------------------------------------------------------------------------
+    def velocity(self, tv: float, rv: float, *, sonar: bool = False, laser: bool = False) -> bool:
+        """Drive at ``tv`` m/s and ``rv`` rad/s (T = 0)."""
+        return self._send(_flags(Kind.VELOCITY, sonar, laser), [tv, rv], [])
+
+    def regulator(self, speed: float, heading: float, *, sonar: bool = False, laser: bool = False) -> bool:
+        """Turn to ``heading`` (rad, Localization/Pose frame) and hold it at ``speed`` m/s (T = 1)."""
+        return self._send(_flags(Kind.REGULATOR, sonar, laser), [speed], [0.0, heading])
+
+    def goto(self, x: float, y: float, max_tv: float = 0.5, max_rv: float = 1.0, *, strength: float = 1.0,
+             sonar: bool = True, laser: bool = True) -> bool:
+        """Go to (``x``, ``y``) (m, Localization/Pose frame) round near obstacles, at most ``max_tv``
+        m/s and ``max_rv`` rad/s; ``strength`` > 1 weakens the avoidance (T = 2)."""
+        return self._send(_flags(Kind.GOTO, sonar, laser), [max_tv, max_rv], [x, y], [strength])
+
+    def wall_follow(self, speed: float, distance: float = 0.0, *, sonar: bool = False, laser: bool = True) -> bool:
+        """Follow the wall on the left at ``speed`` m/s, the camera ``distance`` m from it (0: the
+        module's default) (T = 3)."""
+        return self._send(_flags(Kind.WALL_FOLLOW, sonar, laser), [speed], [distance, 0.0])
+
+    def stop(self) -> bool:
+        return self.velocity(0.0, 0.0)
+
+    # -- status ----------------------------------------------------------------------------------
+    @property
+    def goto_status(self) -> int | None:
+        """element[1] (None before the first status)."""
+        return self.element[1] if len(self.element) > 1 else None
+
+    @property
+    def refused(self) -> int:
+        """element[2] (ours): commands the avoidModule refused so far."""
+        return self.element[2] if len(self.element) > 2 else 0
+
+    def _take_echoes(self) -> None:
+        while self.command.get_next_data():
+            d = self.command.data
+            self.echo = (int(d.cmd_flags), [float(v) for v in d.position],
+                         d.timestamp.get_seconds())
+
+    # -- nav2-like layer -------------------------------------------------------------------------
+    def go_to(self, x: float, y: float, max_tv: float = 0.5, max_rv: float = 1.0, *, strength: float = 1.0,
+              sonar: bool = True, laser: bool = True, timeout: float | None = None) -> Task:
+        """Start a goto (default cmdFlags 32) and return its handle."""
+        flags = _flags(Kind.GOTO, sonar, laser)
+        refused = self.refused
+        state = {'sent': -math.inf, 'echoed': None}
+
+        def send() -> None:
+            self.goto(x, y, max_tv, max_rv, strength=strength, sonar=sonar, laser=laser)
+            state['sent'] = time.monotonic()
+
+        def poll() -> tuple[TaskResult, str]:
+            self.spin_once(0.05)
+            self.update()
+            self._take_echoes()
+            if self.refused > refused:
+                return TaskResult.FAILED, 'goto refused (see the avoidModule log)'
+            if state['echoed'] is None:
+                e = self.echo
+                if e is not None and e[0] == flags and len(e[1]) >= 2 and math.isclose(e[1][0], x, abs_tol=1e-4) \
+                        and math.isclose(e[1][1], y, abs_tol=1e-4):
+                    state['echoed'] = e[2]
+                elif time.monotonic() - state['sent'] > RESEND_S:
+                    send()
+                return TaskResult.UNKNOWN, ''
+            if self.stamp < state['echoed']:
+                return TaskResult.UNKNOWN, ''
+            return {GOTO_REACHED: (TaskResult.SUCCEEDED, ''),
+                    GOTO_STUCK: (TaskResult.FAILED, 'goto stuck'),
+                    THREAD_STOPPED: (TaskResult.FAILED, 'avoid thread stopped')}.get(
+                        self.goto_status, (TaskResult.UNKNOWN, ''))
+
+        self._take_echoes()
+        self.echo = None
+        send()
+        return Task(poll, self.stop, timeout=timeout)

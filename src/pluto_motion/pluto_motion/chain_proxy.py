@@ -1,0 +1,91 @@
+"""What every proxy of a movement chain link has in common (Pluto 4: "each link in the chain reads
+from its command interface (an ActuatorState_i) ... For that the status interface is used (a
+FVectorState_i)"): the command stream it writes requests to, the status stream it reads, the
+start_activity and release_robot verbs, and waiting on the status with a deadline."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from wurde_core import CommsManager, RunState
+from wurde_core.interfaces import ActuatorState, FVectorState
+
+from .drive_command import RELEASE
+
+__all__ = ['ChainProxy']
+
+
+class ChainProxy:
+    """A chain link as seen from ``manager``: requests on ``command``, status from ``status``."""
+
+    def __init__(self, manager: CommsManager, command: str, status: str, *, queue_mode: bool = False) -> None:
+        """:param queue_mode: keep every status (:meth:`update` returns them all), not the newest,
+            and every echo of an accepted command (``command.get_next_data()``)."""
+        self.manager = manager
+        self.command = ActuatorState(command)
+        self.status = FVectorState(status)
+        self.command.set_queue_mode(queue_mode)
+        self.status.set_queue_mode(queue_mode)
+        manager.register_consumer(self.command)
+        manager.register_consumer(self.status)
+        self.data: list[float] = []
+        self.element: list[int] = []
+        #: The stamp (s, the link's clock) of the newest status taken in.
+        self.stamp = 0.0
+
+    def _send(self, flags: int, velocity: Sequence[float], position: Sequence[float],
+              force: Sequence[float] = ()) -> bool:
+        req = self.command.requests
+        req.cmd_flags.set_value(flags)
+        req.velocity.set_value(list(velocity))
+        req.position.set_value(list(position))
+        req.force.set_value(list(force))
+        return self.command.publish_request()
+
+    def release_robot(self) -> bool:
+        """Stop the link's thread (cmdFlags -1): it stops the robot once and then leaves it alone."""
+        return self._send(RELEASE, [], [])
+
+    def start_activity(self) -> bool:
+        """Start the link's thread and the ones below it (nothing happens to a running one)."""
+        self.status.requests.element.set_value([0])
+        return self.status.publish_request()
+
+    def update(self) -> list[Any]:
+        """Take in what arrived; the status messages taken in, oldest first (empty: none)."""
+        taken = []
+        while self.status.get_next_data():
+            self.data, self.element = list(self.status.data.data), list(self.status.data.element)
+            self.stamp = self.status.data.timestamp.get_seconds()
+            taken.append(self.status.data.ros_message())
+        return taken
+
+    @property
+    def velocities(self) -> tuple[float, float] | None:
+        """data[0..1]: the (slowed-down) linear and angular velocity commanded now."""
+        return (self.data[0], self.data[1]) if len(self.data) >= 2 else None
+
+    @property
+    def code(self) -> int | None:
+        """element[0] (None before the first status)."""
+        return self.element[0] if self.element else None
+
+    def wait_for(self, test: Callable[[Any], bool], timeout: float) -> bool:
+        """Run the manager's loop until ``test(self)`` holds; False after ``timeout`` s or on Quit."""
+        deadline = time.monotonic() + timeout
+        while True:
+            self.update()
+            if test(self):
+                return True
+            if time.monotonic() >= deadline or not self.spin_once(0.05):
+                return False
+
+    def spin_once(self, timeout: float) -> bool:
+        """One turn of the manager's loop, waiting at most ``timeout`` s for something to arrive;
+        False when the module is to quit."""
+        if self.manager.run_update() != RunState.RUN:
+            return False
+        self.manager.wait(timeout)
+        return True

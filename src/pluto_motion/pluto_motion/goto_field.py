@@ -1,0 +1,200 @@
+"""The avoid goto's vector summation (Pluto 6.2: "The goto command ... will try to go around
+obstacles using a vector summation rule.  It reacts to near (<3m) obstacles using the laser and
+sonar.  It then will steer around the obstacle.").
+
+Per step, in the robot frame (x forward, y left):
+
+1. **Nearest obstacle per direction.**  Laser and sonar points nearer than :attr:`FieldSettings.reach`
+   (3 m) are put in ``bins`` bearing bins round the robot; a sonar echo fills every bin its cone
+   covers.  Each bin keeps its nearest point, so a wall pushes as hard whether 361 laser beams or
+   one sonar see it, and the two sensors do not add up.
+2. **Repulsion** of bin ``i`` at distance ``d`` (centre) and gap ``g = d - radius`` (floor
+   ``min_gap``): ``gain * width * (1/g - 1/(reach - radius))`` away from the point, ``width`` the
+   bin's angle (rad).  A point beside the way to the goal (outside the footprint's corridor towards
+   it, widened by ``way_margin``, or behind) pushes only sideways: the walls of a corridor or a
+   door's jambs hold the robot in the middle, not back.
+3. **Attraction**: the unit vector to the goal times ``strength`` (the command's force[0]: 1 by
+   default, above 1 the goal wins over the obstacles, below 1 the obstacles win).
+4. **Steering round.**  Repulsion straight against the goal (an obstacle dead ahead) would only slow
+   the robot down in front of it.  When something lies in the way to the goal (the footprint,
+   widened by ``way_margin``, would meet it within ``way_reach`` metres, and before the goal), the
+   part of the repulsion opposing the goal, ``block``, is therefore also added sideways, ``side * block * tangent_gain`` along the goal direction's normal,
+   to the side the repulsion already leans to; when it leans to neither (less than ``tie`` of
+   ``block``) the side chosen before is kept (left at first).  Once ``block`` passes ``commit``
+   times the goal strength the side is kept whatever the lean (the lean turns with the robot, as
+   the laser sees only its front half: without this the robot dithers in front of the obstacle),
+   and the choice is forgotten once nothing blocks.  This slides the robot round a person or a box
+   and along a wall.
+5. **Heading and speed.**  The heading is the sum's direction.  The speed is the maximum linear
+   velocity, scaled down within ``goal_slow`` metres of the goal, by the free distance along the
+   heading and straight ahead (full from ``clear_slow``, zero at ``clear_stop`` metres from the
+   footprint's edge), by the nearest obstacle in any direction (full from ``near_slow``, down to
+   ``near_floor`` of it, zero at ``too_close``: the drive's acceleration limit needs room to brake) and by the cosine of the turn
+   still to make (zero beyond 90 degrees: turn first).  The commanded
+   heading leads the robot by at most ``max_rv / heading_gain`` (the drive's regulator turns at
+   ``heading_gain`` rad/s per rad), so the maximum angular velocity holds.
+
+The goal is reached within :attr:`FieldSettings.reach_goal` metres; :class:`GotoProgress` calls
+the goto stuck when the distance to the goal has not shrunk by ``progress`` metres in ``stuck_s``
+seconds, or something is closer than ``too_close`` metres to the footprint's edge.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from .laser_guard import free_distance
+from .scan_points import wrap
+
+__all__ = ['FieldSettings', 'GotoProgress', 'GotoStep', 'nearest_per_bin', 'goto_step']
+
+
+@dataclasses.dataclass(frozen=True)
+class FieldSettings:
+    """Constants of the vector summation (metres, seconds, radians)."""
+
+    radius: float = 0.35           # the robot's footprint (config/pluto: 0.35 m)
+    reach: float = 3.0             # obstacles nearer than this (centre) push (Pluto 6.2: "<3m")
+    bins: int = 72                 # bearing bins round the robot (5 degrees)
+    gain: float = 1.2              # repulsion per rad of bin width and 1/m of gap
+    min_gap: float = 0.05          # gaps below this count as this (no infinite push)
+    tangent_gain: float = 1.0      # steering round: sideways push per unit of blocking push
+    tie: float = 0.25              # a sideways lean below this share of the blocking push is none
+    commit: float = 0.3            # from this blocking push (per unit of strength) the side is kept
+    way_reach: float = 1.5         # steering round only for an obstacle this near in the goal's way ...
+    way_margin: float = 0.1        # ... of the footprint widened by this on each side
+    goal_slow: float = 1.0         # slow down within this distance of the goal
+    clear_stop: float = 0.1        # free distance along the heading at which the speed is 0 ...
+    clear_slow: float = 1.0        # ... and from which it is full
+    near_slow: float = 0.6         # an obstacle nearer than this (any direction) slows the robot ...
+    near_floor: float = 0.3        # ... down to this share of the speed (0 at too_close)
+    heading_gain: float = 1.5      # the drive's regulator gain (rad/s per rad)
+    reach_goal: float = 0.15       # the goal is reached within this distance
+    progress: float = 0.2          # the distance to the goal must shrink by this ...
+    stuck_s: float = 10.0          # ... within this time, or the goto is stuck
+    too_close: float = 0.03        # an obstacle this near the footprint's edge: stuck at once
+
+
+@dataclasses.dataclass(frozen=True)
+class GotoStep:
+    """One step's output: the heading (rad, the pose's frame) and speed (m/s) for the drive's
+    regulator, the distance to the goal, the nearest gap to any obstacle and the side chosen."""
+
+    heading: float
+    speed: float
+    distance: float
+    nearest_gap: float
+    side: int
+    reached: bool
+
+
+def nearest_per_bin(points: np.ndarray, bins: int, reach: float,
+                    cones: np.ndarray | None = None) -> np.ndarray:
+    """For each of ``bins`` bearing bins round the origin, the distance of the nearest point in it
+    nearer than ``reach`` (inf where none).  ``cones`` (N,) half widths (rad): a point also fills the
+    bins within its half width (a sonar's cone)."""
+    nearest = np.full(bins, np.inf)
+    if len(points) == 0:
+        return nearest
+    d = np.hypot(points[:, 0], points[:, 1])
+    near = d < reach
+    if not np.any(near):
+        return nearest
+    width = 2 * math.pi / bins
+    bearing = np.arctan2(points[near, 1], points[near, 0])
+    d = d[near]
+    if cones is None:
+        index = np.floor((bearing + math.pi) / width).astype(int) % bins
+        np.minimum.at(nearest, index, d)
+        return nearest
+    half = np.ceil(cones[near] / width).astype(int)
+    centre = np.floor((bearing + math.pi) / width).astype(int)
+    for k in range(-int(half.max()), int(half.max()) + 1):
+        use = np.abs(k) <= half
+        np.minimum.at(nearest, (centre[use] + k) % bins, d[use])
+    return nearest
+
+
+def _ramp(value: float, low: float, high: float) -> float:
+    """0 at ``low`` and below, 1 at ``high`` and above, linear between."""
+    return 1.0 if value >= high else max(0.0, (value - low) / (high - low))
+
+
+def _repulsion(nearest: np.ndarray, to_goal: np.ndarray, s: FieldSettings) -> np.ndarray:
+    bins = len(nearest)
+    width = 2 * math.pi / bins
+    centres = -math.pi + width * (np.arange(bins) + 0.5)
+    use = np.isfinite(nearest)
+    if not np.any(use):
+        return np.zeros(2)
+    d, c = nearest[use], centres[use]
+    gap = np.maximum(d - s.radius, s.min_gap)
+    push = np.maximum(s.gain * width * (1.0 / gap - 1.0 / (s.reach - s.radius)), 0.0)
+    away = -np.column_stack((np.cos(c), np.sin(c))) * push[:, None]
+    # Beside the way to the goal: only the sideways part (a corridor's walls do not hold it back).
+    along = d * (np.cos(c) * to_goal[0] + np.sin(c) * to_goal[1])
+    across = d * (-np.cos(c) * to_goal[1] + np.sin(c) * to_goal[0])
+    beside = (np.abs(across) >= s.radius + s.way_margin) | (along <= 0.0)
+    away[beside] -= np.outer(away[beside] @ to_goal, to_goal)
+    return away.sum(axis=0)
+
+
+def goto_step(pose: tuple[float, float, float], goal: tuple[float, float], points: np.ndarray,
+              *, max_tv: float, max_rv: float, strength: float = 1.0, side: int = 0,
+              cones: np.ndarray | None = None, settings: FieldSettings = FieldSettings()) -> GotoStep:
+    """One step of the goto from ``pose`` (x, y, theta) to ``goal`` with obstacle ``points`` ((N, 2),
+    robot frame; ``cones`` their half widths, None: all 0).  ``side`` is the side chosen before (+1
+    left, -1 right, 0 none)."""
+    s = settings
+    x, y, theta = pose
+    dx, dy = goal[0] - x, goal[1] - y
+    distance = math.hypot(dx, dy)
+    nearest = nearest_per_bin(points, s.bins, s.reach, cones)
+    nearest_gap = float(np.min(nearest)) - s.radius if np.any(np.isfinite(nearest)) else math.inf
+    if distance <= s.reach_goal:
+        return GotoStep(theta, 0.0, distance, nearest_gap, 0, True)
+    c, sn = math.cos(theta), math.sin(theta)
+    to_goal = np.array([c * dx + sn * dy, -sn * dx + c * dy]) / distance
+    push = _repulsion(nearest, to_goal, s)
+    bearing = math.atan2(to_goal[1], to_goal[0])
+    in_way = free_distance(points, s.radius, s.way_margin, bearing) if len(points) else math.inf
+    block = max(0.0, -float(push @ to_goal)) if in_way < min(distance, s.way_reach) else 0.0
+    normal = np.array([-to_goal[1], to_goal[0]])
+    lean = float(push @ normal)
+    if block < 1e-3:
+        side = 0
+    elif side == 0 or block < s.commit * strength:
+        if abs(lean) >= s.tie * block:
+            side = 1 if lean > 0 else -1
+        elif side == 0:
+            side = 1
+    total = strength * to_goal + push + side * block * s.tangent_gain * normal
+    turn = math.atan2(total[1], total[0]) if np.any(total) else 0.0
+    lead = max(-max_rv / s.heading_gain, min(max_rv / s.heading_gain, turn))
+    gap = min(free_distance(points, s.radius, 0.0, turn), free_distance(points, s.radius, 0.0, 0.0))
+    near = 0.0 if nearest_gap <= s.too_close else s.near_floor + (1 - s.near_floor) * _ramp(
+        nearest_gap, s.too_close, s.near_slow)
+    clear = _ramp(gap, s.clear_stop, s.clear_slow) * near
+    speed = max_tv * min(1.0, distance / s.goal_slow) * clear * max(0.0, math.cos(turn))
+    return GotoStep(wrap(theta + lead), speed, distance, nearest_gap, side, False)
+
+
+class GotoProgress:
+    """Whether a goto is stuck: no progress of ``progress`` m in ``stuck_s`` s, or too close."""
+
+    def __init__(self, settings: FieldSettings = FieldSettings()) -> None:
+        self.settings = settings
+        self.best = math.inf
+        self.since = 0.0
+
+    def start(self, now: float) -> None:
+        self.best, self.since = math.inf, now
+
+    def stuck(self, step: GotoStep, now: float) -> bool:
+        s = self.settings
+        if step.distance < self.best - s.progress:
+            self.best, self.since = step.distance, now
+        return step.nearest_gap < s.too_close or now - self.since > s.stuck_s

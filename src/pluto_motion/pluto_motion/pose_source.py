@@ -1,0 +1,82 @@
+"""Where the movement chain reads the robot's pose (x, y, theta).
+
+Pluto 6.2: the avoidModule's goto position and the drive's regulator heading are "relative to
+interface (3) (adjusted robot pose) of the localModule", read through the loc proxy
+(:class:`pluto_nav.loc_proxy.LocProxy`).  When no pose setter runs (setter 0: neither poseModule nor
+slamModule updates the localization) the source falls back to Dead-Reckoning (0), with a warning;
+when no localModule is heard at all, to the base's own odometry (``<base>Motion``, whose frame starts
+at the robot's start: the frame Pluto 6.1 first named, "angle defined by baseserver interface
+ATRV2/Drive/Raw"), again with a warning.  A source is used only while it is fresh (a pose taken in
+within :data:`FRESH_S` seconds).  Each change of source is logged once.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+from pluto_nav.loc_proxy import LocProxy
+from pluto_nav.streams import DEAD_RECKONING, NOBODY, POSE
+from wurde_core import CommsManager
+from wurde_core.interfaces import Egomotion
+
+__all__ = ['FRESH_S', 'ODOMETRY', 'PoseSource']
+
+#: Seconds after which a pose that has not been renewed is no longer used.
+FRESH_S = 1.0
+#: The name of the last fall-back: the base's odometry.
+ODOMETRY = 'odometry'
+_STREAMS = (('Localization/Pose', POSE), ('Localization/Dead-Reckoning', DEAD_RECKONING))
+
+
+class PoseSource:
+    """The robot's pose from the best fresh source; :attr:`source` names the one used last.
+
+    ``user`` says what the pose is for in the warnings ("the regulator holds its heading",
+    "the goto steers"), so that a log names the module's consequence of a fall-back.
+    """
+
+    def __init__(self, manager: CommsManager, base: str, warn: Callable[[str], object], *, user: str) -> None:
+        self.loc = LocProxy(manager, (1 << DEAD_RECKONING) | (1 << POSE))
+        self.motion = Egomotion(f'{base}Motion')
+        manager.register_consumer(self.motion)
+        self.warn = warn
+        self.warnings = {'Localization/Dead-Reckoning': f'no pose setter runs: {user} on '
+                                                        'Localization/Dead-Reckoning',
+                         ODOMETRY: f'no localModule heard: {user} on the base odometry',
+                         None: 'no fresh pose: the robot stops until one comes'}
+        self.poses: dict[str, tuple[float, float, float]] = {}
+        self.heard: dict[str, float] = {}
+        self.source: str | None = None
+
+    def update(self) -> None:
+        """Take in what arrived (every loop, so that freshness is the arrival's time)."""
+        now = time.monotonic()
+        for name, n in _STREAMS:
+            poses = self.loc.get_poses(n)
+            if poses:
+                self.poses[name], self.heard[name] = poses[-1].xytheta, now
+        if self.motion.get_next_data():
+            loc = self.motion.data.location
+            self.poses[ODOMETRY], self.heard[ODOMETRY] = (loc.x(), loc.y(), loc.theta()), now
+
+    def _fresh(self, name: str) -> bool:
+        return time.monotonic() - self.heard.get(name, -float('inf')) <= FRESH_S
+
+    def pose(self) -> tuple[float, float, float] | None:
+        """(x, y, theta) in m and rad, or None when no source is fresh."""
+        self.update()
+        setter = self.loc.setter
+        if setter is not None and setter != NOBODY and self._fresh('Localization/Pose'):
+            chosen: str | None = 'Localization/Pose'
+        elif self._fresh('Localization/Dead-Reckoning'):
+            chosen = 'Localization/Dead-Reckoning'
+        elif self._fresh(ODOMETRY):
+            chosen = ODOMETRY
+        else:
+            chosen = None
+        if chosen != self.source:
+            if chosen in self.warnings:
+                self.warn(self.warnings[chosen])
+            self.source = chosen
+        return None if chosen is None else self.poses[chosen]
