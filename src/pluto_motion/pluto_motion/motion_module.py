@@ -2,8 +2,8 @@
 
 It reads ``motion/command`` (ActuatorState requests) and writes ``avoidance/command`` requests,
 reading ``avoidance/status``, the laser (``-s LASER``, default PlutoLaser) and the pose
-(Localization/Pose, stream 3 of the loc proxy; Localization/Dead-Reckoning, stream 0, with one
-warning, when no pose is fresh there).  The control is :mod:`pluto_motion.motion_control`.
+(:class:`pluto_motion.pose_source.PoseSource`: Localization/Pose, stream 3 of the loc proxy; else
+Dead-Reckoning, stream 0; else the base odometry; each fall-back warned once).  The control is :mod:`pluto_motion.motion_control`.
 
 ``motion/command`` (Pluto 6.3):
 
@@ -32,7 +32,7 @@ rectangle set, 0 not in motion without, 1 scanning for new paths, 3 following a 
 investigate approaching, 12 circling.  A request on ``motion/status`` writing element[0] = 0 starts
 the thread and the avoid thread (start_activity), -10 stops the motion thread alone.
 
-Options: ``-m MAP`` (plan on this map; without it moveto is ray following), ``-s LASER``,
+Options: ``-m MAP`` (plan on this map; without it moveto is ray following), ``-s LASER``, ``-b BASE``,
 ``-v MAX_TV`` (m/s, 0.6), ``-w MAX_RV`` (rad/s, 1.0).
 """
 
@@ -44,17 +44,16 @@ import sys
 import time
 
 import numpy as np
-from pluto_nav.loc_proxy import LocProxy
-from pluto_nav.streams import DEAD_RECKONING, POSE
 from wurde_core import CommsManager, Logger
 from wurde_core.interfaces import ActuatorState, FVectorState, RangeFinder
 from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, set_loop
 from wurde_idl.errors import ConfigError
 
 from .motion_behaviours import AvoidRequest, MotionSettings
-from .motion_command import COMMAND, STATUS, THREAD_STOPPED, CommandRefused, parse_command
+from .motion_command import COMMAND, STATUS, THREAD_STOPPED, CommandRefused, MotionCommand, parse_command
 from .motion_control import MotionController
 from .planning_grid import PlanningGrid, grid_from_map_file
+from .pose_source import PoseSource
 from .ray_follow import ScanGeometry, scan_points
 
 __all__ = ['AVOID_COMMAND', 'AVOID_STATUS', 'MotionModule', 'main']
@@ -62,12 +61,11 @@ __all__ = ['AVOID_COMMAND', 'AVOID_STATUS', 'MotionModule', 'main']
 AVOID_COMMAND, AVOID_STATUS = 'avoidance/command', 'avoidance/status'
 LOOP_S = 0.05
 STATUS_PERIOD_S = 1.0
-#: A pose older than this (s) is not used.
-FRESH_S = 1.0
 #: Scans whose points the ray following and investigate decide on (the laser sees 180 degrees).
 RECENT_SCANS = 8
 HELP = ('  -m MAP       plan moveto on this map (config/maps format); without: ray following\n'
         '  -s LASER     the laser module (default PlutoLaser)\n'
+        '  -b BASE      the base, for its odometry when no localModule runs (default PlutoBase)\n'
         '  -v MAX_TV    linear speed of the avoid goto, m/s (0.6)\n'
         '  -w MAX_RV    angular speed of the avoid goto, rad/s (1.0)')
 
@@ -76,7 +74,7 @@ class MotionModule:
     """The motionModule's streams around a :class:`MotionController`."""
 
     def __init__(self, manager: CommsManager, logger: Logger, grid: PlanningGrid | None,
-                 settings: MotionSettings, *, laser: str) -> None:
+                 settings: MotionSettings, *, laser: str, base: str = 'PlutoBase') -> None:
         self.manager, self.logger = manager, logger
         self.control = MotionController(grid, settings, warn=self._warn)
         self.commands = ActuatorState(COMMAND)
@@ -89,10 +87,7 @@ class MotionModule:
             manager.register_supplier(obj)
         for obj in (self.avoid, self.avoid_status, self.laser):
             manager.register_consumer(obj)
-        self.loc = LocProxy(manager, (1 << DEAD_RECKONING) | (1 << POSE))
-        self.poses: dict[int, tuple[float, float, float]] = {}
-        self.heard: dict[int, float] = {}
-        self.warned_fallback = False
+        self.poses = PoseSource(manager, base, self._warn, user='moveto and explore steer')
         self.geometry: ScanGeometry | None = None
         self.recent: collections.deque = collections.deque(maxlen=RECENT_SCANS)
         self.avoid_data: list[float] = [0.0, 0.0]
@@ -105,22 +100,6 @@ class MotionModule:
         self.logger.warn(f'{self.manager.name}: {text}')
 
     # -- inputs ----------------------------------------------------------------------------------
-    def pose(self) -> tuple[float, float, float] | None:
-        """Localization/Pose when fresh, else Dead-Reckoning (one warning), else None."""
-        now = time.monotonic()
-        for n in (POSE, DEAD_RECKONING):
-            poses = self.loc.get_poses(n)
-            if poses:
-                self.poses[n], self.heard[n] = poses[-1].xytheta, now
-        if now - self.heard.get(POSE, -math.inf) <= FRESH_S:
-            return self.poses[POSE]
-        if now - self.heard.get(DEAD_RECKONING, -math.inf) <= FRESH_S:
-            if not self.warned_fallback:
-                self._warn('no fresh Localization/Pose: moving on Localization/Dead-Reckoning')
-                self.warned_fallback = True
-            return self.poses[DEAD_RECKONING]
-        return None
-
     def _take_laser(self, pose: tuple[float, float, float] | None) -> None:
         if self.laser.get_next_info():
             info = self.laser.info
@@ -142,7 +121,7 @@ class MotionModule:
                 self.refused += 1
                 self._warn(f'refused command ({self.refused} so far): {error}')
                 continue
-            self.logger.info(f'{self.manager.name}: cmdFlags {flags} accepted')
+            self._echo(command)
             for request in requests:
                 self._send(request)
         while self.status.get_next_request():
@@ -175,6 +154,13 @@ class MotionModule:
         req.force.set_value(list(request.force))
         self.avoid.publish_request()
 
+    def _echo(self, command: MotionCommand) -> None:
+        """The command accepted, on the data channel of ``motion/command`` (the proxy's handshake)."""
+        data = self.commands.data
+        data.cmd_flags = command.cmd_flags
+        data.position, data.velocity, data.force = list(command.position), list(command.velocity), list(command.force)
+        self.commands.publish_data()
+
     def _publish_status(self, now: float) -> None:
         element = (self.avoid_element + [0, 0])[:2] + [self.control.element2, self.control.element3]
         data = (self.avoid_data + [0.0, 0.0])[:2] + [float(self.refused)]
@@ -187,7 +173,7 @@ class MotionModule:
 
     def step(self) -> None:
         now = time.monotonic()
-        pose = self.pose()
+        pose = self.poses.pose()
         self._take_laser(pose)
         self._take_commands(pose)
         goto_state = self._take_avoid()
@@ -201,7 +187,7 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('motionModule')
     manager.set_help_string(HELP)
-    user = manager.parse_options(argv, 'm:s:v:w:').user
+    user = manager.parse_options(argv, 'm:s:b:v:w:').user
     grid = None
     try:
         settings = MotionSettings(max_tv=float(user.get('v', 0.6)), max_rv=float(user.get('w', 1.0)))
@@ -216,7 +202,8 @@ def main(argv: list[str] | None = None) -> int:
             return exit_on_config_error(argv[0], error)
     logger = Logger(manager.name)
     manager.register_supplier(logger)
-    module = MotionModule(manager, logger, grid, settings, laser=user.get('s', 'PlutoLaser'))
+    module = MotionModule(manager, logger, grid, settings, laser=user.get('s', 'PlutoLaser'),
+                          base=user.get('b', 'PlutoBase'))
     set_loop(manager, LOOP_S)
     logger.notice(f'{manager.name}: ' + (f'planning on {user["m"]} ({grid.shape[1]} x {grid.shape[0]} cells of '
                                          f'{grid.resolution} m)' if grid is not None else 'no map: ray following'))
