@@ -155,7 +155,7 @@ class MotionController:
                 self.reason = self.behaviour.reason
                 self.warn(f'moveto unreachable: {self.reason}')
             self.behaviour, self.motion_code, self.request = None, None, None
-            return [AvoidRequest(2, (pose[0], pose[1]), (0.0, 0.0), (1.0,))] if result.request is None else []
+            return [AvoidRequest(0, (), (0.0, 0.0))]                # stop: the behaviour is over
         if result.request is not None and result.request != self.request:
             self.request, self.sent_at, self.answered = result.request, now, False
             return [result.request]

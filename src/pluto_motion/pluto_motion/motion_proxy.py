@@ -58,7 +58,7 @@ class MotionProxy(ChainProxy):
         """Set the rectangle (home x, y, theta; Pluto 6.3's geometry); b = 0 removes it (cmdFlags 46)."""
         return self._send(46, [b, h], [x, y], [theta])
 
-    def command(self, cmd_flags: int, velocity: list[float] = (), position: list[float] = (),
+    def send(self, cmd_flags: int, velocity: list[float] = (), position: list[float] = (),
                 force: list[float] = ()) -> bool:
         """Any command; cmdFlags below 40 go on to the avoidModule (and stop a running motion)."""
         return self._send(cmd_flags, list(velocity), list(position), list(force))

@@ -39,8 +39,8 @@ def test_moveto_across_a_door_and_the_status_codes(ros_domain: int, tmp_path: pa
 
             # Refusals are counted (data[2]).
             before = m.refused
-            m.command(42, position=[math.nan, 1.0])
-            m.command(41)
+            m.send(42, position=[math.nan, 1.0])
+            m.send(41)
             c.until(lambda: m.refused == before + 2, 'NaN and 41 refused')
 
             # Corridor (start 3, 7.5) -> office2 (7.5, 3) through its 0.9 m door.
@@ -57,7 +57,7 @@ def test_moveto_across_a_door_and_the_status_codes(ros_domain: int, tmp_path: pa
 
             # Pass-through: a velocity command (cmdFlags 0) reaches the drive.
             c.until(lambda: m.velocities is not None and m.velocities[0] > 0.05, 'driven by a pass-through',
-                    every=lambda: m.command(0, velocity=[0.1, 0.0]), period=0.5)
+                    every=lambda: m.send(0, velocity=[0.1, 0.0]), period=0.5)
             m.stop()
 
             # Release: motion (and avoid) threads stop.
