@@ -21,6 +21,7 @@ setup(
     entry_points={'console_scripts': [
         'drive_module = pluto_motion.drive_module:main',
         'avoid_module = pluto_motion.avoid_module:main',
+        'motion_module = pluto_motion.motion_module:main',
         'drive_i = pluto_motion.drive_i:main',
         'synchro_mover = pluto_motion.synchro_mover:main',
         'laser_avoider = pluto_motion.laser_avoider:main',

@@ -1,0 +1,214 @@
+"""motion_module: Pluto's motionModule (Pluto 6.3), the top link of the movement chain (Pluto 4).
+
+It reads ``motion/command`` (ActuatorState requests) and writes ``avoidance/command`` requests,
+reading ``avoidance/status``, the laser (``-s LASER``, default PlutoLaser) and the pose
+(:class:`pluto_motion.pose_source.PoseSource`: Localization/Pose, stream 3 of the loc proxy; else
+Dead-Reckoning, stream 0; else the base odometry; each fall-back warned once).  The control is :mod:`pluto_motion.motion_control`.
+
+``motion/command`` (Pluto 6.3):
+
+======== ===================================================================================
+cmdFlags what
+======== ===================================================================================
+-1       release the robot: motion and avoid threads stop (element[3] = -10)
+0..39    passed to the avoidModule; a running motion stops (44 with no values or 45 resume it)
+42       moveto position x, y: with a map (``-m FILE``) planned and followed waypoint by waypoint
+         with the avoid goto (32), replanned when stuck; without one by ray following
+43       investigate: go to the closest object the laser sees, circle it (the arm step is logged
+         as unavailable)
+44       explore: rectangle b, h = velocity[0..1], home = the current pose; cover it, then moveto home
+45       start/resume explore/moveto/investigate
+46       set the rectangle: b, h = velocity[0..1], home x, y = position[0..1], theta = force[0];
+         b = 0 removes it.  Goals outside the rectangle are refused.
+======== ===================================================================================
+
+Anything else, or a value that is not finite, is refused, logged and counted (data[2]).
+
+``motion/status`` (FVectorState, on every change and once a second): data[0..1] and element[0..1]
+from ``avoidance/status``; data[2] (ours) the refused commands; element[2] -1 moveto point set, -2
+nearing it (simple goto now), 1 at goal, 2 investigate done, 3 (ours) the moveto goal is
+unreachable on the map, 0 otherwise; element[3] -10 thread stopped, -1 not in motion with a
+rectangle set, 0 not in motion without, 1 scanning for new paths, 3 following a path, 11
+investigate approaching, 12 circling.  A request on ``motion/status`` writing element[0] = 0 starts
+the thread and the avoid thread (start_activity), -10 stops the motion thread alone.
+
+Options: ``-m MAP`` (plan on this map; without it moveto is ray following), ``-s LASER``, ``-b BASE``,
+``-v MAX_TV`` (m/s, 0.6), ``-w MAX_RV`` (rad/s, 1.0).
+"""
+
+from __future__ import annotations
+
+import collections
+import math
+import sys
+import time
+
+import numpy as np
+from wurde_core import CommsManager, Logger
+from wurde_core.interfaces import ActuatorState, FVectorState, RangeFinder
+from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, set_loop
+from wurde_idl.errors import ConfigError
+
+from .motion_behaviours import AvoidRequest, MotionSettings
+from .motion_command import COMMAND, STATUS, THREAD_STOPPED, CommandRefused, MotionCommand, parse_command
+from .motion_control import MotionController
+from .planning_grid import PlanningGrid, grid_from_map_file
+from .pose_source import PoseSource
+from .ray_follow import ScanGeometry, scan_points
+
+__all__ = ['AVOID_COMMAND', 'AVOID_STATUS', 'MotionModule', 'main']
+
+AVOID_COMMAND, AVOID_STATUS = 'avoidance/command', 'avoidance/status'
+LOOP_S = 0.05
+STATUS_PERIOD_S = 1.0
+#: Scans whose points the ray following and investigate decide on (the laser sees 180 degrees).
+RECENT_SCANS = 8
+HELP = ('  -m MAP       plan moveto on this map (config/maps format); without: ray following\n'
+        '  -s LASER     the laser module (default PlutoLaser)\n'
+        '  -b BASE      the base, for its odometry when no localModule runs (default PlutoBase)\n'
+        '  -v MAX_TV    linear speed of the avoid goto, m/s (0.6)\n'
+        '  -w MAX_RV    angular speed of the avoid goto, rad/s (1.0)')
+
+
+class MotionModule:
+    """The motionModule's streams around a :class:`MotionController`."""
+
+    def __init__(self, manager: CommsManager, logger: Logger, grid: PlanningGrid | None,
+                 settings: MotionSettings, *, laser: str, base: str = 'PlutoBase') -> None:
+        self.manager, self.logger = manager, logger
+        self.control = MotionController(grid, settings, warn=self._warn)
+        self.commands = ActuatorState(COMMAND)
+        self.commands.set_queue_mode(True)
+        self.status = FVectorState(STATUS)
+        self.avoid = ActuatorState(AVOID_COMMAND)
+        self.avoid_status = FVectorState(AVOID_STATUS)
+        self.laser = RangeFinder(laser)
+        for obj in (self.commands, self.status):
+            manager.register_supplier(obj)
+        for obj in (self.avoid, self.avoid_status, self.laser):
+            manager.register_consumer(obj)
+        self.poses = PoseSource(manager, base, self._warn, user='moveto and explore steer')
+        self.geometry: ScanGeometry | None = None
+        self.recent: collections.deque = collections.deque(maxlen=RECENT_SCANS)
+        self.avoid_data: list[float] = [0.0, 0.0]
+        self.avoid_element: list[int] = [0, 0]
+        self.refused = 0
+        self.sent_status: tuple | None = None
+        self.status_at = -math.inf
+
+    def _warn(self, text: str) -> None:
+        self.logger.warn(f'{self.manager.name}: {text}')
+
+    # -- inputs ----------------------------------------------------------------------------------
+    def _take_laser(self, pose: tuple[float, float, float] | None) -> None:
+        if self.laser.get_next_info():
+            info = self.laser.info
+            self.geometry = ScanGeometry(float(info.theta_offset.get_value()), float(info.theta_separation.get_value()),
+                                         float(info.x_offset.get_value()), float(info.y_offset.get_value()),
+                                         float(info.max_range.get_value()))
+        if self.laser.get_next_data() and self.geometry is not None and pose is not None:
+            self.recent.append(scan_points(list(self.laser.data.ranges), pose, self.geometry))
+
+    def _take_commands(self, pose: tuple[float, float, float] | None) -> None:
+        while self.commands.get_next_request():
+            r = self.commands.requests
+            flags = int(r.cmd_flags.get_value())
+            try:
+                command = parse_command(flags, list(r.position.get_value()), list(r.velocity.get_value()),
+                                        list(r.force.get_value()))
+                requests = self.control.accept(command, pose)
+            except CommandRefused as error:
+                self.refused += 1
+                self._warn(f'refused command ({self.refused} so far): {error}')
+                continue
+            self._echo(command)
+            for request in requests:
+                self._send(request)
+        while self.status.get_next_request():
+            element = list(self.status.requests.element.get_value())
+            if element and element[0] == 0:
+                self.control.start()
+                self.avoid_status.requests.element.set_value([0])
+                self.avoid_status.publish_request()              # starting motion starts avoid
+                self.logger.notice(f'{self.manager.name}: start_activity')
+            elif element and element[0] == THREAD_STOPPED:
+                self.control.running = False                     # avoid goes on (Pluto 6.3)
+                self.control.behaviour = None
+                self.logger.notice(f'{self.manager.name}: thread stopped by request')
+
+    def _take_avoid(self) -> int | None:
+        state = None
+        while self.avoid_status.get_next_data():
+            self.avoid_data = list(self.avoid_status.data.data)[:2]
+            self.avoid_element = list(self.avoid_status.data.element)[:2]
+            if len(self.avoid_element) > 1:
+                state = self.avoid_element[1]
+        return state if state is not None else (self.avoid_element[1] if len(self.avoid_element) > 1 else None)
+
+    # -- outputs ---------------------------------------------------------------------------------
+    def _send(self, request: AvoidRequest) -> None:
+        req = self.avoid.requests
+        req.cmd_flags.set_value(request.cmd_flags)
+        req.position.set_value(list(request.position))
+        req.velocity.set_value(list(request.velocity))
+        req.force.set_value(list(request.force))
+        self.avoid.publish_request()
+
+    def _echo(self, command: MotionCommand) -> None:
+        """The command accepted, on the data channel of ``motion/command`` (the proxy's handshake)."""
+        data = self.commands.data
+        data.cmd_flags = command.cmd_flags
+        data.position, data.velocity, data.force = list(command.position), list(command.velocity), list(command.force)
+        self.commands.publish_data()
+
+    def _publish_status(self, now: float) -> None:
+        element = (self.avoid_element + [0, 0])[:2] + [self.control.element2, self.control.element3]
+        data = (self.avoid_data + [0.0, 0.0])[:2] + [float(self.refused)]
+        value = ([float(v) for v in data], [int(v) for v in element])
+        if value == self.sent_status and now - self.status_at < STATUS_PERIOD_S:
+            return
+        self.status.data.data, self.status.data.element = value
+        self.status.publish_data()
+        self.sent_status, self.status_at = value, now
+
+    def step(self) -> None:
+        now = time.monotonic()
+        pose = self.poses.pose()
+        self._take_laser(pose)
+        self._take_commands(pose)
+        goto_state = self._take_avoid()
+        points = np.vstack(list(self.recent)) if self.recent else np.zeros((0, 2))
+        for request in self.control.step(pose, points, goto_state, now):
+            self._send(request)
+        self._publish_status(now)
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv if argv is None else argv)
+    manager = CommsManager('motionModule')
+    manager.set_help_string(HELP)
+    user = manager.parse_options(argv, 'm:s:b:v:w:').user
+    grid = None
+    try:
+        settings = MotionSettings(max_tv=float(user.get('v', 0.6)), max_rv=float(user.get('w', 1.0)))
+    except ValueError as error:
+        print(f'motion_module: -v/-w: {error}', file=sys.stderr, flush=True)
+        return 2
+    if 'm' in user:
+        map_file = config_file(manager, user['m'], 'map.xml')
+        try:
+            grid = grid_from_map_file(map_file)
+        except ConfigError as error:
+            return exit_on_config_error(argv[0], error)
+    logger = Logger(manager.name)
+    manager.register_supplier(logger)
+    module = MotionModule(manager, logger, grid, settings, laser=user.get('s', 'PlutoLaser'),
+                          base=user.get('b', 'PlutoBase'))
+    set_loop(manager, LOOP_S)
+    logger.notice(f'{manager.name}: ' + (f'planning on {user["m"]} ({grid.shape[1]} x {grid.shape[0]} cells of '
+                                         f'{grid.resolution} m)' if grid is not None else 'no map: ray following'))
+    return run_loop(manager, module.step, lambda: None)
+
+
+if __name__ == '__main__':
+    sys.exit(main())

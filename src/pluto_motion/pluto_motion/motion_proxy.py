@@ -1,0 +1,129 @@
+"""MotionProxy: Pluto's motion proxy (Pluto 5) for WURDE programs, with a nav2_simple_commander-like
+``go_to`` on top.
+
+Verbs write ``motion/command`` (Pluto 6.3's cmdFlags: 42 moveto, 43 investigate, 44 explore, 45
+resume, 46 set the rectangle, -1 release; anything below 40 goes on to the avoidModule) or the
+status request that starts the threads; accessors read ``motion/status``.
+
+``go_to(x, y)`` sends a moveto and returns a :class:`pluto_motion.task.Task`: SUCCEEDED when
+element[2] = 1 (at goal), FAILED when it is 3 (unreachable on the map), when the motion thread
+stops, the command is refused or the deadline passes, CANCELED after ``cancel()`` (which stops
+the robot).  Only a status stamped after the motionModule's echo of this very moveto counts.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+from wurde_core import CommsManager
+
+from .chain_proxy import ChainProxy
+from .motion_command import AT_GOAL, COMMAND, STATUS, THREAD_STOPPED, UNREACHABLE
+from .task import Task, TaskResult
+
+__all__ = ['MotionProxy']
+
+#: Seconds between two sends of a moveto the motionModule has not echoed yet.
+RESEND_S = 1.0
+
+
+class MotionProxy(ChainProxy):
+    """The motionModule as seen from ``manager``: ``moveto_status`` is element[2], ``motion_status``
+    element[3], ``code`` and ``goto_status`` element[0..1] (the avoidModule's)."""
+
+    def __init__(self, manager: CommsManager, *, queue_mode: bool = False) -> None:
+        super().__init__(manager, COMMAND, STATUS, queue_mode=queue_mode)
+        self.echo: tuple[int, list[float], float] | None = None
+
+    # -- the seed's verbs ------------------------------------------------------------------------
+    def moveto(self, x: float, y: float) -> bool:
+        """Move to (``x``, ``y``) (m, Localization/Pose frame): planned on the module's map, or
+        ray following without one (cmdFlags 42)."""
+        return self._send(42, [], [x, y])
+
+    def investigate(self) -> bool:
+        """Go to the closest object and circle it (cmdFlags 43)."""
+        return self._send(43, [], [])
+
+    def explore(self, b: float, h: float) -> bool:
+        """Explore the rectangle b, h whose home is the current pose (cmdFlags 44)."""
+        return self._send(44, [b, h], [])
+
+    def resume(self) -> bool:
+        """Resume the stopped explore / moveto / investigate (cmdFlags 45)."""
+        return self._send(45, [], [])
+
+    def set_rectangle(self, b: float, h: float, x: float = 0.0, y: float = 0.0, theta: float = 0.0) -> bool:
+        """Set the rectangle (home x, y, theta; Pluto 6.3's geometry); b = 0 removes it (cmdFlags 46)."""
+        return self._send(46, [b, h], [x, y], [theta])
+
+    def send(self, cmd_flags: int, velocity: list[float] = (), position: list[float] = (),
+                force: list[float] = ()) -> bool:
+        """Any command; cmdFlags below 40 go on to the avoidModule (and stop a running motion)."""
+        return self._send(cmd_flags, list(velocity), list(position), list(force))
+
+    def stop(self) -> bool:
+        """Stop the robot (a velocity 0 through avoid): the motion stops and can be resumed."""
+        return self._send(0, [0.0, 0.0], [])
+
+    # -- status ----------------------------------------------------------------------------------
+    @property
+    def goto_status(self) -> int | None:
+        return self.element[1] if len(self.element) > 1 else None
+
+    @property
+    def moveto_status(self) -> int | None:
+        """element[2]: -1 moveto set, -2 nearing, 1 at goal, 2 investigate done, 3 unreachable, 0."""
+        return self.element[2] if len(self.element) > 2 else None
+
+    @property
+    def motion_status(self) -> int | None:
+        """element[3]: -10 stopped, -1 idle with rectangle, 0 idle, 1 scanning, 3 following, 11, 12."""
+        return self.element[3] if len(self.element) > 3 else None
+
+    @property
+    def refused(self) -> int:
+        """data[2] (ours): commands the motionModule refused so far."""
+        return int(self.data[2]) if len(self.data) > 2 else 0
+
+    def _take_echoes(self) -> None:
+        while self.command.get_next_data():
+            d = self.command.data
+            self.echo = (int(d.cmd_flags), [float(v) for v in d.position], d.timestamp.get_seconds())
+
+    # -- nav2-like layer -------------------------------------------------------------------------
+    def go_to(self, x: float, y: float, *, timeout: float | None = None) -> Task:
+        """Start a moveto and return its handle."""
+        refused = self.refused
+        state: dict[str, float | None] = {'sent': -math.inf, 'echoed': None}
+
+        def send() -> None:
+            self.moveto(x, y)
+            state['sent'] = time.monotonic()
+
+        def poll() -> tuple[TaskResult, str]:
+            self.spin_once(0.05)
+            self.update()
+            self._take_echoes()
+            if self.refused > refused:
+                return TaskResult.FAILED, 'moveto refused (see the motionModule log)'
+            if state['echoed'] is None:
+                e = self.echo
+                if e is not None and e[0] == 42 and len(e[1]) >= 2 and math.isclose(e[1][0], x, abs_tol=1e-4) \
+                        and math.isclose(e[1][1], y, abs_tol=1e-4):
+                    state['echoed'] = e[2]
+                elif time.monotonic() - state['sent'] > RESEND_S:       # type: ignore[operator]
+                    send()
+                return TaskResult.UNKNOWN, ''
+            if self.stamp < state['echoed']:                            # type: ignore[operator]
+                return TaskResult.UNKNOWN, ''
+            if self.motion_status == THREAD_STOPPED:
+                return TaskResult.FAILED, 'motion thread stopped'
+            return {AT_GOAL: (TaskResult.SUCCEEDED, ''),
+                    UNREACHABLE: (TaskResult.FAILED, 'unreachable')}.get(self.moveto_status, (TaskResult.UNKNOWN, ''))
+
+        self._take_echoes()
+        self.echo = None
+        send()
+        return Task(poll, self.stop, timeout=timeout)

@@ -1,0 +1,139 @@
+"""The motionModule's command parsing and control (pluto_motion.motion_command, .motion_control),
+pure: flags and refusals, the rectangle's geometry (Pluto 6.3's last paragraph), pass-through stops
+and resumes a motion, release, unreachable ends with element[2] = 3, a planned moveto steps through
+its waypoints to element[2] = 1, explore covers its rectangle and ends at home."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from pluto_motion.motion_behaviours import GOTO, MotionSettings, lawn_mower
+from pluto_motion.motion_command import (AT_GOAL, FOLLOWING, IDLE, IDLE_RECTANGLE, MOVETO_SET, NEARING,
+                                         THREAD_STOPPED, UNREACHABLE, CommandRefused, Kind, Rectangle,
+                                         parse_command)
+from pluto_motion.motion_control import MotionController
+from pluto_motion.planning_grid import build_grid
+
+ROOM = [(0, 0, 10, 0), (10, 0, 10, 8), (10, 8, 0, 8), (0, 8, 0, 0)]
+NO_POINTS = np.zeros((0, 2))
+
+
+@pytest.mark.parametrize('flags, position, velocity, force, kind', [
+    (-1, [], [], [], Kind.RELEASE), (0, [], [0.2, 0.0], [], Kind.PASS), (32, [1, 2], [0.5, 1], [1], Kind.PASS),
+    (42, [3, 4], [], [], Kind.MOVETO), (43, [], [], [], Kind.INVESTIGATE), (44, [], [2, 3], [], Kind.EXPLORE),
+    (44, [], [], [], Kind.RESUME), (45, [], [], [], Kind.RESUME), (46, [1, 1], [2, 3], [0.5], Kind.SET_RECTANGLE),
+    (46, [], [0, 0], [], Kind.SET_RECTANGLE)])
+def test_flags(flags, position, velocity, force, kind) -> None:
+    assert parse_command(flags, position, velocity, force).kind is kind
+
+
+@pytest.mark.parametrize('flags, position, velocity, force, why', [
+    (40, [], [], [], 'takes'), (41, [], [], [], 'takes'), (47, [], [], [], 'takes'), (-2, [], [], [], 'takes'),
+    (42, [1], [], [], 'needs position'), (42, [math.nan, 1], [], [], 'not finite'),
+    (0, [], [math.inf, 0], [], 'not finite'), (46, [1, 1], [2, 3], [], 'needs force'),
+    (46, [1, 1], [-2, 3], [0], 'b must be'), (44, [], [2, -1], [], 'positive')])
+def test_refusals(flags, position, velocity, force, why) -> None:
+    with pytest.raises(CommandRefused, match=why):
+        parse_command(flags, position, velocity, force)
+
+
+def test_rectangle_geometry_as_the_seed_says() -> None:
+    """Home (2, 1) facing north (theta pi/2), b = 1.5, h = 4: base from x 0.5 to 3.5 at y 1,
+    the far side at y 5."""
+    r = Rectangle(1.5, 4.0, 2.0, 1.0, math.pi / 2)
+    assert r.contains(2.0, 3.0) and r.contains(0.5, 1.0) and r.contains(3.5, 5.0)
+    assert not r.contains(2.0, 0.9) and not r.contains(3.6, 3.0) and not r.contains(2.0, 5.1)
+    assert np.allclose(sorted(r.corners()), sorted([(0.5, 1), (3.5, 1), (3.5, 5), (0.5, 5)]))
+    points = lawn_mower(r, 2.0, 0.5)
+    assert all(r.contains(*p) for p in points)
+    assert len(points) == 4 and points[0][1] == pytest.approx(2.0) and points[2][1] == pytest.approx(4.0)
+
+
+def _controller(grid=None) -> tuple[MotionController, list[str]]:
+    warnings: list[str] = []
+    return MotionController(grid, MotionSettings(), warn=warnings.append), warnings
+
+
+def test_rectangle_pass_through_release_and_refusals() -> None:
+    c, _ = _controller()
+    pose = (5.0, 4.0, 0.0)
+    assert c.element3 == IDLE
+    assert c.accept(parse_command(46, [5, 1], [2, 4], [math.pi / 2]), pose) == []
+    assert c.element3 == IDLE_RECTANGLE
+    with pytest.raises(CommandRefused, match='outside the rectangle'):
+        c.accept(parse_command(42, [9, 4], [], []), pose)
+    c.accept(parse_command(46, [], [0, 0], []), pose)
+    assert c.element3 == IDLE and c.rectangle is None
+    (request,) = c.accept(parse_command(10, [], [0.3, 0.1], []), pose)
+    assert (request.cmd_flags, request.velocity) == (10, (0.3, 0.1))
+    (request,) = c.accept(parse_command(-1, [], [], []), pose)
+    assert request.cmd_flags == -1 and c.element3 == THREAD_STOPPED
+    with pytest.raises(CommandRefused, match='thread stopped'):
+        c.accept(parse_command(0, [], [0, 0], []), pose)
+    c.start()
+    assert c.element3 == IDLE
+
+
+def test_unreachable_moveto_ends_with_3_and_no_wander() -> None:
+    walls = ROOM + [(5, 0, 5, 8)]                       # two closed halves
+    c, warnings = _controller(build_grid(walls, bounds=(0, 0, 10, 8)))
+    c.accept(parse_command(42, [8, 4], [], []), (2.0, 4.0, 0.0))
+    requests = c.step((2.0, 4.0, 0.0), NO_POINTS, None, 0.0)
+    assert c.element2 == UNREACHABLE and c.element3 == IDLE and c.behaviour is None
+    assert all(r.cmd_flags != GOTO for r in requests)
+    assert 'not connected' in c.reason and any('unreachable' in w for w in warnings)
+
+
+def test_planned_moveto_goes_waypoint_by_waypoint_and_resumes_after_a_stop() -> None:
+    c, _ = _controller(build_grid(ROOM + [(5, 0, 5, 6)], bounds=(0, 0, 10, 8)))
+    pose = (2.0, 2.0, 0.0)
+    c.accept(parse_command(42, [8, 2], [], []), pose)
+    assert c.step(pose, NO_POINTS, None, 0.0) == [] and c.element2 == MOVETO_SET      # planned
+    (first,) = c.step(pose, NO_POINTS, None, 0.1)
+    assert first.cmd_flags == GOTO and first.position[1] > 6.0 and c.element3 == FOLLOWING
+    # A pass-through stops it; 45 resumes from where the robot is.
+    c.accept(parse_command(0, [], [0, 0], []), pose)
+    assert c.behaviour is None and c.element3 == IDLE
+    c.accept(parse_command(45, [], [], []), pose)
+    t, seen = 1.0, [first.position]
+    for _ in range(20):                                 # a robot that jumps to each goto point
+        for r in c.step(pose, NO_POINTS, None, t):
+            if r.cmd_flags == GOTO:
+                seen.append(r.position)
+                pose = (r.position[0], r.position[1], 0.0)
+        t += 1.0
+        if c.behaviour is None:
+            break
+    assert c.element2 == AT_GOAL and seen[-1] == (8.0, 2.0)
+    assert len(seen) >= 3
+
+
+def test_nearing_on_the_last_waypoint() -> None:
+    c, _ = _controller(build_grid(ROOM, bounds=(0, 0, 10, 8)))
+    c.accept(parse_command(42, [8, 4], [], []), (2.0, 4.0, 0.0))
+    c.step((2.0, 4.0, 0.0), NO_POINTS, None, 0.0)
+    (request,) = c.step((2.0, 4.0, 0.0), NO_POINTS, None, 0.1)
+    assert request.position == (8.0, 4.0) and c.element2 == NEARING
+
+
+def test_explore_covers_the_rectangle_and_returns_home() -> None:
+    c, _ = _controller(build_grid(ROOM, bounds=(0, 0, 10, 8)))
+    pose = (5.0, 1.0, math.pi / 2)
+    c.accept(parse_command(44, [], [2.0, 4.0], []), pose)
+    assert c.rectangle == Rectangle(2.0, 4.0, 5.0, 1.0, math.pi / 2)
+    visited, t = [], 0.0
+    for _ in range(200):
+        for r in c.step(pose, NO_POINTS, None, t):
+            if r.cmd_flags == GOTO:
+                pose = (r.position[0], r.position[1], pose[2])
+                visited.append(r.position)
+        t += 1.0
+        if c.behaviour is None:
+            break
+    assert c.behaviour is None and c.element2 == AT_GOAL and c.element3 == IDLE_RECTANGLE
+    assert math.dist(visited[-1], (5.0, 1.0)) < 1e-9
+    assert all(c.rectangle.contains(*p) for p in visited)
+    assert max(p[1] for p in visited) == pytest.approx(4.0)   # up to the second lane (u = 3)

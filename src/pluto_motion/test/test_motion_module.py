@@ -1,0 +1,67 @@
+"""motionModule with the whole simulated Pluto on the office map (config/pluto: noise, localModule,
+poseModule, drive, avoid), all real processes, driven through MotionProxy: a rectangle set shows
+element[3] = -1, an unreachable goal ends with element[2] = 3, a moveto from the corridor into a
+room reaches the goal without the simulator's truth ever closer to a wall than the robot's radius,
+a velocity command passes through to avoid, NaN and unknown flags are refused and counted, and a
+release stops the thread (-10)."""
+
+from __future__ import annotations
+
+import math
+import pathlib
+
+from motion_fixture import RADIUS, Commander, pluto, pluto_config
+
+from pluto_motion.task import TaskResult
+
+OFFICE = pathlib.Path(__file__).resolve().parents[3] / 'config' / 'maps' / 'office.xml'
+
+
+def test_moveto_across_a_door_and_the_status_codes(ros_domain: int, tmp_path: pathlib.Path) -> None:
+    directory = pluto_config(tmp_path, OFFICE)
+    c = Commander(OFFICE)
+    m = c.motion
+    try:
+        with pluto(directory, '-m', 'map.xml') as processes:
+            c.children = processes
+            c.until(lambda: m.motion_status is not None and len(c.truths) > 0, 'motion status and truth', timeout=120)
+            c.until(lambda: m.goto_status not in (None, -10), 'the avoid thread runs', every=m.start_activity)
+
+            # The rectangle: set -> -1; removed -> 0 (Pluto 6.3).
+            c.until(lambda: m.motion_status == -1, 'rectangle set', every=lambda: m.set_rectangle(9.0, 8.0, 10.0, 7.5, -math.pi / 2))
+            c.until(lambda: m.motion_status == 0, 'rectangle removed', every=lambda: m.set_rectangle(0.0, 0.0))
+
+            # Unreachable: inside the lab's off-limits work cell.
+            task = m.go_to(14.0, 3.5, timeout=60)
+            c.until(task.is_task_complete, 'unreachable moveto ends')
+            assert task.result() is TaskResult.FAILED and m.moveto_status == 3
+            assert 'unreachable' in processes['motion'].stderr
+
+            # Refusals are counted (data[2]).
+            before = m.refused
+            m.send(42, position=[math.nan, 1.0])
+            m.send(41)
+            c.until(lambda: m.refused == before + 2, 'NaN and 41 refused')
+
+            # Corridor (start 3, 7.5) -> office2 (7.5, 3) through its 0.9 m door.
+            start = len(c.truths)
+            task = m.go_to(7.5, 3.0, timeout=240)
+            c.until(task.is_task_complete, 'moveto office2', timeout=260)
+            assert task.result() is TaskResult.SUCCEEDED, (task.reason, m.element)
+            assert math.dist(c.truths[-1][:2], (7.5, 3.0)) < 0.4
+            assert c.closest_to_walls(start) >= RADIUS
+            codes = {tuple(s.element[2:4]) for s in c.statuses}
+            assert (-1, 3) in codes or (-1, 1) in codes                  # moveto set, following
+            assert any(s.element[2] == -2 for s in c.statuses)           # nearing: the simple goto
+            assert not any(s.element[0] in (1, 2) for s in c.statuses)   # no bumper
+
+            # Pass-through: a velocity command (cmdFlags 0) reaches the drive.
+            c.until(lambda: m.velocities is not None and m.velocities[0] > 0.05, 'driven by a pass-through',
+                    every=lambda: m.send(0, velocity=[0.1, 0.0]), period=0.5)
+            m.stop()
+
+            # Release: motion (and avoid) threads stop.
+            c.until(lambda: m.motion_status == -10, 'released', every=m.release_robot)
+            c.until(lambda: m.goto_status == -10, 'avoid released too')
+    finally:
+        c.close()
