@@ -52,6 +52,7 @@ from .chain_link import ChainLink
 from .drive_command import COMMAND, STATUS, DriveCommand, Mode, parse_command
 from .drive_control import DriveController, DriveSettings
 from .heading_source import HeadingSource
+from .sonar_guard import ring_layout
 
 __all__ = ['COMMAND', 'STATUS', 'DriveModule', 'main']
 
@@ -88,6 +89,9 @@ class DriveModule:
             manager.register_consumer(obj)
         self.heading = HeadingSource(manager, base, lambda text: logger.warn(f'{manager.name}: {text}'))
         self.ranges: list[float] | None = None
+        #: The sonar ring's uniform layout (first bearing, step, first x, y, half angle), when its
+        #: info gives no sensor positions.
+        self.uniform: tuple[float, float, float, float, float] | None = None
         self.ranges_at = -math.inf
         self.last_step = time.monotonic()
         self.base_stopped = False
@@ -110,14 +114,19 @@ class DriveModule:
         while self.sonar.get_next_info():
             info = self.sonar.info
             positions = list(info.sensor_positions.get_value())
+            half_angle = float(info.half_angle.get_value())
             if positions:
-                bearings = [float(p.theta()) for p in positions]
-            else:
-                first, step = float(info.theta_offset.get_value()), float(info.theta_separation.get_value())
-                bearings = [first + i * step for i in range(int(info.range_count.get_value()))]
-            self.control.guard.set_bearings(bearings)
+                self.control.guard.set_layout([(float(p.x()), float(p.y()), float(p.theta())) for p in positions],
+                                              half_angle)
+                self.uniform = None
+            else:       # a uniform ring: laid out when a reading tells how many sensors there are
+                self.uniform = (float(info.theta_offset.get_value()), float(info.theta_separation.get_value()),
+                                float(info.x_offset.get_value()), float(info.y_offset.get_value()), half_angle)
         if self.sonar.get_next_data():
             self.ranges, self.ranges_at = [float(r) for r in self.sonar.data.ranges], now
+            if self.uniform is not None and len(self.control.guard.sensors) != len(self.ranges):
+                first, step, x0, y0, half_angle = self.uniform
+                self.control.guard.set_layout(ring_layout(len(self.ranges), first, step, x0, y0), half_angle)
 
     # -- outputs ---------------------------------------------------------------------------------
     def _write_base(self, tv: float, rv: float) -> None:

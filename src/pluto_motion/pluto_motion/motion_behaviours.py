@@ -3,8 +3,12 @@ following without one), investigate and explore.  Each is stepped with what the 
 (:class:`Situation`) and answers with a :class:`Step`: the avoid request to have in force (the
 module sends it when it changes) and the status codes element[2], element[3].
 
-The avoid goto (cmdFlags 32: laser and sonar avoidance, Pluto 6.2) reaches each point; a point
-counts as reached when the avoidModule reports element[1] = 1 for it, or when the pose is within
+A planned moveto follows its path with the avoidModule's regulator and laser protection
+(:mod:`pluto_motion.path_follow`) and ends with the simple avoid goto on the last
+:attr:`MotionSettings.near` metres (element[2] = -2, Pluto 6.3: "nearing moveto point (now using
+simple goto)"); when it stops getting nearer it replans round what the laser sees.  Elsewhere the
+avoid goto (cmdFlags 32: laser and sonar avoidance, Pluto 6.2) reaches each point; a point counts
+as reached when the avoidModule reports element[1] = 1 for it, or when the pose is within
 :attr:`MotionSettings.reach` of it; stuck (element[1] = 2) makes moveto replan and investigate or
 explore skip the point.
 """
@@ -17,9 +21,11 @@ import math
 from collections.abc import Callable, Sequence
 
 import numpy as np
+from scipy.spatial import cKDTree
 from numpy.typing import NDArray
 
 from .grid_planner import Planner
+from .path_follow import FollowSettings, PathFollower, Progress
 from .motion_command import (APPROACHING, AT_GOAL, CIRCLING, FOLLOWING, INVESTIGATE_DONE, MOVETO_SET, NEARING,
                              SCANNING, UNREACHABLE, Rectangle)
 from .ray_follow import Action, RaySettings, decide
@@ -28,8 +34,10 @@ __all__ = ['AvoidRequest', 'Explore', 'Investigate', 'MotionSettings', 'Moveto',
 
 log = logging.getLogger(__name__)
 
-#: avoidance/command: goto with laser and sonar avoidance; regulator with laser protection.
+#: avoidance/command: goto with laser and sonar avoidance; regulator with laser protection (turning
+#: on the spot, and following a planned path: :mod:`pluto_motion.path_follow`).
 GOTO, TURN = 32, 21
+FOLLOW = TURN
 #: element[1] of avoidance/status (Pluto 6.2).
 GOTO_REACHED, GOTO_STUCK, GOTO_NORMAL = 1, 2, -1
 
@@ -42,6 +50,7 @@ class MotionSettings:
     max_rv: float = 1.0
     force: float = 2.0             # goal strength of the avoid goto along a planned path (> 1: weaker avoidance)
     reach: float = 0.25            # a point within this counts as reached
+    near: float = 0.8              # a planned path this short is ended by the simple goto
     replans: int = 6               # stuck this often towards one goal: unreachable
     investigate_distance: float = 1.0   # from the object's edge to the robot's centre while circling
     circle_points: int = 8
@@ -99,6 +108,11 @@ class Moveto:
         self.goal = (float(goal[0]), float(goal[1]))
         self.planner, self.settings, self.rays = planner, settings, rays
         self.waypoints: list[tuple[float, float]] | None = None
+        self.follow = FollowSettings()
+        self.follower: PathFollower | None = None
+        self.progress = Progress(self.follow)
+        #: On the last stretch: the simple goto to the goal (element[2] = -2).
+        self.near = False
         self.stuck = 0
         self.ray: float | None = None
         self.request: AvoidRequest | None = None
@@ -109,33 +123,44 @@ class Moveto:
     def resume(self) -> None:
         """Start again from wherever the robot is (a stop, or driven elsewhere, in between)."""
         self.waypoints, self.ray, self.turning, self.request = None, None, None, None
+        self.follower, self.near = None, False
 
     def step(self, s: Situation) -> Step:
         return self._planned(s) if self.planner is not None else self._rays(s)
 
     def _planned(self, s: Situation) -> Step:
         assert self.planner is not None
-        if self.waypoints is None or (s.goto == GOTO_STUCK and self.request is not None):
-            if self.waypoints is not None:
+        follower = self.follower
+        stuck = follower is not None and (
+            s.goto == GOTO_STUCK and self.request is not None and self.request.cmd_flags == GOTO
+            or self.progress.stuck(math.dist(s.pose[:2], self.goal) if self.near else follower.remaining(s.pose),
+                                   s.now))
+        if follower is None or stuck:
+            planner = self.planner
+            if stuck:
                 self.stuck += 1
-                log.info('moveto stuck (%d): replanning from %s', self.stuck, s.pose[:2])
-            plan = self.planner.plan(s.pose[:2], self.goal)
+                log.info('moveto stuck (%d): replanning from %s round what the laser sees', self.stuck, s.pose[:2])
+                planner = _avoiding(self.planner, s.points)
+            plan = planner.plan(s.pose[:2], self.goal)
             if not plan.reachable or self.stuck > self.settings.replans:
                 self.reason = plan.reason or f'stuck {self.stuck} times'
                 return Step(None, UNREACHABLE, SCANNING, done=True)
+            self.follower = PathFollower(s.pose[:2], plan.waypoints, self.follow)
+            self.progress, self.near, self.request = Progress(self.follow), False, None
             self.waypoints = list(plan.waypoints)
-            self.request = None
             return Step(None, MOVETO_SET, SCANNING)
-        while self.waypoints and self.request is not None and _reached(s, self.waypoints[0], self.settings.reach) \
-                and (len(self.waypoints) > 1 or s.goto == GOTO_REACHED or math.dist(s.pose[:2], self.goal) <= self.settings.reach):
-            self.waypoints.pop(0)
-            self.request = None
-            s = dataclasses.replace(s, goto=None)
-        if not self.waypoints:
+        distance = math.dist(s.pose[:2], self.goal)
+        if self.near and (s.goto == GOTO_REACHED and self.request is not None and self.request.cmd_flags == GOTO
+                          or distance <= self.settings.reach):
             return Step(None, AT_GOAL, FOLLOWING, done=True)
-        force = self.settings.force if len(self.waypoints) > 1 else 1.0
-        self.request = goto(self.waypoints[0], self.settings, force)
-        return Step(self.request, NEARING if len(self.waypoints) == 1 else MOVETO_SET, FOLLOWING)
+        if not self.near and follower.remaining(s.pose) <= self.settings.near:
+            self.near, self.progress = True, Progress(self.follow)      # the simple goto now
+        if self.near:
+            self.request = goto(self.goal, self.settings)
+            return Step(self.request, NEARING, FOLLOWING)
+        heading, speed = follower.command(s.pose, self.settings.max_tv)
+        self.request = AvoidRequest(FOLLOW, (0.0, heading), (speed,))
+        return Step(self.request, MOVETO_SET, FOLLOWING)
 
     def _rays(self, s: Situation) -> Step:
         if self.turning is not None:
@@ -155,6 +180,21 @@ class Moveto:
                 or math.dist(self.request.position, d.target) > 0.3:
             self.request = goto(d.target, self.settings)
         return Step(self.request, NEARING if d.nearing else MOVETO_SET, d.status)
+
+
+def _avoiding(planner: Planner, points: NDArray) -> Planner:
+    """A planner on ``planner``'s grid with the cells near the scan ``points`` (world frame) blocked
+    too, inflated as the map's walls are: what stopped the robot is planned round."""
+    if len(points) == 0:
+        return planner
+    tree = cKDTree(points)
+    inflation = planner.grid.settings.inflation
+
+    def free(x: NDArray, y: NDArray) -> NDArray:
+        distance, _ = tree.query(np.column_stack((x.ravel(), y.ravel())), distance_upper_bound=inflation)
+        return (distance > inflation).reshape(x.shape)
+
+    return Planner(planner.grid.restricted(free), planner.settings)
 
 
 def closest_object(points: NDArray, pose: Sequence[float], gap: float = 0.3) -> tuple[NDArray, float] | None:

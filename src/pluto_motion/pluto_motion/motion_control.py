@@ -22,7 +22,7 @@ from collections.abc import Callable
 from .grid_planner import Planner
 from .motion_behaviours import (GOTO_NORMAL, AvoidRequest, Explore, Investigate, MotionSettings, Moveto,
                                 Situation, Step)
-from .motion_command import (IDLE, IDLE_RECTANGLE, NO_MOVETO, THREAD_STOPPED, CommandRefused, Kind,
+from .motion_command import (IDLE, IDLE_RECTANGLE, MOVETO_SET, NO_MOVETO, THREAD_STOPPED, CommandRefused, Kind,
                              MotionCommand, Rectangle)
 from .planning_grid import PlanningGrid
 from .ray_follow import RaySettings
@@ -114,16 +114,21 @@ class MotionController:
             if not self._inside(*goal):
                 raise CommandRefused(f'moveto ({goal[0]:.2f}, {goal[1]:.2f}) is outside the rectangle')
             self._begin(self.moveto(goal))
+            # "element[2]=-1 if moveto point set (cmdFlags 42 received)" (Pluto 6.3): at once, so
+            # that no status after the command still shows the last moveto's end.
+            self.element2 = MOVETO_SET
             return []
         if pose is None:
             raise CommandRefused(f'cmdFlags {command.cmd_flags}: no pose yet')
         if kind is Kind.INVESTIGATE:
             self._begin(Investigate(self.settings, self._inside, self.warn))
+            self.element2 = NO_MOVETO
             return []
         assert kind is Kind.EXPLORE and command.rectangle is not None
         self.rectangle = dataclasses.replace(command.rectangle, x=pose[0], y=pose[1], theta=pose[2])
         self._planner = None
         self._begin(Explore(self.rectangle, self.moveto, self.settings))
+        self.element2 = NO_MOVETO
         return []
 
     def _begin(self, behaviour: Behaviour) -> None:

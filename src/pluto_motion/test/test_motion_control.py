@@ -1,7 +1,7 @@
 """The motionModule's command parsing and control (pluto_motion.motion_command, .motion_control),
 pure: flags and refusals, the rectangle's geometry (Pluto 6.3's last paragraph), pass-through stops
 and resumes a motion, release, unreachable ends with element[2] = 3, a planned moveto steps through
-its waypoints to element[2] = 1, explore covers its rectangle and ends at home."""
+its plan to element[2] = 1 (on an ideal robot), explore covers its rectangle and ends at home."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from pluto_motion.motion_behaviours import GOTO, MotionSettings, lawn_mower
+from pluto_motion.motion_behaviours import FOLLOW, GOTO, MotionSettings, lawn_mower
 from pluto_motion.motion_command import (AT_GOAL, FOLLOWING, IDLE, IDLE_RECTANGLE, MOVETO_SET, NEARING,
                                          THREAD_STOPPED, UNREACHABLE, CommandRefused, Kind, Rectangle,
                                          parse_command)
@@ -87,36 +87,61 @@ def test_unreachable_moveto_ends_with_3_and_no_wander() -> None:
     assert 'not connected' in c.reason and any('unreachable' in w for w in warnings)
 
 
-def test_planned_moveto_goes_waypoint_by_waypoint_and_resumes_after_a_stop() -> None:
-    c, _ = _controller(build_grid(ROOM + [(5, 0, 5, 6)], bounds=(0, 0, 10, 8)))
+def drive(c: MotionController, pose: tuple[float, float, float], t: float, steps: int = 3000,
+          dt: float = 0.1) -> tuple[tuple[float, float, float], float, list, list]:
+    """An ideal robot under the controller: the regulator (FOLLOW) turns at once to its heading and
+    drives its speed; a goto drives straight to its point at 0.5 m/s.  Returns the last pose and
+    time, the poses driven and every request."""
+    current, path, requests = None, [pose], []
+    for _ in range(steps):
+        for r in c.step(pose, NO_POINTS, None, t):
+            current = r
+            requests.append(r)
+        if current is not None and current.cmd_flags == FOLLOW:
+            heading, speed = current.position[1], current.velocity[0]
+            pose = (pose[0] + speed * dt * math.cos(heading), pose[1] + speed * dt * math.sin(heading), heading)
+        elif current is not None and current.cmd_flags == GOTO:
+            gx, gy = current.position
+            d = math.dist(pose[:2], (gx, gy))
+            k = min(1.0, 0.5 * dt / d) if d > 0 else 0.0
+            pose = (pose[0] + k * (gx - pose[0]), pose[1] + k * (gy - pose[1]), math.atan2(gy - pose[1], gx - pose[0]))
+        path.append(pose)
+        t += dt
+        if c.behaviour is None:
+            break
+    return pose, t, path, requests
+
+
+def test_planned_moveto_follows_the_plan_and_resumes_after_a_stop() -> None:
+    grid = build_grid(ROOM + [(5, 0, 5, 6)], bounds=(0, 0, 10, 8))
+    c, _ = _controller(grid)
     pose = (2.0, 2.0, 0.0)
     c.accept(parse_command(42, [8, 2], [], []), pose)
     assert c.step(pose, NO_POINTS, None, 0.0) == [] and c.element2 == MOVETO_SET      # planned
     (first,) = c.step(pose, NO_POINTS, None, 0.1)
-    assert first.cmd_flags == GOTO and first.position[1] > 6.0 and c.element3 == FOLLOWING
+    # The regulator towards the gap above the wall (north-east), turning on the spot first.
+    assert first.cmd_flags == FOLLOW and 0.0 < first.position[1] < math.pi / 2 and c.element3 == FOLLOWING
+    assert first.velocity == (0.0,)
     # A pass-through stops it; 45 resumes from where the robot is.
     c.accept(parse_command(0, [], [0, 0], []), pose)
     assert c.behaviour is None and c.element3 == IDLE
     c.accept(parse_command(45, [], [], []), pose)
-    t, seen = 1.0, [first.position]
-    for _ in range(20):                                 # a robot that jumps to each goto point
-        for r in c.step(pose, NO_POINTS, None, t):
-            if r.cmd_flags == GOTO:
-                seen.append(r.position)
-                pose = (r.position[0], r.position[1], 0.0)
-        t += 1.0
-        if c.behaviour is None:
-            break
-    assert c.element2 == AT_GOAL and seen[-1] == (8.0, 2.0)
-    assert len(seen) >= 3
+    pose, _, path, requests = drive(c, pose, 1.0)
+    assert c.element2 == AT_GOAL and math.dist(pose[:2], (8.0, 2.0)) <= MotionSettings().reach
+    assert all(grid.free_at(x, y) for x, y, _ in path)          # never into the inflated walls
+    moving = [r for r in requests if r.cmd_flags != 0]            # the end is a stop (cmdFlags 0)
+    assert moving[-1].cmd_flags == GOTO and moving[-1].position == (8.0, 2.0)   # the simple goto last
+    assert requests[-1].cmd_flags == 0
 
 
-def test_nearing_on_the_last_waypoint() -> None:
+def test_nearing_on_the_last_stretch() -> None:
     c, _ = _controller(build_grid(ROOM, bounds=(0, 0, 10, 8)))
     c.accept(parse_command(42, [8, 4], [], []), (2.0, 4.0, 0.0))
     c.step((2.0, 4.0, 0.0), NO_POINTS, None, 0.0)
     (request,) = c.step((2.0, 4.0, 0.0), NO_POINTS, None, 0.1)
-    assert request.position == (8.0, 4.0) and c.element2 == NEARING
+    assert request.cmd_flags == FOLLOW and c.element2 == MOVETO_SET
+    (request,) = c.step((7.5, 4.0, 0.0), NO_POINTS, None, 0.2)
+    assert request.cmd_flags == GOTO and request.position == (8.0, 4.0) and c.element2 == NEARING
 
 
 def test_explore_covers_the_rectangle_and_returns_home() -> None:
@@ -124,16 +149,9 @@ def test_explore_covers_the_rectangle_and_returns_home() -> None:
     pose = (5.0, 1.0, math.pi / 2)
     c.accept(parse_command(44, [], [2.0, 4.0], []), pose)
     assert c.rectangle == Rectangle(2.0, 4.0, 5.0, 1.0, math.pi / 2)
-    visited, t = [], 0.0
-    for _ in range(200):
-        for r in c.step(pose, NO_POINTS, None, t):
-            if r.cmd_flags == GOTO:
-                pose = (r.position[0], r.position[1], pose[2])
-                visited.append(r.position)
-        t += 1.0
-        if c.behaviour is None:
-            break
+    pose, _, path, _ = drive(c, pose, 0.0, steps=20000)
+    visited = [p[:2] for p in path]
     assert c.behaviour is None and c.element2 == AT_GOAL and c.element3 == IDLE_RECTANGLE
-    assert math.dist(visited[-1], (5.0, 1.0)) < 1e-9
+    assert math.dist(visited[-1], (5.0, 1.0)) <= MotionSettings().reach
     assert all(c.rectangle.contains(*p) for p in visited)
-    assert max(p[1] for p in visited) == pytest.approx(4.0)   # up to the second lane (u = 3)
+    assert max(p[1] for p in visited) == pytest.approx(4.0, abs=MotionSettings().reach)   # up to the second lane
