@@ -23,6 +23,8 @@ setup(
         'avoid_module = pluto_motion.avoid_module:main',
         'motion_module = pluto_motion.motion_module:main',
         'drive_i = pluto_motion.drive_i:main',
+        'avoid_i = pluto_motion.avoid_i:main',
+        'motion_i = pluto_motion.motion_i:main',
         'synchro_mover = pluto_motion.synchro_mover:main',
         'laser_avoider = pluto_motion.laser_avoider:main',
         # The guide's program names, so that its configurations run as printed (1.1.5, 10.1.1).

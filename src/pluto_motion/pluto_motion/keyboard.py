@@ -8,10 +8,12 @@ restored on exit, also after an exception.  Arrow keys arrive as escape sequence
 
 from __future__ import annotations
 
+import contextlib
 import os
 import select
 import termios
 import tty
+from collections.abc import Iterator
 from typing import IO
 
 __all__ = ['Keyboard', 'decode']
@@ -52,6 +54,18 @@ class Keyboard:
         if self._saved is not None:
             termios.tcsetattr(self.fd, termios.TCSADRAIN, self._saved)
             self._saved = None
+
+    @contextlib.contextmanager
+    def cooked(self) -> Iterator[None]:
+        """The terminal as it was (lines, echo) for the block: a program asking for numbers."""
+        if self._saved is None:
+            yield
+            return
+        termios.tcsetattr(self.fd, termios.TCSADRAIN, self._saved)
+        try:
+            yield
+        finally:
+            tty.setcbreak(self.fd)
 
     def keys(self, timeout: float) -> list[str]:
         """The keys typed, waiting at most ``timeout`` s for the first one."""

@@ -1,0 +1,148 @@
+"""What Pluto's keyboard programs share (Pluto 5: "each module has a simple user interface that
+allows control from the keyboard ... xxx_i"): ``drive_i``, ``avoid_i`` and ``motion_i``.
+
+Arrow keys change the speed: up/down by 0.1 m/s, left/right by 0.1 rad/s.  Each press starts from the
+link's status data[0..1], the velocities really commanded, not from the last command sent: "By first
+reading the status the interface knows the working command value" (Pluto 6.1) — after a timeout or
+a stop a press continues from standstill.  The programs do not repeat commands, so the drive's
+timeout stops a robot whose keyboard has gone quiet, as the seed intends.  Space stops, ``a``
+starts the threads (start_activity), ``r`` releases the robot (cmdFlags -1), ``q`` stops and quits;
+each program adds its link's own commands, some of which ask for numbers on a line of their own.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable
+from typing import IO, Any
+
+from wurde_core import CommsManager, Logger, RunState
+from wurde_core.module_loop import run_loop, set_loop
+
+from .keyboard import Keyboard
+
+__all__ = ['KeyProgram', 'run_program']
+
+STEP_TV, STEP_RV = 0.1, 0.1
+MAX_TV, MAX_RV = 1.0, 1.5
+LOOP_S = 0.05
+#: element[0] of every link's status (Pluto 6.1, 6.2).
+CODES = {0: 'normal', -1: 'timeout', -10: 'thread stopped', 1: 'front bumper', 2: 'back bumper',
+         3: 'sonar front', 4: 'sonar back', 5: 'sonar sides', 6: 'laser slow/stop', 7: 'laser fatal error'}
+COMMON_KEYS = 'arrows drive, space stops, a start, r release, q quit'
+
+
+def _clamp(value: float, limit: float) -> float:
+    return max(-limit, min(limit, round(value, 3)))
+
+
+class KeyProgram:
+    """One link's keys over its proxy (a :class:`pluto_motion.chain_proxy.ChainProxy`)."""
+
+    #: Keys of the link's own commands and what they do, for the help line.
+    KEYS = ''
+
+    def __init__(self, proxy: Any, ask: Callable[[str, int], list[float] | None], out: IO[str] = sys.stdout) -> None:
+        self.proxy, self.ask, self.out = proxy, ask, out
+        self.shown = ''
+
+    def say(self, text: str) -> None:
+        print(text, file=self.out, flush=True)
+
+    # -- what each link defines ------------------------------------------------------------------
+    def velocity(self, tv: float, rv: float) -> str:
+        """Send a velocity command; what to print about it."""
+        raise NotImplementedError
+
+    def key(self, key: str, tv: float, rv: float) -> bool:
+        """The link's own keys; False when ``key`` is not one of them."""
+        return False
+
+    def describe(self) -> str:
+        """The link's own part of the status line."""
+        return ''
+
+    # -- the common keys -------------------------------------------------------------------------
+    def press(self, key: str) -> bool:
+        """Act on ``key``; False on quit."""
+        tv, rv = self.proxy.velocities or (0.0, 0.0)          # the working command (Pluto 6.1)
+        if key in ('up', 'down', 'left', 'right'):
+            tv += {'up': STEP_TV, 'down': -STEP_TV}.get(key, 0.0)
+            rv += {'left': STEP_RV, 'right': -STEP_RV}.get(key, 0.0)
+            tv, rv = _clamp(tv, MAX_TV), _clamp(rv, MAX_RV)
+            self.say(f'command tv {tv:+.2f} m/s rv {rv:+.2f} rad/s{self.velocity(tv, rv)}')
+        elif key == 'space':
+            self.velocity(0.0, 0.0)
+            self.say('command stop')
+        elif key == 'a':
+            self.proxy.start_activity()
+            self.say('start_activity')
+        elif key == 'r':
+            self.proxy.release_robot()
+            self.say('release_robot')
+        elif key == 'q':
+            self.velocity(0.0, 0.0)
+            self.say('quit')
+            return False
+        elif not self.key(key, tv, rv):
+            self.say(f'keys: {COMMON_KEYS}{", " + self.KEYS if self.KEYS else ""}')
+        return True
+
+    def show_status(self) -> None:
+        """Print the status when it changes."""
+        self.proxy.update()
+        code = self.proxy.code
+        if code is None:
+            return
+        tv, rv = self.proxy.velocities or (0.0, 0.0)
+        text = f'status {code} ({CODES.get(code, "?")}) tv {tv:+.2f} rv {rv:+.2f}{self.describe()}'
+        if text != self.shown:
+            self.shown = text
+            self.say(text)
+
+
+def run_program(name: str, options: str, help_text: str,
+                make: Callable[[CommsManager, dict[str, str], Callable[[str, int], list[float] | None]], KeyProgram],
+                argv: list[str] | None = None) -> int:
+    """The keyboard program's main: options, the terminal in cbreak mode, the loop."""
+    argv = list(sys.argv if argv is None else argv)
+    manager = CommsManager(name)
+    manager.set_help_string(help_text)
+    user = manager.parse_options(argv, options).user
+    try:
+        keyboard = Keyboard(sys.stdin)
+    except OSError as error:
+        print(f'{name}: {error}', file=sys.stderr, flush=True)
+        return 2
+    logger = Logger(manager.name)
+    manager.register_supplier(logger)
+
+    def ask(prompt: str, count: int) -> list[float] | None:
+        with keyboard.cooked():
+            try:
+                values = [float(v) for v in input(f'{prompt}: ').replace(',', ' ').split()]
+            except (ValueError, EOFError):
+                values = []
+        if len(values) != count:
+            print(f'{name}: {count} numbers wanted; nothing sent', flush=True)
+            return None
+        return values
+
+    program = make(manager, user, ask)
+    set_loop(manager, LOOP_S)
+    print(f'keys: {COMMON_KEYS}{", " + program.KEYS if program.KEYS else ""}', flush=True)
+    program.proxy.command.wait_for_peers(5.0, channel='request')
+    program.proxy.start_activity()
+
+    def step() -> None:
+        program.show_status()
+        for key in keyboard.keys(0.0):
+            if not program.press(key):
+                manager.set_state(RunState.QUIT)
+                break
+
+    def close() -> None:
+        program.proxy.command.wait_delivered(1.0)      # the last stop reaches the link
+
+    with keyboard:
+        return run_loop(manager, step, close)
