@@ -73,3 +73,10 @@ bench-slam: build
 .PHONY: bench-avoid
 bench-avoid: build
 	$(IN_ENV) python bench/avoid_latency.py
+
+# The movement chain (issue 12's table): goto (32) and moveto (42) through motion/command on the
+# shipped and generated maps, 20 random reachable goals each, against the simulator's truth: success,
+# collisions, time, path over the shortest (a few hours; `python bench/nav_motion.py --pairs 5` for less).
+.PHONY: bench-motion
+bench-motion: build
+	$(IN_ENV) python bench/nav_motion.py

@@ -35,6 +35,7 @@ PLUTO = ROOT / 'config' / 'pluto'
 POSE_STREAM = 'Localization/Pose'
 DR_STREAM = 'Localization/Dead-Reckoning'
 RECOVERED_M = 0.10
+MOVEMENT_CHAIN = ('driveModule', 'avoidModule', 'motionModule')
 
 
 @dataclasses.dataclass
@@ -118,9 +119,10 @@ class RunResult:
 
 def write_config(directory: pathlib.Path, map_file: pathlib.Path, *, estimator: str | None, seed: int,
                  time_scale: float, start_error: tuple[float, float, float] | None,
-                 estimator_options: str = '-m map.xml') -> None:
+                 estimator_options: str = '-m map.xml', chain: bool = False) -> None:
     """config/pluto in ``directory`` with ``map_file``; the estimator module (poseModule or
-    slamModule, with ``estimator_options``) is the only one in the MCP config."""
+    slamModule, with ``estimator_options``) is the only one in the MCP config, and the movement
+    chain is there only with ``chain``."""
     directory.mkdir(parents=True, exist_ok=True)
     (directory / 'map.xml').write_bytes(map_file.read_bytes())
     tree = etree.parse(str(PLUTO / 'sim-config.xml'))
@@ -138,7 +140,9 @@ def write_config(directory: pathlib.Path, map_file: pathlib.Path, *, estimator: 
             if node.get('name') == 'localModule':
                 node.find('options').text += ' -p start.txt'
     for node in list(root.iter('module')):
-        if node.get('name') in ('poseModule', 'slamModule'):
+        # The estimator is added below; the movement chain is left out (tour drives the base, and
+        # bench/nav_motion.py keeps it by ``chain=True``).
+        if node.get('name') in ('poseModule', 'slamModule') or (not chain and node.get('name') in MOVEMENT_CHAIN):
             root.remove(node)
     if estimator is not None:
         module = etree.SubElement(root, 'module', name=estimator, managed='managed')

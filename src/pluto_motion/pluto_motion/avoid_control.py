@@ -120,6 +120,12 @@ class AvoidController:
     def set_sonar(self, points: np.ndarray, cones: np.ndarray, pose: tuple[float, float, float] | None) -> None:
         self.sonar = (points, cones, pose)
 
+    def forget_poses(self) -> None:
+        """The poses the kept readings were taken at are of another frame: use the readings as they
+        are (in the robot frame when taken) until new ones come."""
+        self.laser = (self.laser[0], None)
+        self.sonar = (self.sonar[0], self.sonar[1], None)
+
     # -- one loop --------------------------------------------------------------------------------
     def step(self, now: float, pose: tuple[float, float, float] | None) -> DriveOrder | None:
         """The drive command to write now (None: write nothing)."""

@@ -121,6 +121,7 @@ class AvoidModule:
             manager.register_consumer(obj)
         for trigger in (Trigger(self.laser), Trigger(self.link.commands), Trigger(self.link.status), Every(LOOP_S)):
             manager.register_trigger(trigger)
+        self.pose_source: str | None = None
         self.pose = PoseSource(manager, base, lambda text: logger.warn(f'{manager.name}: {text}'),
                                user='the goto and the regulator steer')
         self.laser_info = self.sonar_info = False
@@ -189,6 +190,12 @@ class AvoidModule:
         now = time.monotonic()
         self._take_commands(now)
         pose = self.pose.pose()
+        if self.pose.source != self.pose_source:
+            # The pose source changed (the base odometry, then Dead-Reckoning, then Pose): its frame
+            # may be another, so the readings kept are not moved by the difference of two frames
+            # (that put a wall inside the robot and ended a goto as stuck at its start).
+            self.pose_source = self.pose.source
+            self.control.forget_poses()
         self._take_sensors(now, pose)
         before = self.control.goto_code
         order = self.control.step(now, pose)

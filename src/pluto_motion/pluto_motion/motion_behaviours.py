@@ -145,7 +145,7 @@ class Moveto:
             if not plan.reachable or self.stuck > self.settings.replans:
                 self.reason = plan.reason or f'stuck {self.stuck} times'
                 return Step(None, UNREACHABLE, SCANNING, done=True)
-            self.follower = PathFollower(s.pose[:2], plan.waypoints, self.follow)
+            self.follower = PathFollower(s.pose[:2], plan.waypoints, self.follow, planner.grid.clearance_at)
             self.progress, self.near, self.request = Progress(self.follow), False, None
             self.waypoints = list(plan.waypoints)
             return Step(None, MOVETO_SET, SCANNING)

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 __all__ = ['FollowSettings', 'PathFollower', 'Progress']
 
@@ -26,6 +26,13 @@ class FollowSettings:
 
     lookahead: float = 0.5
     turn_first: float = 0.35
+    #: Where the map leaves less than ``narrow`` metres from the robot's centre to the nearest wall
+    #: (a door: 0.45), the robot steers for a nearer point, turns on the spot sooner and slows, so
+    #: that it passes down the middle and does not cut the corner into the door.
+    narrow: float = 0.7
+    narrow_lookahead: float = 0.25
+    narrow_turn_first: float = 0.15
+    narrow_speed: float = 0.25
     #: No ``progress`` metres nearer the goal along the path within ``patience`` s: stuck.
     progress: float = 0.2
     patience: float = 8.0
@@ -47,9 +54,12 @@ class PathFollower:
     """Pure pursuit along ``start`` → waypoints."""
 
     def __init__(self, start: Sequence[float], waypoints: Sequence[Sequence[float]],
-                 settings: FollowSettings = FollowSettings()) -> None:
+                 settings: FollowSettings = FollowSettings(),
+                 clearance: Callable[[float, float], float] | None = None) -> None:
+        """:param clearance: the map's distance (m) from a point to the nearest wall, if known."""
         self.points = [(float(start[0]), float(start[1]))] + [(float(x), float(y)) for x, y in waypoints]
         self.settings = settings
+        self.clearance = clearance
         #: Index of the segment the robot is on (points[i] → points[i + 1]).
         self.segment = 0
 
@@ -74,12 +84,17 @@ class PathFollower:
             else:
                 return
 
+    def narrow(self, pose: Sequence[float]) -> bool:
+        """Whether the map is narrow at the robot (see :class:`FollowSettings`)."""
+        return self.clearance is not None and self.clearance(pose[0], pose[1]) < self.settings.narrow
+
     def target(self, pose: Sequence[float]) -> tuple[float, float]:
-        """The point ``lookahead`` metres along the path from the robot's nearest point on it."""
+        """The point ``lookahead`` metres (``narrow_lookahead`` where narrow) along the path from
+        the robot's nearest point on it."""
         self._advance(pose)
         i = self.segment
         _, here = _project(pose, self.points[i], self.points[i + 1])
-        left = self.settings.lookahead
+        left = self.settings.narrow_lookahead if self.narrow(pose) else self.settings.lookahead
         a = here
         for b in self.points[i + 1:]:
             d = math.dist(a, b)
@@ -95,10 +110,11 @@ class PathFollower:
         tx, ty = self.target(pose)
         heading = math.atan2(ty - pose[1], tx - pose[0])
         error = abs(_wrap(heading - pose[2]))
-        if error > self.settings.turn_first:
+        narrow = self.narrow(pose)
+        if error > (self.settings.narrow_turn_first if narrow else self.settings.turn_first):
             return heading, 0.0
         speed = max_tv * math.cos(error) * min(1.0, max(0.25, self.remaining(pose)))
-        return heading, speed
+        return heading, min(speed, self.settings.narrow_speed) if narrow else speed
 
 
 class Progress:

@@ -107,12 +107,24 @@ def test_fatal_laser_error_stops_with_seven(ros_domain: int, tmp_path: pathlib.P
                 scan()
                 test.avoid.velocity(0.3, 0.0, laser=True)
 
-            test.until(lambda: test.avoid.code == 0 and test.avoid.velocities is not None, 'laser fine',
-                       every=drive_and_scan, period=0.2, timeout=30)
+            # Normal on a status after the avoidModule took a laser-protected command (before its
+            # first scan the laser is 7 too: no scan yet).
+            def fine() -> bool:
+                test.avoid._take_echoes()
+                echo = getattr(test.avoid, 'echo', None)
+                return echo is not None and echo[0] == 20 and test.avoid.stamp > echo[2] and test.avoid.code == 0
+
+            try:
+                test.until(fine, 'laser fine', every=drive_and_scan, period=0.2, timeout=30)
+            except AssertionError as error:
+                raise AssertionError(f'{error}; avoid code {test.avoid.code}; its log: {avoid.stderr[-800:]}') from None
             scans['value'] = -1.0                       # the SICK's fatal error: every range -1
-            test.until(lambda: test.avoid.code == 7, 'fatal error seen', every=drive_and_scan, period=0.2)
+            try:
+                test.until(lambda: test.avoid.code == 7 and 'fatal error (negative ranges)' in avoid.stderr,
+                           'fatal error seen', every=drive_and_scan, period=0.2)
+            except AssertionError as error:
+                raise AssertionError(f'{error}; avoid code {test.avoid.code}; its log: {avoid.stderr[-800:]}') from None
             assert test.avoid.velocities == (0.0, 0.0)
-            assert 'fatal error (negative ranges)' in avoid.stderr
             scans['value'] = 5.0
             test.until(lambda: test.avoid.code == 0, 'laser back', every=drive_and_scan, period=0.2)
     finally:
