@@ -65,7 +65,7 @@ STATUS_PERIOD_S = 1.0
 RECENT_SCANS = 8
 HELP = ('  -m MAP       plan moveto on this map (config/maps format); without: ray following\n'
         '  -s LASER     the laser module (default PlutoLaser)\n'
-        '  -b BASE      the base, for its odometry when no localModule runs (default PlutoBase)\n'
+        '  -b BASE      the base, for its odometry when no localModule runs and no map is given (PlutoBase)\n'
         '  -v MAX_TV    linear speed of the avoid goto, m/s (0.6)\n'
         '  -w MAX_RV    angular speed of the avoid goto, rad/s (1.0)')
 
@@ -87,7 +87,8 @@ class MotionModule:
             manager.register_supplier(obj)
         for obj in (self.avoid, self.avoid_status, self.laser):
             manager.register_consumer(obj)
-        self.poses = PoseSource(manager, base, self._warn, user='moveto and explore steer')
+        self.poses = PoseSource(manager, base, self._warn, user='moveto and explore steer',
+                                localization_only=grid is not None)
         self.geometry: ScanGeometry | None = None
         self.recent: collections.deque = collections.deque(maxlen=RECENT_SCANS)
         self.avoid_data: list[float] = [0.0, 0.0]

@@ -36,7 +36,12 @@ class PoseSource:
     "the goto steers"), so that a log names the module's consequence of a fall-back.
     """
 
-    def __init__(self, manager: CommsManager, base: str, warn: Callable[[str], object], *, user: str) -> None:
+    def __init__(self, manager: CommsManager, base: str, warn: Callable[[str], object], *, user: str,
+                 localization_only: bool = False) -> None:
+        """:param localization_only: never fall back to the base odometry, whose frame starts where
+            the base did and is not the map's: a module that plans on a map waits for the
+            localModule instead."""
+        self.localization_only = localization_only
         self.loc = LocProxy(manager, (1 << DEAD_RECKONING) | (1 << POSE))
         self.motion = Egomotion(f'{base}Motion')
         manager.register_consumer(self.motion)
@@ -44,7 +49,8 @@ class PoseSource:
         self.warnings = {'Localization/Dead-Reckoning': f'no pose setter runs: {user} on '
                                                         'Localization/Dead-Reckoning',
                          ODOMETRY: f'no localModule heard: {user} on the base odometry',
-                         None: 'no fresh pose: the robot stops until one comes'}
+                         None: ('no fresh pose from the localModule: waiting for one' if localization_only
+                                else 'no fresh pose: the robot stops until one comes')}
         self.poses: dict[str, tuple[float, float, float]] = {}
         self.heard: dict[str, float] = {}
         self.source: str | None = None
@@ -71,7 +77,7 @@ class PoseSource:
             chosen: str | None = 'Localization/Pose'
         elif self._fresh('Localization/Dead-Reckoning'):
             chosen = 'Localization/Dead-Reckoning'
-        elif self._fresh(ODOMETRY):
+        elif self._fresh(ODOMETRY) and not self.localization_only:
             chosen = ODOMETRY
         else:
             chosen = None
