@@ -152,10 +152,11 @@ class AvoidController:
             return DriveOrder(10 if c.sonar else 0, (tv, rv))
         return self._goto(c, now, pose, laser_points)
 
-    def _guarded(self, c: AvoidCommand, tv: float, rv: float, points: np.ndarray) -> float:
+    def _guarded(self, c: AvoidCommand, tv: float, rv: float, points: np.ndarray,
+                 wanted: float | None = None) -> float:
         if not c.laser:
             return tv
-        limited, code = self.guard.limit(tv, points)
+        limited, code = self.guard.limit(tv, points, wanted)
         if code:
             self.laser_code, self.slowed = code, (limited, rv)
         return limited
@@ -189,7 +190,7 @@ class AvoidController:
             self.goto_code, self.stuck_reason = GOTO_STUCK, f'goto stuck at {pose[0]:.2f}, {pose[1]:.2f}: {why}'
             return _stop(c.sonar)
         self.goto_code = GOTO_NORMAL
-        speed = self._guarded(c, step.speed, math.nan, laser_points)
+        speed = self._guarded(c, step.speed, math.nan, laser_points, wanted=c.max_tv)
         return DriveOrder(11 if c.sonar else 1, (speed,), (0.0, step.heading))
 
     # -- status ----------------------------------------------------------------------------------

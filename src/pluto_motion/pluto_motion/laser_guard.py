@@ -78,16 +78,22 @@ class LaserGuard:
             return 1.0
         return max(0.0, (gap - lim.stop) / (lim.slow - lim.stop))
 
-    def limit(self, tv: float, points: np.ndarray) -> tuple[float, int]:
+    def limit(self, tv: float, points: np.ndarray, wanted: float | None = None) -> tuple[float, int]:
         """``tv`` slowed for the laser points ahead and the code (6 when slowed or stopped, 0 when
-        not).  Backward motion is not the laser's to judge."""
+        not).  The allowed speed is ``wanted`` (the speed asked for; default ``tv``) times the free
+        distance's fraction, a stop under ``creep``; ``tv`` is cut to it.  A goto passes its maximum
+        speed as ``wanted``: it has slowed for the same obstacles already, and slowing twice made a
+        crawl under the creep speed, a stop short of goals near walls.  Backward motion is not the
+        laser's to judge."""
         if tv <= 0.0:
             return tv, 0
         f = self.fraction(points)
         if f >= 1.0:
             return tv, 0
-        allowed = tv * f
-        return (0.0 if allowed < self.limits.creep else allowed), LASER_SLOW
+        cap = (tv if wanted is None else wanted) * f
+        if cap < self.limits.creep:
+            cap = 0.0
+        return (tv, 0) if cap >= tv else (cap, LASER_SLOW)
 
 
 class LaserWatch:

@@ -78,6 +78,15 @@ def test_guard_ignores_the_sides_and_backward_motion() -> None:
     assert guard.limit(0.3, ahead) == (0.0, LASER_SLOW)
 
 
+def test_guard_caps_from_the_speed_asked_for_not_a_speed_already_slowed() -> None:
+    guard = LaserGuard()
+    wall = np.array([[0.35 + 0.6, 0.0]])                 # 0.6 m ahead of the footprint: about half speed
+    assert guard.limit(0.04, wall) == (0.0, LASER_SLOW)  # slowed twice: under the creep speed, a stop
+    assert guard.limit(0.04, wall, wanted=0.6) == (0.04, 0)   # a goto's slow speed is left alone
+    tv, code = guard.limit(0.6, wall, wanted=0.6)
+    assert code == LASER_SLOW and 0.2 < tv < 0.4
+
+
 def test_watch_fatal_and_stale_from_the_period() -> None:
     watch = LaserWatch()
     assert watch.failure(0.0) == 'no scan yet'
