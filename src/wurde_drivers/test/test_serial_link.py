@@ -239,3 +239,21 @@ def test_a_type_error_is_a_bug_not_a_disconnect(pty: Pty, link: SerialLink) -> N
     assert troubles(link) == NONE and link.is_open and link.last_fault is None
     assert link.write(b'still fine') and os.read(pty.master, 64) == b'still fine'
     assert link.fault_note() == ''
+
+
+def test_a_new_path_is_read_at_once_even_while_the_old_port_is_open(pty: Pty, link: SerialLink) -> None:
+    """udev renamed the device (or it came back elsewhere) while the old path was given to another
+    device — a pseudo-terminal number is reused at once: the link must leave the old port, not go
+    on reading a stranger (a loaded CI run read nothing for 20 s so)."""
+    other = Pty()
+    try:
+        link.url = other.path
+        assert link.read(0.1) == b''           # opens the new path (pyserial flushes what waited)
+        os.write(pty.master, b'stranger')
+        os.write(other.master, b'device')
+        deadline, got = time.monotonic() + 10.0, b''
+        while len(got) < 6 and time.monotonic() < deadline:
+            got += link.read(0.2)
+        assert got == b'device' and link.stats.reconnects >= 1
+    finally:
+        other.close()

@@ -81,7 +81,7 @@ class SerialLink:
 
     def __init__(self, url: str, baudrate: int, *, parity: str = serial.PARITY_NONE,
                  retry_s: float = 0.5, write_timeout: float = 1.0) -> None:
-        self.url = url
+        self._url = url
         self.baudrate = baudrate
         self.parity = parity
         self.retry_s = retry_s
@@ -92,6 +92,23 @@ class SerialLink:
         self.last_error = ''
         self._port: serial.SerialBase | None = None
         self._next_try = 0.0
+
+    @property
+    def url(self) -> str:
+        """The device's URL or path."""
+        return self._url
+
+    @url.setter
+    def url(self, url: str) -> None:
+        """Move to another device path (udev renamed it): a port open at the old path is closed, so
+        that the next read opens the new one at once.  While the device was gone, the old path may
+        have been given to another device (a pseudo-terminal number is reused at once): a link that
+        kept that port would read the wrong device for ever."""
+        if url != self._url:
+            self._url = url
+            if self._port is not None:
+                self.close()
+            self._next_try = 0.0
 
     @property
     def is_open(self) -> bool:
