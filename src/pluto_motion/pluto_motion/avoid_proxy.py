@@ -14,9 +14,6 @@ earlier goto is never taken for this one's.
 
 from __future__ import annotations
 
-import math
-import time
-
 from wurde_core import CommsManager
 
 from .avoid_command import COMMAND, STATUS, Kind
@@ -25,10 +22,6 @@ from .chain_proxy import ChainProxy
 from .task import Task, TaskResult
 
 __all__ = ['AvoidProxy']
-
-#: Seconds between two sends of a goto the avoidModule has not echoed yet (a request sent before
-#: discovery matched the stream is lost).
-RESEND_S = 1.0
 
 
 def _flags(kind: Kind, sonar: bool, laser: bool) -> int:
@@ -44,7 +37,6 @@ class AvoidProxy(ChainProxy):
 
     def __init__(self, manager: CommsManager, *, queue_mode: bool = False) -> None:
         super().__init__(manager, COMMAND, STATUS, queue_mode=queue_mode)
-        self.echo: tuple[int, list[float], float] | None = None
 
     # -- the seed's verbs ------------------------------------------------------------------------
     def velocity(self, tv: float, rv: float, *, sonar: bool = False, laser: bool = False) -> bool:
@@ -80,46 +72,16 @@ class AvoidProxy(ChainProxy):
         """element[2] (ours): commands the avoidModule refused so far."""
         return self.element[2] if len(self.element) > 2 else 0
 
-    def _take_echoes(self) -> None:
-        while self.command.get_next_data():
-            d = self.command.data
-            self.echo = (int(d.cmd_flags), [float(v) for v in d.position],
-                         d.timestamp.get_seconds())
-
     # -- nav2-like layer -------------------------------------------------------------------------
     def go_to(self, x: float, y: float, max_tv: float = 0.5, max_rv: float = 1.0, *, strength: float = 1.0,
               sonar: bool = True, laser: bool = True, timeout: float | None = None) -> Task:
         """Start a goto (default cmdFlags 32) and return its handle."""
-        flags = _flags(Kind.GOTO, sonar, laser)
-        refused = self.refused
-        state = {'sent': -math.inf, 'echoed': None}
-
-        def send() -> None:
-            self.goto(x, y, max_tv, max_rv, strength=strength, sonar=sonar, laser=laser)
-            state['sent'] = time.monotonic()
-
-        def poll() -> tuple[TaskResult, str]:
-            self.spin_once(0.05)
-            self.update()
-            self._take_echoes()
-            if self.refused > refused:
-                return TaskResult.FAILED, 'goto refused (see the avoidModule log)'
-            if state['echoed'] is None:
-                e = self.echo
-                if e is not None and e[0] == flags and len(e[1]) >= 2 and math.isclose(e[1][0], x, abs_tol=1e-4) \
-                        and math.isclose(e[1][1], y, abs_tol=1e-4):
-                    state['echoed'] = e[2]
-                elif time.monotonic() - state['sent'] > RESEND_S:
-                    send()
-                return TaskResult.UNKNOWN, ''
-            if self.stamp < state['echoed']:
-                return TaskResult.UNKNOWN, ''
+        def outcome() -> tuple[TaskResult, str]:
             return {GOTO_REACHED: (TaskResult.SUCCEEDED, ''),
                     GOTO_STUCK: (TaskResult.FAILED, 'goto stuck'),
                     THREAD_STOPPED: (TaskResult.FAILED, 'avoid thread stopped')}.get(
                         self.goto_status, (TaskResult.UNKNOWN, ''))
 
-        self._take_echoes()
-        self.echo = None
-        send()
-        return Task(poll, self.stop, timeout=timeout)
+        return self._goal_task(_flags(Kind.GOTO, sonar, laser), x, y,
+                               lambda: self.goto(x, y, max_tv, max_rv, strength=strength, sonar=sonar, laser=laser),
+                               outcome, 'goto', timeout)

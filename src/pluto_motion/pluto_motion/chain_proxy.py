@@ -5,6 +5,7 @@ start_activity and release_robot verbs, and waiting on the status with a deadlin
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -13,6 +14,10 @@ from wurde_core import CommsManager, RunState
 from wurde_core.interfaces import ActuatorState, FVectorState
 
 from .drive_command import RELEASE
+from .task import Task, TaskResult
+
+#: Seconds between sends of a goal command the link has not echoed yet.
+RESEND_S = 1.0
 
 __all__ = ['ChainProxy']
 
@@ -34,6 +39,8 @@ class ChainProxy:
         self.element: list[int] = []
         #: The stamp (s, the link's clock) of the newest status taken in.
         self.stamp = 0.0
+        #: The link's newest echo of a command it accepted: (cmdFlags, position, stamp).
+        self.echo: tuple[int, list[float], float] | None = None
 
     def _send(self, flags: int, velocity: Sequence[float], position: Sequence[float],
               force: Sequence[float] = ()) -> bool:
@@ -43,6 +50,56 @@ class ChainProxy:
         req.position.set_value(list(position))
         req.force.set_value(list(force))
         return self.command.publish_request()
+
+    def _take_echoes(self) -> None:
+        while self.command.get_next_data():
+            d = self.command.data
+            self.echo = (int(d.cmd_flags), [float(v) for v in d.position], d.timestamp.get_seconds())
+
+    def _goal_task(self, flags: int, x: float, y: float, send: Callable[[], object],
+                   outcome: Callable[[], tuple[TaskResult, str]], what: str, timeout: float | None) -> Task:
+        """The handle of a goal command (goto, moveto) to (x, y): ``send`` it, again every
+        :data:`RESEND_S` until the link echoes it (a request sent before discovery matched is
+        lost); then only a status stamped after the echo counts, so that the last goal's end is
+        never taken for this one's, and ``outcome()`` judges it."""
+        refused = self.refused
+        state: dict[str, float | None] = {'sent': -math.inf, 'echoed': None}
+
+        def resend() -> None:
+            send()
+            state['sent'] = time.monotonic()
+
+        def poll() -> tuple[TaskResult, str]:
+            self.spin_once(0.05)
+            self.update()
+            self._take_echoes()
+            if self.refused > refused:
+                return TaskResult.FAILED, f'{what} refused (see the module log)'
+            if state['echoed'] is None:
+                e = self.echo
+                if e is not None and e[0] == flags and len(e[1]) >= 2 and math.isclose(e[1][0], x, abs_tol=1e-4) \
+                        and math.isclose(e[1][1], y, abs_tol=1e-4):
+                    state['echoed'] = e[2]
+                elif time.monotonic() - state['sent'] > RESEND_S:          # type: ignore[operator]
+                    resend()
+                return TaskResult.UNKNOWN, ''
+            if self.stamp < state['echoed']:                               # type: ignore[operator]
+                return TaskResult.UNKNOWN, ''
+            return outcome()
+
+        self._take_echoes()
+        self.echo = None
+        resend()
+        return Task(poll, self.stop, timeout=timeout)
+
+    @property
+    def refused(self) -> int:
+        """Commands the link refused so far (0 before a status says)."""
+        return 0
+
+    def stop(self) -> bool:
+        """Stop the robot (a velocity 0)."""
+        return self._send(0, [0.0, 0.0], [])
 
     def release_robot(self) -> bool:
         """Stop the link's thread (cmdFlags -1): it stops the robot once and then leaves it alone."""

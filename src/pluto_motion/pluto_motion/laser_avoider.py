@@ -35,11 +35,12 @@ import math
 import sys
 import time
 
-from wurde_core import CommsManager, ConnectionStrategy, Logger, Point, PVector
+from wurde_core import CommsManager, Logger, Point, PVector
 from wurde_core.interfaces import Egomotion, NavigatorTransport, ObstacleAvoiderTransport, RangeFinder, VectorMover
 from wurde_core.module_loop import run_loop, set_loop
 from wurde_core.wrappers import MODE_ANGLE, MODE_POINT, MODE_STOP
 
+from .assigned import consumer
 from .corridor_avoid import AvoidSettings, Choice, choose, clearance, scan_to_points
 from .vector_follower import wrap
 
@@ -63,9 +64,6 @@ HELP = ('  -s STREAM    the ObstacleAvoiderTransport stream supplied (SimpleAvoi
         '  -S SAFETY    default safety distance, m (0.15)')
 
 
-def _consumer(cls: type, stream: str | None, alias: str):
-    return cls(stream) if stream else cls(ConnectionStrategy.ASSIGNED, alias)
-
 
 def _to_world(pose: tuple[float, float, float], x: float, y: float) -> tuple[float, float]:
     px, py, th = pose
@@ -87,10 +85,10 @@ class LaserAvoider:
         self.manager, self.logger, self.settings = manager, logger, settings
         self.avoider = ObstacleAvoiderTransport(stream)
         self.avoider.set_queue_mode(True)
-        self.laser = _consumer(RangeFinder, laser, 'LaserClient')
-        self.ego = _consumer(Egomotion, ego, 'EgoClient')
-        self.mover = _consumer(VectorMover, mover, 'VectorMoverClient')
-        self.nav = _consumer(NavigatorTransport, nav, 'NavClient')
+        self.laser = consumer(RangeFinder, laser, 'LaserClient')
+        self.ego = consumer(Egomotion, ego, 'EgoClient')
+        self.mover = consumer(VectorMover, mover, 'VectorMoverClient')
+        self.nav = consumer(NavigatorTransport, nav, 'NavClient')
         manager.register_supplier(self.avoider)
         for obj in (self.laser, self.ego, self.mover, self.nav):
             manager.register_consumer(obj)

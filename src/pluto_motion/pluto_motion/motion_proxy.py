@@ -13,9 +13,6 @@ the robot).  Only a status stamped after the motionModule's echo of this very mo
 
 from __future__ import annotations
 
-import math
-import time
-
 from wurde_core import CommsManager
 
 from .chain_proxy import ChainProxy
@@ -24,9 +21,6 @@ from .task import Task, TaskResult
 
 __all__ = ['MotionProxy']
 
-#: Seconds between two sends of a moveto the motionModule has not echoed yet.
-RESEND_S = 1.0
-
 
 class MotionProxy(ChainProxy):
     """The motionModule as seen from ``manager``: ``moveto_status`` is element[2], ``motion_status``
@@ -34,7 +28,6 @@ class MotionProxy(ChainProxy):
 
     def __init__(self, manager: CommsManager, *, queue_mode: bool = False) -> None:
         super().__init__(manager, COMMAND, STATUS, queue_mode=queue_mode)
-        self.echo: tuple[int, list[float], float] | None = None
 
     # -- the seed's verbs ------------------------------------------------------------------------
     def moveto(self, x: float, y: float) -> bool:
@@ -87,43 +80,12 @@ class MotionProxy(ChainProxy):
         """data[2] (ours): commands the motionModule refused so far."""
         return int(self.data[2]) if len(self.data) > 2 else 0
 
-    def _take_echoes(self) -> None:
-        while self.command.get_next_data():
-            d = self.command.data
-            self.echo = (int(d.cmd_flags), [float(v) for v in d.position], d.timestamp.get_seconds())
-
-    # -- nav2-like layer -------------------------------------------------------------------------
     def go_to(self, x: float, y: float, *, timeout: float | None = None) -> Task:
         """Start a moveto and return its handle."""
-        refused = self.refused
-        state: dict[str, float | None] = {'sent': -math.inf, 'echoed': None}
-
-        def send() -> None:
-            self.moveto(x, y)
-            state['sent'] = time.monotonic()
-
-        def poll() -> tuple[TaskResult, str]:
-            self.spin_once(0.05)
-            self.update()
-            self._take_echoes()
-            if self.refused > refused:
-                return TaskResult.FAILED, 'moveto refused (see the motionModule log)'
-            if state['echoed'] is None:
-                e = self.echo
-                if e is not None and e[0] == 42 and len(e[1]) >= 2 and math.isclose(e[1][0], x, abs_tol=1e-4) \
-                        and math.isclose(e[1][1], y, abs_tol=1e-4):
-                    state['echoed'] = e[2]
-                elif time.monotonic() - state['sent'] > RESEND_S:       # type: ignore[operator]
-                    send()
-                return TaskResult.UNKNOWN, ''
-            if self.stamp < state['echoed']:                            # type: ignore[operator]
-                return TaskResult.UNKNOWN, ''
+        def outcome() -> tuple[TaskResult, str]:
             if self.motion_status == THREAD_STOPPED:
                 return TaskResult.FAILED, 'motion thread stopped'
             return {AT_GOAL: (TaskResult.SUCCEEDED, ''),
                     UNREACHABLE: (TaskResult.FAILED, 'unreachable')}.get(self.moveto_status, (TaskResult.UNKNOWN, ''))
 
-        self._take_echoes()
-        self.echo = None
-        send()
-        return Task(poll, self.stop, timeout=timeout)
+        return self._goal_task(42, x, y, lambda: self.moveto(x, y), outcome, 'moveto', timeout)

@@ -35,10 +35,11 @@ import os
 import sys
 import time
 
-from wurde_core import CommsManager, ConnectionStrategy, Logger, Point, Pose
+from wurde_core import CommsManager, Logger, Point, Pose
 from wurde_core.interfaces import Egomotion, NavigatorTransport, RobotDrive, SynchroDrive, VectorMoverTransport
 from wurde_core.module_loop import run_loop, set_loop
 
+from .assigned import consumer
 from .vector_follower import MoverLimits, VectorFollower
 
 __all__ = ['SynchroMover', 'main']
@@ -57,9 +58,6 @@ HELP = ('  -d DRIVE     the base drive stream (default: assigned by the MCP to D
         '  -w MAX_RV    rotational speed limit, rad/s (1.0)')
 
 
-def _consumer(cls: type, stream: str | None, alias: str):
-    return cls(stream) if stream else cls(ConnectionStrategy.ASSIGNED, alias)
-
 
 class SynchroMover:
     """The streams around a :class:`VectorFollower`."""
@@ -71,8 +69,8 @@ class SynchroMover:
         self.synchro = synchro
         self.mover = VectorMoverTransport(manager.name)
         self.navigator = NavigatorTransport(f'{manager.name}Navigator')
-        self.drive = _consumer(SynchroDrive if synchro else RobotDrive, drive, 'DriveClient')
-        self.ego = _consumer(Egomotion, ego, 'EgoClient')
+        self.drive = consumer(SynchroDrive if synchro else RobotDrive, drive, 'DriveClient')
+        self.ego = consumer(Egomotion, ego, 'EgoClient')
         for obj in (self.mover, self.navigator):
             obj.set_queue_mode(True)              # every goal counts, the last one wins
             manager.register_supplier(obj)
