@@ -61,6 +61,11 @@ __all__ = ['AVOID_COMMAND', 'AVOID_STATUS', 'MotionModule', 'main']
 AVOID_COMMAND, AVOID_STATUS = 'avoidance/command', 'avoidance/status'
 LOOP_S = 0.05
 STATUS_PERIOD_S = 1.0
+#: Heartbeat TTL (s): a plan on a large map (a million cells, and a replan round what the laser
+#: saw builds its graph again) takes seconds of CPU on a loaded machine, during which the loop does
+#: not beat; with the usual 1 s the MCP took the busy module for hung after 4 s and killed it,
+#: losing the moveto (bench-motion, outdoor map).
+PLANNING_TTL_S = 5.0
 #: Scans whose points the ray following and investigate decide on (the laser sees 180 degrees).
 RECENT_SCANS = 8
 HELP = ('  -m MAP       plan moveto on this map (config/maps format); without: ray following\n'
@@ -205,7 +210,7 @@ def main(argv: list[str] | None = None) -> int:
     manager.register_supplier(logger)
     module = MotionModule(manager, logger, grid, settings, laser=user.get('s', 'PlutoLaser'),
                           base=user.get('b', 'PlutoBase'))
-    set_loop(manager, LOOP_S)
+    set_loop(manager, LOOP_S, PLANNING_TTL_S)
     logger.notice(f'{manager.name}: ' + (f'planning on {user["m"]} ({grid.shape[1]} x {grid.shape[0]} cells of '
                                          f'{grid.resolution} m)' if grid is not None else 'no map: ray following'))
     return run_loop(manager, module.step, lambda: None)
