@@ -2,8 +2,8 @@
 
 ``config/sim`` under the MCP, every module active; then one SIGINT to the MCP (as ``kill -INT``
 or a supervisor would send; a terminal's Ctrl-C reaches the whole process group).  The MCP tells
-every module to Quit and escalates to SIGKILL by 2 s (``SHUTDOWN_GRACE_S``, ``SHUTDOWN_STEP_S``);
-a module told to Quit skips waiting for its goodbye's acknowledgement.  Each module's end is seen
+every module to Quit at once; a module told to Quit skips waiting for its goodbye's
+acknowledgement (which took each module its full second before).  Each module's end is seen
 through a pidfd, so the figure is the exit itself, not a poll interval.
 """
 
