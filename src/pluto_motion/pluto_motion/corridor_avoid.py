@@ -18,6 +18,8 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .scan_points import Beams
+
 __all__ = ['AvoidSettings', 'Choice', 'choose', 'clearance', 'free_lengths', 'scan_to_points']
 
 
@@ -55,10 +57,8 @@ def scan_to_points(ranges: ArrayLike, first: float, separation: float, *, x_offs
     """The valid readings (finite, 0 < r < max_range) as ``(N, 2)`` points in the robot frame, for a
     laser at (x_offset, y_offset) whose beam ``i`` points at ``first + i * separation``."""
     r = np.asarray(ranges, dtype=float)
-    phi = first + separation * np.arange(len(r))
-    ok = np.isfinite(r) & (r > 0) & (r < (max_range if max_range > 0 else math.inf))
-    r, phi = r[ok], phi[ok]
-    return np.column_stack((x_offset + r * np.cos(phi), y_offset + r * np.sin(phi)))
+    r = np.where(r < (max_range if max_range > 0 else math.inf), r, np.nan)
+    return Beams.fan(len(r), first=first, step=separation, x=x_offset, y=y_offset).points(r)
 
 
 def free_lengths(points: NDArray, headings: NDArray, half_width: float, limit: float) -> NDArray:

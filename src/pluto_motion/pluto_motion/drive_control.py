@@ -27,6 +27,7 @@ import math
 from collections.abc import Sequence
 
 from .drive_command import STOP, DriveCommand, Mode
+from .scan_points import wrap
 from .sonar_guard import BACK, FRONT, SonarGuard, SonarLimits
 
 __all__ = ['BACK_BUMPER', 'FRONT_BUMPER', 'NORMAL', 'THREAD_STOPPED', 'TIMEOUT', 'DriveController',
@@ -54,9 +55,6 @@ class DriveSettings:
             if not (math.isfinite(value) and value > 0):
                 raise ValueError(f'{name} must be a positive number, not {value}')
 
-
-def _wrap(angle: float) -> float:
-    return math.atan2(math.sin(angle), math.cos(angle))
 
 
 def _clamp(value: float, bound: float) -> float:
@@ -147,7 +145,7 @@ class DriveController:
             return c.tv, c.rv
         if heading is None:
             return 0.0, 0.0
-        error = _wrap(c.heading - heading)
+        error = wrap(c.heading - heading)
         return c.tv * max(0.0, math.cos(error)), self.settings.heading_gain * error
 
     def _protect(self, tv: float, wanted: float, sonar: Sequence[float] | None) -> tuple[float, int]:

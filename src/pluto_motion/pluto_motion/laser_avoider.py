@@ -42,7 +42,7 @@ from wurde_core.wrappers import MODE_ANGLE, MODE_POINT, MODE_STOP
 
 from .assigned import consumer
 from .corridor_avoid import AvoidSettings, Choice, choose, clearance, scan_to_points
-from .vector_follower import wrap
+from .scan_points import wrap
 
 __all__ = ['LaserAvoider', 'main']
 

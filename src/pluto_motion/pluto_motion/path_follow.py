@@ -17,6 +17,8 @@ import dataclasses
 import math
 from collections.abc import Callable, Sequence
 
+from .scan_points import wrap
+
 __all__ = ['FollowSettings', 'PathFollower', 'Progress']
 
 
@@ -37,9 +39,6 @@ class FollowSettings:
     progress: float = 0.2
     patience: float = 8.0
 
-
-def _wrap(angle: float) -> float:
-    return math.atan2(math.sin(angle), math.cos(angle))
 
 
 def _project(p: Sequence[float], a: Sequence[float], b: Sequence[float]) -> tuple[float, tuple[float, float]]:
@@ -109,7 +108,7 @@ class PathFollower:
         turning to it, slower on the last metre."""
         tx, ty = self.target(pose)
         heading = math.atan2(ty - pose[1], tx - pose[0])
-        error = abs(_wrap(heading - pose[2]))
+        error = abs(wrap(heading - pose[2]))
         narrow = self.narrow(pose)
         if error > (self.settings.narrow_turn_first if narrow else self.settings.turn_first):
             return heading, 0.0

@@ -36,6 +36,8 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .scan_points import wrap
+
 __all__ = ['Action', 'RayDecision', 'RaySettings', 'ScanGeometry', 'decide', 'scan_points']
 
 #: element[3] codes this module decides (Pluto 6.3).
@@ -106,9 +108,6 @@ def scan_points(ranges: ArrayLike, pose: Sequence[float], geometry: ScanGeometry
     return np.column_stack([x + c * lx - s * ly, y + s * lx + c * ly])
 
 
-def _wrap(angle: float) -> float:
-    return math.atan2(math.sin(angle), math.cos(angle))
-
 
 def _free_length(rel: NDArray, phi: float, half_width: float, cap: float) -> float:
     """How far (m) a street of ``half_width`` along ``phi`` is free of the points ``rel``."""
@@ -152,10 +151,10 @@ def decide(points: ArrayLike, pose: Sequence[float], goal: Sequence[float], curr
     distance = math.hypot(dx, dy)
     bearing = math.atan2(dy, dx)
     goal_t = (float(goal[0]), float(goal[1]))
-    if distance < s.near and abs(_wrap(bearing - theta)) <= s.view \
+    if distance < s.near and abs(wrap(bearing - theta)) <= s.view \
             and _free_length(rel, bearing, s.min_half_width, s.range_cap) >= distance:
         return RayDecision(Action.GOTO, goal_t, bearing, bearing, FOLLOWING, nearing=True)
-    if current is None and abs(_wrap(bearing - theta)) > s.behind:
+    if current is None and abs(wrap(bearing - theta)) > s.behind:
         return RayDecision(Action.TURN, (x, y), bearing, None, SCANNING)
     best: tuple[float, float, float, float] | None = None      # (score, ray, free length, width)
     kept: tuple[float, float, float, float] | None = None
@@ -170,7 +169,7 @@ def decide(points: ArrayLike, pose: Sequence[float], goal: Sequence[float], curr
             if phi == current and (kept is None or candidate[0] < kept[0]):
                 kept = candidate
     if best is None:                                             # boxed in: look elsewhere
-        return RayDecision(Action.TURN, (x, y), _wrap(theta + _open_side(rel, theta, s)), None, SCANNING)
+        return RayDecision(Action.TURN, (x, y), wrap(theta + _open_side(rel, theta, s)), None, SCANNING)
     if kept is not None and kept[0] <= best[0] + s.switch:
         chosen, status = kept, FOLLOWING
     else:
@@ -195,9 +194,9 @@ def _widths(s: RaySettings) -> list[float]:
 
 def _rays(theta: float, current: float | None, s: RaySettings) -> list[float]:
     """Directions within the laser's view, every ``s.step``; the current ray itself when in view."""
-    rays = [_wrap(theta + k * s.step) for k in range(-int(s.view / s.step), int(s.view / s.step) + 1)]
-    if current is not None and abs(_wrap(current - theta)) <= s.view:
-        rays = [phi for phi in rays if abs(_wrap(phi - current)) >= s.step / 2] + [current]
+    rays = [wrap(theta + k * s.step) for k in range(-int(s.view / s.step), int(s.view / s.step) + 1)]
+    if current is not None and abs(wrap(current - theta)) <= s.view:
+        rays = [phi for phi in rays if abs(wrap(phi - current)) >= s.step / 2] + [current]
     return rays
 
 

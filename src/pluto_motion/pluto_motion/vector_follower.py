@@ -17,12 +17,10 @@ from __future__ import annotations
 import dataclasses
 import math
 
+from .scan_points import wrap
+
 __all__ = ['MoverLimits', 'MoverOutput', 'VectorFollower', 'wrap']
 
-
-def wrap(angle: float) -> float:
-    """``angle`` in (-pi, pi]."""
-    return math.atan2(math.sin(angle), math.cos(angle))
 
 
 @dataclasses.dataclass(frozen=True)
