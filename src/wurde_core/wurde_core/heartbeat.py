@@ -22,9 +22,21 @@ from .interfaces import robot_object_class
 from .robot_object import SUPPLIER, RobotObject
 
 STREAM_PREFIX = 'heartbeat/'
+#: Environment variable the MCP sets for the modules it starts: their managed state from the
+#: configuration (guide 6.1), by name.  A module started by hand has none and reports itself
+#: unmanaged, which is what it is: no MCP restarts it.
+MANAGED_ENV = 'WURDE_MCP_MANAGED'
 #: Longest gap between beats whatever the TTL, so that a beat lost before the MCP had discovered
 #: this module is soon followed by another.
 MAX_BEAT_INTERVAL_S = 1.0
+
+
+def managed_state() -> ProcessType:
+    """This process's managed state, as the MCP that started it told it (:data:`MANAGED_ENV`)."""
+    try:
+        return ProcessType[os.environ[MANAGED_ENV]]
+    except KeyError:
+        return ProcessType.UNMANAGED
 
 
 def heartbeat_stream(module: str) -> str:
@@ -46,7 +58,7 @@ class ModuleHeartbeat:
         """Publish the process description (info) for the program's ``objects`` in ``state``;
         called at start and on every change."""
         info = self.obj.info
-        info.managed.set_value(ProcessType.MANAGED)
+        info.managed.set_value(managed_state())
         info.locale.set_value(ProcessLocale.INTERNAL)
         info.state.set_value(state)
         info.pid.set_value(os.getpid())

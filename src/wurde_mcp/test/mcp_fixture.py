@@ -82,6 +82,17 @@ class Table:
         requests.state.set_value(state)
         self.control.publish_request()
 
+    def heartbeat_info(self, module: str, timeout: float = 30.0) -> Any:
+        """The process description a module publishes on its heartbeat's info channel."""
+        heartbeat = robot_object_class('Heartbeat')(f'heartbeat/{module}')
+        self.manager.register_consumer(heartbeat)
+        deadline = time.monotonic() + timeout
+        while not heartbeat.get_next_info():
+            assert time.monotonic() < deadline, f'no heartbeat info from {module}'
+            self.manager.step()
+            self.manager.wait(0.05)
+        return heartbeat.info
+
     def close(self) -> None:
         self.manager.clean_up()
 

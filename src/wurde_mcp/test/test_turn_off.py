@@ -8,7 +8,7 @@ import subprocess
 import sys
 
 from mcp_fixture import WORKER, start_mcp, worker, write_config
-from wurde_core import StatusMode
+from wurde_core import ProcessType, StatusMode
 from wurde_testing import ChildProcess, find_executable
 
 
@@ -32,10 +32,14 @@ def test_turn_off_of_an_unknown_name_fails_loudly(ros_domain: int) -> None:
 
 
 def test_turn_off_reaches_a_module_the_mcp_does_not_supervise(tmp_path, table) -> None:
-    config, mappings = write_config(tmp_path, worker('Kept'))
+    config, mappings = write_config(tmp_path, worker('Kept') + worker('Spare', 'critical'))
     with start_mcp(tmp_path, config, mappings, '-a'):
         table.until(lambda r: r['Kept']['status'] == StatusMode.ACTIVE, 'Kept active')
+        # each module tells its managed state in its heartbeat: the MCP's, or unmanaged by hand
+        assert table.heartbeat_info('Kept').managed.get_value() == ProcessType.MANAGED
+        assert table.heartbeat_info('Spare').managed.get_value() == ProcessType.CRITICAL
         with ChildProcess([WORKER, '-n', 'Stray'], env=dict(os.environ)) as stray:
+            assert table.heartbeat_info('Stray').managed.get_value() == ProcessType.UNMANAGED
             off = turn_off('Stray')
             assert off.returncode == 0, off.stderr
             assert 'sent Quit to Stray directly' in off.stdout

@@ -41,7 +41,10 @@ def _die_with_parent() -> None:  # runs in the child between fork and exec
 class ModuleProcess:
     """A running (or finished) module process and the thread that owns it."""
 
-    def __init__(self, name: str, argv: list[str], log_directory: str) -> None:
+    def __init__(self, name: str, argv: list[str], log_directory: str,
+                 environment: dict[str, str] | None = None) -> None:
+        """Start ``argv``, logging to ``<log_directory>/<name>.log``, with ``environment`` added
+        to this process's environment."""
         self.name = name
         self.argv = argv
         log_dir = pathlib.Path(log_directory)
@@ -56,7 +59,7 @@ class ModuleProcess:
         try:
             self.popen = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=self._log,
                                           stderr=subprocess.STDOUT, preexec_fn=_die_with_parent,
-                                          close_fds=True)
+                                          close_fds=True, env={**os.environ, **(environment or {})})
         except OSError:
             self._log.close()
             raise

@@ -19,6 +19,7 @@ from typing import Any
 
 from wurde_core import (CommsManager, ProcessLocale, ProcessType, RunState,
                         StatusMode, g_error, g_info, g_warn)
+from wurde_core.heartbeat import MANAGED_ENV
 from wurde_core.interfaces import robot_object_class
 
 from .binaries import find_binary
@@ -174,7 +175,8 @@ class Supervisor:
             return False
         try:
             module.process = ModuleProcess(name, [binary, *module.spec.args, *argv_extra],
-                                           self.log_directory)
+                                           self.log_directory,
+                                           {MANAGED_ENV: module.spec.managed.name})
         except OSError as exc:
             g_error(f'MCP: cannot start {name} ({binary}): {exc}')
             self._failed_start(module)

@@ -10,9 +10,10 @@ So ``turn_off NAME`` reaches any running module by its CommsManager name:
 - otherwise — no MCP, or one that does not supervise NAME — Quit goes to NAME's heartbeat
   directly.
 
-Whether an MCP answers is a matter of discovery: turn_off gives it :data:`MCP_GRACE_S` from its
-start, and waits for the MCP's control channel as long as for the module once the ROS graph
-shows the MCP's node.
+Whether an MCP answers is a matter of discovery.  A module an MCP started to keep up says so in
+its heartbeat info (managed or critical, from the MCP's configuration): turn_off then waits for
+the MCP's control channel as long as for the module.  For any other module it gives an MCP
+:data:`MCP_GRACE_S` from its start, and waits as long once the ROS graph shows the MCP's node.
 
 ``turn_off`` alone quits every module but the MCP: through the MCP's quit-all when one answers,
 else directly to every heartbeat stream in the ROS graph.
@@ -24,7 +25,7 @@ import sys
 import time
 from typing import Any
 
-from wurde_core import CommsManager, RunState, WurdeError, stream_name
+from wurde_core import CommsManager, ProcessType, RunState, WurdeError, stream_name
 from wurde_core.interfaces import robot_object_class
 
 from .control import WAIT_S, connect, read_table, send
@@ -62,15 +63,28 @@ def _mcp_seen(manager: CommsManager) -> bool:
     return any(node in ('MCP', 'mcp') for node in manager.node.get_node_names())
 
 
+def _supervised(manager: CommsManager, heartbeat: Any) -> bool:
+    """Whether the module's heartbeat info says an MCP started it to keep it up (info is
+    transient-local: it comes with the match, however late)."""
+    _wait(manager, lambda: heartbeat.received('info'), WAIT_S)
+    managed = None
+    while heartbeat.get_next_info():
+        managed = heartbeat.info.managed.get_value()
+    return managed in (ProcessType.MANAGED, ProcessType.CRITICAL)
+
+
 def _one(manager: CommsManager, control: Any, name: str) -> int:
     heartbeat = _heartbeat(manager, name)
     start = time.monotonic()
     _wait(manager, lambda: heartbeat.peers() or control.peers(), WAIT_S)
     if heartbeat.peers() and not control.peers():
-        _wait(manager, lambda: control.peers() or _mcp_seen(manager),
-              MCP_GRACE_S - (time.monotonic() - start))
-        if _mcp_seen(manager):  # an MCP is there: wait for its control channel
+        if _supervised(manager, heartbeat):  # its MCP is there: wait for the control channel
             _wait(manager, control.peers, WAIT_S)
+        else:
+            _wait(manager, lambda: control.peers() or _mcp_seen(manager),
+                  MCP_GRACE_S - (time.monotonic() - start))
+            if _mcp_seen(manager):
+                _wait(manager, control.peers, WAIT_S)
     if control.peers():
         rows = read_table(manager, control, WAIT_S)
         if rows is not None and any(row['name'] == name for row in rows):
