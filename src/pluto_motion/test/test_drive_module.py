@@ -13,6 +13,7 @@ from typing import Any
 
 import pytest
 from drive_fixture import Driver, angle_error, robot, room_config, seconds
+from wurde_testing.parameters import ParameterTool
 
 #: The driveModule's defaults: linear acceleration limit (m/s^2) and timeout (s, Pluto 6.1).
 TV_ACCEL = 0.5
@@ -144,5 +145,44 @@ def test_regulator_sonar_and_bumpers(ros_domain: int, tmp_path: pathlib.Path) ->
             assert driver.pose[1] == pytest.approx(0.35, abs=0.02)
             driver.until(_base_zero(driver), 'the base commanded zero', timeout=30)
             assert d.velocities == (0.0, 0.0)
+    finally:
+        driver.close()
+
+
+def test_the_limits_are_tunables_set_while_running_and_from_a_params_file(
+        ros_domain: int, tmp_path: pathlib.Path) -> None:
+    """``ros2 param set /driveModule max_tv 0.2`` caps the drive at once; out of range is refused;
+    ``ros2 param dump`` of the drive, given back with ``--params-file``, starts it capped."""
+    directory = room_config(tmp_path)
+    driver = Driver()
+    d = driver.drive
+    try:
+        with robot(directory) as processes:
+            driver.children = processes
+            driver.until(lambda: d.code == 0 and driver.pose is not None, 'status and truth', timeout=60)
+            tool = ParameterTool('/driveModule')
+            try:
+                assert tool.get('max_tv', 'tv_accel', 'timeout') == [1.0, TV_ACCEL, TIMEOUT]
+                taken, reason = tool.set('max_tv', 9.0)
+                assert not taken and 'out of range' in reason
+                assert tool.set('max_tv', 0.2) == (True, '')
+                dump = tool.dump()
+            finally:
+                tool.close()
+            first = len(driver.statuses)
+            driver.until(lambda: any(len(m.data) == 2 and m.data[0] > 0.19 for m in driver.statuses[first:]),
+                         'driving at the new limit', every=lambda: d.velocity(0.5, 0.0))
+            assert max(m.data[0] for m in driver.statuses[first:] if len(m.data) == 2) <= 0.2 + 1e-6   # float32 on the wire
+            assert max(s.velocity[0] for s in driver.base_states) <= 0.2 + 1e-6   # float32 on the wire
+            d.velocity(0.0, 0.0)
+        params = tmp_path / 'drive.yaml'
+        params.write_text(dump)
+        with robot(directory, '--ros-args', '--params-file', str(params)) as processes:
+            tool = ParameterTool('/driveModule')
+            try:
+                assert tool.get('max_tv', 'max_rv') == [0.2, 1.5]
+            finally:
+                tool.close()
+            assert processes['drive'].process.poll() is None
     finally:
         driver.close()

@@ -49,7 +49,8 @@ from .mcp_client import McpClient
 from .naming import stream_segment_path
 from .robot_object import CONSUMER, SUPPLIER, RobotObject
 from .role_config import DEFAULT_ROLE_CONFIG, RoleConfiguration, set_global_configuration
-from .ros_adaptor import SubscriptionWaiter, open_node
+from .parameters import Tunable, Tunables, declare_configuration
+from .ros_adaptor import NodeEntities, SubscriptionWaiter, open_node
 from .trigger import Trigger
 
 #: Longest single wait inside run_update, so that signals and commands are seen promptly.
@@ -93,6 +94,8 @@ class CommsManager:
         self._closed = False
         self._started = False
         self._waiters: dict[bool, SubscriptionWaiter] = {}
+        self._tunables = Tunables()
+        self._entities: NodeEntities | None = None
         self._previous_handlers: dict[int, Any] = {}
         self._signals = 0
         self._told_to_quit = False
@@ -148,6 +151,14 @@ class CommsManager:
         self.options = opts
         self._user_spec = user_spec
         return opts
+
+    def tunable(self, name: str, default: bool | int | float | str, description: str,
+                minimum: float | None = None, maximum: float | None = None) -> Tunable:
+        """A value this module lets users change while it runs: a writable ROS 2 parameter of
+        its node (``ros2 param set``, ``--params-file``), typed by ``default``, kept within
+        ``minimum``..``maximum``; read it as ``.value`` where it is used.  The WURDE options and
+        configuration are parameters too, read-only (:mod:`wurde_core.parameters`)."""
+        return self._tunables.declare(name, default, description, minimum, maximum)
 
     # -- rate and heartbeat (guide 5.2) --------------------------------------------------------
     def set_sleep(self, seconds: float) -> None:
@@ -295,6 +306,9 @@ class CommsManager:
         node_name = stream_segment_path(self.name).replace('/', '_')
         self._context, self.node = open_node(node_name, self.options.ros_arguments)
         atexit.register(self.clean_up)
+        declare_configuration(self.node, self.name, self.config)
+        self._tunables.attach(self.node)
+        self._entities = NodeEntities(self.node)
         if self._heartbeat_enabled:
             self._heartbeat = ModuleHeartbeat(self.name)
             self._register_system(self._heartbeat.obj, SUPPLIER)
@@ -473,8 +487,11 @@ class CommsManager:
         waiter = self._waiters.get(system_only)
         if waiter is None:
             objects = self._system_objects if system_only else self._objects + self._system_objects
+            entities = self._entities
+            assert entities is not None
             waiter = SubscriptionWaiter(self._context,
-                                        [s for o in objects for s in o._subscriptions()])
+                                        [s for o in objects for s in o._subscriptions()]
+                                        + entities.subscriptions, entities.services)
             self._waiters[system_only] = waiter
         return waiter
 
@@ -485,6 +502,10 @@ class CommsManager:
         """Take in what arrived: the manager's own channels always, the program's only in Run.
         Only the subscriptions a wait set poll finds holding something are taken from."""
         ready = self._waiter(self.state != RunState.RUN).ready()
+        assert self._entities is not None
+        if self._entities.serve(ready):  # parameters (in Idle too), and rclpy's /clock
+            self._entities = NodeEntities(self.node)
+            self._waiters.clear()
         for obj in self._system_objects:
             obj._drain(ready)
         if self._heartbeat is not None:

@@ -18,7 +18,7 @@ from .errors import (DirectionError, InvalidTypeError, InvalidValueError, Locked
                      NotRegisteredError)
 from .naming import topic
 from .qos import info_qos, stream_qos
-from .ros_adaptor import wait_acked
+from .ros_adaptor import polled, wait_acked
 from .structs import DataStruct, InfoStruct
 from .timestamp import Time
 from .writable import DEVICE, describe_lock, lock_refusal
@@ -404,13 +404,13 @@ class RobotObject:
             self._outboxes['info'] = Outbox(node.create_publisher(
                 self.info_type, topic(stream, 'info'), info_qos(self._queue_mode)))
             self._inboxes['request'] = Inbox(node.create_subscription(
-                self.info_type, topic(stream, 'request'), _ignore, queue_qos),
+                self.info_type, topic(stream, 'request'), polled, queue_qos),
                 self._queue_mode, accept=self._accept_request)
         else:
             self._inboxes['data'] = Inbox(node.create_subscription(
-                self.data_type, topic(stream, 'data'), _ignore, queue_qos), self._queue_mode)
+                self.data_type, topic(stream, 'data'), polled, queue_qos), self._queue_mode)
             self._inboxes['info'] = Inbox(node.create_subscription(
-                self.info_type, topic(stream, 'info'), _ignore, info_qos(self._queue_mode)),
+                self.info_type, topic(stream, 'info'), polled, info_qos(self._queue_mode)),
                 self._queue_mode)
             self._outboxes['request'] = Outbox(node.create_publisher(
                 self.info_type, topic(stream, 'request'), queue_qos))
@@ -449,7 +449,3 @@ class RobotObject:
     def __repr__(self) -> str:
         return (f'<{self._label()} {self._role or "unregistered"}'
                 f'{" on " + self.stream if self.stream else ""}>')
-
-
-def _ignore(_message: Any) -> None:
-    """Subscriptions are drained by polling; this callback is never called."""

@@ -207,6 +207,14 @@ class RoleConfiguration:
         """Set an option (command-line user options land here)."""
         self._options[name] = value
 
+    def options(self) -> dict[str, str]:
+        """Every global option (file and command line), by name."""
+        return dict(self._options)
+
+    def module_options(self, module: str) -> dict[str, str]:
+        """The options the file gives ``module``, by name."""
+        return dict(self._module_options.get(module, {}))
+
     def have_module_option(self, module: str, name: str) -> bool:
         return name in self._module_options.get(module, {})
 

@@ -1,9 +1,11 @@
 """The one place that touches rclpy's internals: contexts, raw publish and take, wait sets.
 
-WURDE's loop polls (no executor, no callbacks): a channel takes what DDS holds with
-``take_message`` and publishes through the publisher's handle, and the manager waits on a wait
-set of its subscriptions.  Everything that reaches below rclpy's public API is here, so that an
-rclpy change is mended in one file.
+WURDE's loop polls (no executor): a channel takes what DDS holds with ``take_message`` and
+publishes through the publisher's handle, and the manager waits on a wait set of its
+subscriptions.  What rclpy itself puts on a node — the parameter and type-description services,
+the ``/clock`` subscription of ``use_sim_time`` — is served from the same loop by
+:class:`NodeEntities`, as an executor would.  Everything that reaches below rclpy's public API is
+here, so that an rclpy change is mended in one file.
 """
 
 from __future__ import annotations
@@ -19,13 +21,51 @@ from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.signals import SignalHandlerOptions
 
 
+def polled(_message: Any) -> None:
+    """The callback of subscriptions that are drained by polling (never called).  Any other
+    subscription on a manager's node gets its callback called from the manager's loop."""
+
+
 def open_node(node_name: str, ros_arguments: Sequence[str]) -> tuple[Context, Any]:
-    """A fresh context (no rclpy signal handlers: the manager has its own) and a node in it."""
+    """A fresh context (no rclpy signal handlers: the manager has its own) and a node in it,
+    with rclpy's parameter services (served by :class:`NodeEntities`)."""
     context = Context()
     rclpy.init(args=['wurde', *ros_arguments], context=context,
                signal_handler_options=SignalHandlerOptions.NO)
-    node = rclpy.create_node(node_name, context=context, start_parameter_services=False)
+    node = rclpy.create_node(node_name, context=context)
     return context, node
+
+
+class NodeEntities:
+    """The node's services, and its subscriptions that have a callback (not :func:`polled`):
+    what an executor would serve."""
+
+    def __init__(self, node: Any) -> None:
+        self.services = list(node.services)
+        self.subscriptions = [s for s in node.subscriptions if s.callback is not polled]
+
+    def serve(self, ready: set[int]) -> bool:
+        """Answer the requests and call the callbacks of the entities in ``ready`` (pointers
+        from :meth:`SubscriptionWaiter.ready`); returns whether a service was called (it may
+        have changed the node's entities: a new ``use_sim_time`` sets up ``/clock``)."""
+        served = False
+        for service in self.services:
+            if service.handle.pointer not in ready:
+                continue
+            while True:
+                with service.handle:
+                    request, header = service.handle.service_take_request(
+                        service.srv_type.Request)
+                if header is None:
+                    break
+                service.send_response(service.callback(request, service.srv_type.Response()),
+                                      header)
+                served = True
+        for subscription in self.subscriptions:
+            if subscription.handle.pointer in ready:
+                for message in take(subscription.handle, subscription.msg_type, -1):
+                    subscription.callback(message)
+        return served
 
 
 def publish(handle: Any, message: Any) -> None:
@@ -63,12 +103,15 @@ def wait_acked(publisher: Any, timeout: float) -> bool:
 
 
 class SubscriptionWaiter:
-    """Waits until one of a fixed set of subscriptions has something to take."""
+    """Waits until one of a fixed set of subscriptions (and services) has something to take."""
 
-    def __init__(self, context: Context, subscriptions: Sequence[Any]) -> None:
+    def __init__(self, context: Context, subscriptions: Sequence[Any],
+                 services: Sequence[Any] = ()) -> None:
         self._subscriptions = list(subscriptions)
-        self._wait_set = (_rclpy.WaitSet(len(self._subscriptions), 0, 0, 0, 0, 0, context.handle)
-                          if self._subscriptions else None)
+        self._services = list(services)
+        self._wait_set = (_rclpy.WaitSet(len(self._subscriptions), 0, 0, 0, len(self._services),
+                                         0, context.handle)
+                          if self._subscriptions or self._services else None)
 
     def wait(self, seconds: float) -> bool:
         """Block up to ``seconds``; return whether something arrived."""
@@ -79,13 +122,18 @@ class SubscriptionWaiter:
         wait_set.clear_entities()
         for sub in self._subscriptions:
             wait_set.add_subscription(sub.handle)
+        for service in self._services:
+            wait_set.add_service(service.handle)
         wait_set.wait(int(max(0.0, seconds) * 1e9))
-        return bool(wait_set.get_ready_entities('subscription'))
+        return bool(wait_set.get_ready_entities('subscription')
+                    or wait_set.get_ready_entities('service'))
 
     def ready(self) -> set[int]:
-        """The subscriptions (their handles' pointers) that hold something now, without waiting:
-        one wait set poll is far cheaper than a ``take`` attempt on every channel."""
+        """The subscriptions and services (their handles' pointers) that hold something now,
+        without waiting: one wait set poll is far cheaper than a ``take`` attempt on every
+        channel."""
         if self._wait_set is None:
             return set()
         self.wait(0.0)
-        return set(self._wait_set.get_ready_entities('subscription'))
+        return (set(self._wait_set.get_ready_entities('subscription'))
+                | set(self._wait_set.get_ready_entities('service')))

@@ -31,7 +31,7 @@ from nav_msgs.msg import Odometry
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import Imu, LaserScan, NavSatFix, NavSatStatus
 from wurde_core.naming import stream_segment_path
-from wurde_core.ros_adaptor import take
+from wurde_core.ros_adaptor import polled, take
 from wurde_core.ros_messages import quaternion, set_stamp
 
 __all__ = ['FixPublisher', 'ImuPublisher', 'OdometryPublisher', 'ScanPublisher', 'TwistInbox']
@@ -91,7 +91,7 @@ class TwistInbox:
 
     def __init__(self, node: Any, stream: str) -> None:
         self.subscription = node.create_subscription(Twist, f'/{stream_segment_path(stream)}/cmd_vel',
-                                                     lambda _msg: None, _QOS)
+                                                     polled, _QOS)
 
     def take(self) -> Twist | None:
         """The newest Twist that arrived since the last call, or None."""

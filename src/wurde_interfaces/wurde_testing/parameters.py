@@ -1,0 +1,78 @@
+"""What ``ros2 param list/get/set/dump`` do, through rclpy's own parameter client.
+
+ros2cli is not on PyPI, so the tests of a pip-only install do with rclpy's
+:class:`~rclpy.parameter_client.AsyncParameterClient` what a user does with ``ros2 param``; the
+dump is written in ``ros2 param dump``'s layout (names split at dots into nested keys), which
+``--ros-args --params-file`` reads.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import rclpy
+import yaml
+from rclpy.context import Context
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.parameter import Parameter, parameter_value_to_python
+from rclpy.parameter_client import AsyncParameterClient
+
+SERVICE_WAIT_S = 60.0
+CALL_WAIT_S = 30.0
+
+
+class ParameterTool:
+    """A parameter client of one remote node, in a context of its own."""
+
+    def __init__(self, node_name: str) -> None:
+        self.node_name = node_name if node_name.startswith('/') else '/' + node_name
+        self.context = Context()
+        rclpy.init(context=self.context)
+        self.node = rclpy.create_node('parameter_tool', context=self.context)
+        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor.add_node(self.node)
+        self.client = AsyncParameterClient(self.node, self.node_name)
+        if not self.client.wait_for_services(SERVICE_WAIT_S):
+            self.close()
+            raise AssertionError(f'{self.node_name} serves no parameters within {SERVICE_WAIT_S} s')
+
+    def _call(self, future: Any) -> Any:
+        self.executor.spin_until_future_complete(future, timeout_sec=CALL_WAIT_S)
+        if not future.done():
+            raise AssertionError(f'{self.node_name}: no parameter service answer in {CALL_WAIT_S} s')
+        return future.result()
+
+    def names(self) -> list[str]:
+        """``ros2 param list``."""
+        return sorted(self._call(self.client.list_parameters()).result.names)
+
+    def get(self, *names: str) -> list[Any]:
+        """``ros2 param get``: the values as Python values."""
+        return [parameter_value_to_python(v)
+                for v in self._call(self.client.get_parameters(list(names))).values]
+
+    def describe(self, name: str) -> Any:
+        """``ros2 param describe``: the ParameterDescriptor."""
+        return self._call(self.client.describe_parameters([name])).descriptors[0]
+
+    def set(self, name: str, value: Any) -> tuple[bool, str]:
+        """``ros2 param set``: (whether it was taken, the node's reason if not)."""
+        result = self._call(self.client.set_parameters([Parameter(name, value=value)])).results[0]
+        return result.successful, result.reason
+
+    def dump(self) -> str:
+        """``ros2 param dump``: YAML for ``--params-file``."""
+        names = self.names()
+        tree: dict[str, Any] = {}
+        for name, value in zip(names, self.get(*names)):
+            *path, leaf = name.split('.')
+            branch = tree
+            for key in path:
+                branch = branch.setdefault(key, {})
+            branch[leaf] = value
+        return yaml.safe_dump({self.node_name: {'ros__parameters': tree}})
+
+    def close(self) -> None:
+        self.executor.shutdown()
+        self.node.destroy_node()
+        self.context.try_shutdown()
