@@ -40,6 +40,7 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from rclpy.context import Context
+from rclpy.node import Node
 
 from . import options as _options
 from .enums import ConnectionStrategy, RunState
@@ -70,7 +71,10 @@ StateCallback = Callable[[], None]
 class CommsManager:
     """The communication manager of one module (process)."""
 
-    def __init__(self, name: str) -> None:
+    def __init__(self, name: str, *, node_type: type[Node] = Node) -> None:
+        """``name`` is the module's (and its node's) name; ``node_type`` the rclpy node class to
+        create (a LifecycleNode subclass for the MCP: one node per module, whose services the
+        manager's loop serves)."""
         if not name:
             raise InvalidValueError('a CommsManager needs the module name')
         self.name = name
@@ -78,6 +82,7 @@ class CommsManager:
         self.options = _options.Options()
         self.config = RoleConfiguration(name)
         self.node: Any = None
+        self._node_type = node_type
         self._context: Context | None = None
         self._help = ''
         self._user_spec: str | None = None
@@ -304,7 +309,8 @@ class CommsManager:
             raise RegistrationError(f'CommsManager "{self.name}" was cleaned up')
         stream_segment_path(self.name)  # refuses names that can not be a stream segment
         node_name = stream_segment_path(self.name).replace('/', '_')
-        self._context, self.node = open_node(node_name, self.options.ros_arguments)
+        self._context, self.node = open_node(node_name, self.options.ros_arguments,
+                                             self._node_type)
         atexit.register(self.clean_up)
         declare_configuration(self.node, self.name, self.config)
         self._tunables.attach(self.node)

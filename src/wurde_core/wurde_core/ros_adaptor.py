@@ -18,6 +18,7 @@ import rclpy
 from rclpy.context import Context
 from rclpy.duration import Duration
 from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
+from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 
 
@@ -26,14 +27,14 @@ def polled(_message: Any) -> None:
     subscription on a manager's node gets its callback called from the manager's loop."""
 
 
-def open_node(node_name: str, ros_arguments: Sequence[str]) -> tuple[Context, Any]:
-    """A fresh context (no rclpy signal handlers: the manager has its own) and a node in it,
-    with rclpy's parameter services (served by :class:`NodeEntities`)."""
+def open_node(node_name: str, ros_arguments: Sequence[str],
+              node_type: type[Node] = Node) -> tuple[Context, Node]:
+    """A fresh context (no rclpy signal handlers: the manager has its own) and a node of
+    ``node_type`` in it, with rclpy's parameter services (served by :class:`NodeEntities`)."""
     context = Context()
     rclpy.init(args=['wurde', *ros_arguments], context=context,
                signal_handler_options=SignalHandlerOptions.NO)
-    node = rclpy.create_node(node_name, context=context)
-    return context, node
+    return context, node_type(node_name, context=context)
 
 
 class NodeEntities:
@@ -43,11 +44,25 @@ class NodeEntities:
     def __init__(self, node: Any) -> None:
         self.services = list(node.services)
         self.subscriptions = [s for s in node.subscriptions if s.callback is not polled]
+        self._serving = False
 
     def serve(self, ready: set[int]) -> bool:
         """Answer the requests and call the callbacks of the entities in ``ready`` (pointers
         from :meth:`SubscriptionWaiter.ready`); returns whether a service was called (it may
-        have changed the node's entities: a new ``use_sim_time`` sets up ``/clock``)."""
+        have changed the node's entities: a new ``use_sim_time`` sets up ``/clock``).
+
+        Not re-entered: a callback that steps the manager (a lifecycle transition that
+        supervises while it configures) leaves further requests for after it returns, as a
+        single-threaded executor would."""
+        if self._serving:
+            return False
+        self._serving = True
+        try:
+            return self._serve(ready)
+        finally:
+            self._serving = False
+
+    def _serve(self, ready: set[int]) -> bool:
         served = False
         for service in self.services:
             if service.handle.pointer not in ready:

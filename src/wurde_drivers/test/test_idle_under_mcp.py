@@ -71,7 +71,7 @@ class Watcher:
             self._add((module, 'beat'), heartbeat.data_type, topic(f'heartbeat/{module}', 'data'),
                       stream_qos(True))
             self._add((module, 'data'), kind.data_type, topic(stream, 'data'), stream_qos(True))
-        self.change = node.create_client(ChangeState, '/mcp/change_state')
+        self.change = node.create_client(ChangeState, '/MCP/change_state')
         self.executor = SingleThreadedExecutor(context=self.manager.context)
         self.executor.add_node(node)
 

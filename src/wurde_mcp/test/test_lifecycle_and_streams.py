@@ -45,9 +45,11 @@ def test_lifecycle_transitions_drive_the_modules(tmp_path, table) -> None:
     config, mappings = write_config(tmp_path, worker('Life'))
     with start_mcp(tmp_path, config, mappings) as mcp:
         node = table.manager.node
-        change = node.create_client(ChangeState, '/mcp/change_state')
-        get = node.create_client(GetState, '/mcp/get_state')
+        change = node.create_client(ChangeState, '/MCP/change_state')
+        get = node.create_client(GetState, '/MCP/get_state')
         assert call(table, get, GetState.Request()).current_state.label == 'unconfigured'
+        names = node.get_node_names()  # the node that answered is the MCP's one node
+        assert names.count('MCP') == 1 and 'mcp' not in names, names
 
         def transition(tid: int) -> None:
             assert call(table, change, ChangeState.Request(

@@ -10,7 +10,9 @@
 - cleanup and shutdown: Quit every module and reap the internal ones.
 
 ``-a`` configures and activates at once.  Transitions are driven with the standard lifecycle
-services (``/mcp/change_state``), so any ROS 2 lifecycle tool can drive the MCP.  Files come from
+services (``/MCP/change_state``), so any ROS 2 lifecycle tool can drive the MCP.  The MCP is one
+node, ``/MCP``: its CommsManager's node is the lifecycle node, and the manager's loop serves the
+lifecycle services (no executor of its own).  Files come from
 ``-c`` / ``-m``, else the role configuration (WURDE_MCP_CONFIG, WURDE_MCP_MAPPINGS, ...).
 """
 
@@ -19,8 +21,8 @@ from __future__ import annotations
 import os
 import sys
 import time
+from typing import Any
 
-from rclpy.executors import SingleThreadedExecutor
 from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
 
 from wurde_core import (CommsManager, ConfigError, RunState, StatusMode, g_error, g_info,
@@ -34,27 +36,33 @@ from .supervisor import MAX_RESTARTS, Supervisor
 REGISTRATION_TIMEOUT_S = 15.0
 
 
-class _McpNode(LifecycleNode):
-    """The lifecycle node; its transition callbacks are the MCP's."""
+class McpNode(LifecycleNode):
+    """The MCP's node (its CommsManager's): a lifecycle node whose transition callbacks are the
+    :class:`Mcp`'s once one is attached (before that, every transition fails)."""
 
-    def __init__(self, mcp: 'Mcp', **kwargs: object) -> None:
-        self._mcp = mcp
-        super().__init__('mcp', enable_communication_interface=True, **kwargs)
+    def __init__(self, node_name: str, **kwargs: Any) -> None:
+        self.mcp: Mcp | None = None
+        super().__init__(node_name, enable_communication_interface=True, **kwargs)
+
+    def _call(self, transition: str, state: LifecycleState) -> TransitionCallbackReturn:
+        if self.mcp is None:
+            return TransitionCallbackReturn.FAILURE
+        return getattr(self.mcp, transition)(state)
 
     def on_configure(self, state: LifecycleState) -> TransitionCallbackReturn:
-        return self._mcp.on_configure(state)
+        return self._call('on_configure', state)
 
     def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
-        return self._mcp.on_activate(state)
+        return self._call('on_activate', state)
 
     def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
-        return self._mcp.on_deactivate(state)
+        return self._call('on_deactivate', state)
 
     def on_cleanup(self, state: LifecycleState) -> TransitionCallbackReturn:
-        return self._mcp.on_cleanup(state)
+        return self._call('on_cleanup', state)
 
     def on_shutdown(self, state: LifecycleState) -> TransitionCallbackReturn:
-        return self._mcp.on_shutdown(state)
+        return self._call('on_shutdown', state)
 
 
 class Mcp:
@@ -67,9 +75,11 @@ class Mcp:
         self.config_file = config_file
         self.mappings_file = mappings_file
         self.supervisor: Supervisor | None = None
-        self.node = _McpNode(self, context=manager.context)
-        self.executor = SingleThreadedExecutor(context=manager.context)
-        self.executor.add_node(self.node)
+        manager.step()  # opens the node
+        if not isinstance(manager.node, McpNode):
+            raise TypeError('the MCP needs CommsManager(..., node_type=McpNode)')
+        self.node = manager.node
+        self.node.mcp = self
 
     def load(self) -> McpConfig:
         """Read and check the configuration and mappings.
@@ -174,15 +184,14 @@ class Mcp:
             self.supervisor.quit_all()
 
     def spin_once(self) -> None:
-        """Serve lifecycle services and supervise; never blocks."""
-        self.executor.spin_once(timeout_sec=0.0)
+        """Supervise (the manager's loop serves the lifecycle services); never blocks."""
         if self.supervisor is not None:
             self.supervisor.tick()
 
 
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
-    manager = CommsManager('MCP')
+    manager = CommsManager('MCP', node_type=McpNode)
     manager.set_help_string('  -c FILE  MCP configuration (default: role config, mcp-config.xml)\n'
                             '  -m FILE  MCP mappings (default: role config, mcp-mapping.xml)\n'
                             '  -a       configure and activate at once\n'
@@ -217,7 +226,6 @@ def main(argv: list[str] | None = None) -> int:
         if mcp.supervisor is not None:
             g_info(mcp.supervisor.summary())
         mcp.quit_all()
-        mcp.node.destroy_node()
         manager.clean_up()
     return 0
 

@@ -59,8 +59,8 @@ def _wait(manager: CommsManager, done: Any, seconds: float) -> None:
 
 
 def _mcp_seen(manager: CommsManager) -> bool:
-    """Whether the ROS graph shows an MCP's nodes (before its control channel is matched)."""
-    return any(node in ('MCP', 'mcp') for node in manager.node.get_node_names())
+    """Whether the ROS graph shows an MCP's node (before its control channel is matched)."""
+    return MCP_NAME in manager.node.get_node_names()
 
 
 def _supervised(manager: CommsManager, heartbeat: Any) -> bool:
