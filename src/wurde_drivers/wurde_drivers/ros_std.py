@@ -39,13 +39,18 @@ __all__ = ['FixPublisher', 'ImuPublisher', 'OdometryPublisher', 'ScanPublisher',
 _QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 
 
+def std_topic(stream: str, leaf: str) -> str:
+    """The standard topic ``leaf`` of ``stream`` (``/S/<leaf>``): every name here comes from this."""
+    return f'/{stream_segment_path(stream)}/{leaf}'
+
+
 class ScanPublisher:
     """``/S/scan``: the scan in robot order, counter-clockwise from −90° (REP-103)."""
 
     def __init__(self, node: Any, stream: str, *, max_range: float, time_increment: float = 0.0,
                  frame: str | None = None) -> None:
         """``time_increment``: seconds between two measurements (the device's fact, 0 if unknown)."""
-        self.publisher = node.create_publisher(LaserScan, f'/{stream_segment_path(stream)}/scan', _QOS)
+        self.publisher = node.create_publisher(LaserScan, std_topic(stream, 'scan'), _QOS)
         self.frame = frame or stream.replace('/', '_')
         self.max_range = max_range
         self.time_increment = time_increment
@@ -70,7 +75,7 @@ class OdometryPublisher:
     """``/S/odom``: pose and twist of ``base_link`` in ``odom`` (REP-105)."""
 
     def __init__(self, node: Any, stream: str) -> None:
-        self.publisher = node.create_publisher(Odometry, f'/{stream_segment_path(stream)}/odom', _QOS)
+        self.publisher = node.create_publisher(Odometry, std_topic(stream, 'odom'), _QOS)
 
     def publish(self, x: float, y: float, theta: float, tv: float, rv: float, stamp: float) -> None:
         msg = Odometry()
@@ -90,7 +95,7 @@ class TwistInbox:
     """``/S/cmd_vel``: the newest Twist, taken without an executor as the WURDE channels are."""
 
     def __init__(self, node: Any, stream: str) -> None:
-        self.subscription = node.create_subscription(Twist, f'/{stream_segment_path(stream)}/cmd_vel',
+        self.subscription = node.create_subscription(Twist, std_topic(stream, 'cmd_vel'),
                                                      polled, _QOS)
 
     def take(self) -> Twist | None:
@@ -105,7 +110,7 @@ class ImuPublisher:
     """``/S/imu``: orientation, angular velocity and linear acceleration (REP-103, z up)."""
 
     def __init__(self, node: Any, stream: str) -> None:
-        self.publisher = node.create_publisher(Imu, f'/{stream_segment_path(stream)}/imu', _QOS)
+        self.publisher = node.create_publisher(Imu, std_topic(stream, 'imu'), _QOS)
         self.frame = stream.replace('/', '_')
 
     def publish(self, state: Any, stamp: float) -> None:
@@ -132,7 +137,7 @@ class FixPublisher:
     """``/S/fix``: latitude, longitude (degrees) and altitude (m) with the fix's status."""
 
     def __init__(self, node: Any, stream: str) -> None:
-        self.publisher = node.create_publisher(NavSatFix, f'/{stream_segment_path(stream)}/fix', _QOS)
+        self.publisher = node.create_publisher(NavSatFix, std_topic(stream, 'fix'), _QOS)
         self.frame = stream.replace('/', '_')
 
     def publish(self, *, latitude: float, longitude: float, altitude: float, quality: int,
