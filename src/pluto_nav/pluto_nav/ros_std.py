@@ -5,13 +5,15 @@ topic             type                                         what
 ================= ============================================ =====================================
 ``odom``          nav_msgs/Odometry                            stream (0): ``base_link`` in ``odom``
 ``pose``          geometry_msgs/PoseWithCovarianceStamped      stream (3) in ``map``
-``/tf``           tf2_msgs/TFMessage                           map → odom (the adjustment) and
+``tf``            tf2_msgs/TFMessage                           map → odom (the adjustment) and
                                                                odom → base_link (dead reckoning)
-``/tf_static``    tf2_msgs/TFMessage (transient local)         base_link → the laser's frame
+``tf_static``     tf2_msgs/TFMessage (transient local)         base_link → the laser's frame
 ================= ============================================ =====================================
 
-``odom`` and ``pose`` are relative names, so they follow the node's namespace; covariances are the
-streams' (x, y, theta) ones placed in the 6x6 ROS layout (z, roll and pitch marked unknown-large).
+All four are relative names, so they follow the node's namespace (``/tf`` for a robot started
+plainly, ``/robot1/tf`` in ``/robot1``: the namespaced-TF convention of multi-robot ROS 2);
+covariances are the streams' (x, y, theta) ones placed in the 6x6 ROS layout (z, roll and pitch
+marked unknown-large).
 """
 
 from __future__ import annotations
@@ -76,8 +78,8 @@ class LocalizationPublisher:
     def __init__(self, node: Any, *, laser_frame: str = 'laser') -> None:
         self.odom = node.create_publisher(Odometry, 'odom', _QOS)
         self.pose = node.create_publisher(PoseWithCovarianceStamped, 'pose', _QOS)
-        self.tf = node.create_publisher(TFMessage, '/tf', _QOS)
-        self.tf_static = node.create_publisher(TFMessage, '/tf_static', _STATIC)
+        self.tf = node.create_publisher(TFMessage, 'tf', _QOS)
+        self.tf_static = node.create_publisher(TFMessage, 'tf_static', _STATIC)
         self.laser_frame = laser_frame
         self._odom = Odometry()
         self._odom.header.frame_id, self._odom.child_frame_id = 'odom', 'base_link'

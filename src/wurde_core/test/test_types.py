@@ -84,6 +84,11 @@ def test_stream_names_map_to_valid_topics_and_back(stream: str, expected: str) -
     assert name == expected
     validate_full_topic_name(name)
     assert stream_name(name) == (stream, 'data')
+    in_robot1 = topic(stream, 'data', '/robot1')           # a module in a namespace
+    assert in_robot1 == '/robot1' + expected
+    assert stream_name(in_robot1, '/robot1/') == (stream, 'data')
+    with pytest.raises(WurdeError):
+        stream_name(in_robot1)                              # not a stream of the root namespace
 
 
 def test_bad_stream_names_are_refused() -> None:

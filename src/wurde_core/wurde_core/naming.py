@@ -1,6 +1,8 @@
 """Stream names to ROS topic names, by one documented and reversible rule.
 
-A stream ``S`` lives at ``/wurde/S/data``, ``/wurde/S/info`` and ``/wurde/S/request``.  ``S`` is
+A stream ``S`` lives at ``wurde/S/data``, ``wurde/S/info`` and ``wurde/S/request`` below the node's
+namespace: ``/wurde/S/data`` for a module started plainly, ``/robot1/wurde/S/data`` for one started
+with ``--ros-args -r __ns:=/robot1`` (so two robots share a domain without cross-talk).  ``S`` is
 split at ``/`` (Pluto's ``Localization/Dead-Reckoning`` becomes two levels).  A segment that is
 already a plain ROS name token — a letter, then letters and digits, single underscores between
 them — is kept as it is.  Any other segment is written ``w__`` followed by the segment with every
@@ -16,7 +18,8 @@ import re
 
 from .errors import WurdeError
 
-PREFIX = '/wurde'
+#: The first level of every stream topic, below the namespace.
+ROOT = 'wurde'
 CHANNELS = ('data', 'info', 'request')
 _PLAIN = re.compile(r'^[A-Za-z][A-Za-z0-9]*(_[A-Za-z0-9]+)*$')
 _MARK = 'w__'
@@ -52,7 +55,7 @@ def _decode(segment: str) -> str:
 
 
 def stream_segment_path(stream: str) -> str:
-    """The topic path of ``stream`` below :data:`PREFIX` (``Localization/w__Dead_2DReckoning``).
+    """The topic path of ``stream`` below :data:`ROOT` (``Localization/w__Dead_2DReckoning``).
 
     :raises WurdeError: for an empty stream name or an empty segment (``a//b``, ``/a``).
     """
@@ -62,11 +65,21 @@ def stream_segment_path(stream: str) -> str:
     return '/'.join(_encode(s) for s in segments)
 
 
-def topic(stream: str, channel: str) -> str:
-    """The ROS topic of one channel (``data``, ``info`` or ``request``) of ``stream``."""
+def relative_topic(stream: str, channel: str) -> str:
+    """The topic of one channel (``data``, ``info`` or ``request``) of ``stream``, relative: a
+    node resolves it in its namespace."""
     if channel not in CHANNELS:
         raise ValueError(f'unknown channel {channel!r}')
-    return f'{PREFIX}/{stream_segment_path(stream)}/{channel}'
+    return f'{ROOT}/{stream_segment_path(stream)}/{channel}'
+
+
+def _namespace_prefix(namespace: str) -> str:
+    return namespace.rstrip('/') + '/'
+
+
+def topic(stream: str, channel: str, namespace: str = '/') -> str:
+    """The absolute ROS topic of one channel of ``stream`` in ``namespace``."""
+    return _namespace_prefix(namespace) + relative_topic(stream, channel)
 
 
 def typed_view(stream: str, interface: str) -> str:
@@ -80,14 +93,15 @@ def typed_view(stream: str, interface: str) -> str:
     return f'{stream}/{interface}'
 
 
-def stream_name(topic_name: str) -> tuple[str, str]:
-    """Undo :func:`topic`: ``/wurde/<path>/<channel>`` -> ``(stream, channel)``.
+def stream_name(topic_name: str, namespace: str = '/') -> tuple[str, str]:
+    """Undo :func:`topic`: ``<namespace>/wurde/<path>/<channel>`` -> ``(stream, channel)``.
 
-    :raises WurdeError: when ``topic_name`` is not a WURDE stream topic.
+    :raises WurdeError: when ``topic_name`` is not a WURDE stream topic of ``namespace``.
     """
-    if not topic_name.startswith(PREFIX + '/'):
-        raise WurdeError(f'{topic_name!r} is not below {PREFIX}/')
-    path, _, channel = topic_name[len(PREFIX) + 1:].rpartition('/')
+    prefix = _namespace_prefix(namespace) + ROOT + '/'
+    if not topic_name.startswith(prefix):
+        raise WurdeError(f'{topic_name!r} is not below {prefix}')
+    path, _, channel = topic_name[len(prefix):].rpartition('/')
     if channel not in CHANNELS or not path:
         raise WurdeError(f'{topic_name!r} is not a WURDE stream topic')
     return '/'.join(_decode(s) for s in path.split('/')), channel

@@ -16,7 +16,7 @@ from .channel import Inbox, Outbox
 from .enums import ConnectionStrategy, LockMode, RunState
 from .errors import (DirectionError, InvalidTypeError, InvalidValueError, LockedError,
                      NotRegisteredError)
-from .naming import topic
+from .naming import relative_topic
 from .qos import info_qos, stream_qos
 from .ros_adaptor import polled, wait_acked
 from .structs import DataStruct, InfoStruct
@@ -400,20 +400,20 @@ class RobotObject:
         queue_qos = stream_qos(self._queue_mode)
         if self._role == SUPPLIER:
             self._outboxes['data'] = Outbox(node.create_publisher(
-                self.data_type, topic(stream, 'data'), queue_qos))
+                self.data_type, relative_topic(stream, 'data'), queue_qos))
             self._outboxes['info'] = Outbox(node.create_publisher(
-                self.info_type, topic(stream, 'info'), info_qos(self._queue_mode)))
+                self.info_type, relative_topic(stream, 'info'), info_qos(self._queue_mode)))
             self._inboxes['request'] = Inbox(node.create_subscription(
-                self.info_type, topic(stream, 'request'), polled, queue_qos),
+                self.info_type, relative_topic(stream, 'request'), polled, queue_qos),
                 self._queue_mode, accept=self._accept_request)
         else:
             self._inboxes['data'] = Inbox(node.create_subscription(
-                self.data_type, topic(stream, 'data'), polled, queue_qos), self._queue_mode)
+                self.data_type, relative_topic(stream, 'data'), polled, queue_qos), self._queue_mode)
             self._inboxes['info'] = Inbox(node.create_subscription(
-                self.info_type, topic(stream, 'info'), polled, info_qos(self._queue_mode)),
+                self.info_type, relative_topic(stream, 'info'), polled, info_qos(self._queue_mode)),
                 self._queue_mode)
             self._outboxes['request'] = Outbox(node.create_publisher(
-                self.info_type, topic(stream, 'request'), queue_qos))
+                self.info_type, relative_topic(stream, 'request'), queue_qos))
 
     def _disconnect(self) -> None:
         manager = self._manager

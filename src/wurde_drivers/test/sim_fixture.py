@@ -47,8 +47,10 @@ def sim_config(directory: pathlib.Path, *, top: dict[str, str] | None = None,
 class Observer:
     """A module in the test process that consumes streams in queue mode and keeps every event."""
 
-    def __init__(self, streams: dict[str, str], *, queue: bool = True) -> None:
+    def __init__(self, streams: dict[str, str], *, queue: bool = True, namespace: str = '/') -> None:
         self.manager = CommsManager('Observer')
+        if namespace != '/':  # the streams of the robot started in that namespace
+            self.manager.parse_options(['observer', '--ros-args', '-r', f'__ns:={namespace}'])
         self.manager.set_no_sleep()
         self.objects = {}
         for stream, interface in streams.items():

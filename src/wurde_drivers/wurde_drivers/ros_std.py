@@ -40,8 +40,10 @@ _QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 
 
 def std_topic(stream: str, leaf: str) -> str:
-    """The standard topic ``leaf`` of ``stream`` (``/S/<leaf>``): every name here comes from this."""
-    return f'/{stream_segment_path(stream)}/{leaf}'
+    """The standard topic ``leaf`` of ``stream``: ``S/<leaf>``, relative, so ``/S/<leaf>`` for a
+    module started plainly and ``/robot1/S/<leaf>`` in namespace ``/robot1``.  Every name here
+    comes from this."""
+    return f'{stream_segment_path(stream)}/{leaf}'
 
 
 class ScanPublisher:

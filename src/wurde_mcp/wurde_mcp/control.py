@@ -7,6 +7,8 @@ too, on ``/wurde/mcp_control/data``).  ``turn_off`` lives in :mod:`wurde_mcp.tur
 - ``mcp_controller list`` (or ``status``): the module table (status, managed, state, pid, host, heartbeat age,
   restarts); ``mcp_controller start|stop|restart MODULE``;
   ``mcp_controller state MODULE RUN|IDLE|RESET|RESTART|QUIT``.
+
+Both take ``--ros-args`` (``-r __ns:=/robot1`` reaches the MCP started in ``/robot1``).
 """
 
 from __future__ import annotations
@@ -17,16 +19,20 @@ from typing import Any
 
 from wurde_core import CommsManager, ProcessType, RunState, StatusMode
 from wurde_core.interfaces import robot_object_class
+from wurde_core.options import split_ros_arguments
 
 from .supervisor import CMD_RESTART, CMD_START, CMD_STATE, CMD_STOP
 
 WAIT_S = 10.0
 
 
-def connect(name: str, wait_s: float = WAIT_S) -> tuple[CommsManager, Any]:
+def connect(name: str, wait_s: float = WAIT_S,
+            ros_arguments: list[str] | None = None) -> tuple[CommsManager, Any]:
     """A manager named ``name`` with a consumer of ``mcp_control``; waits up to ``wait_s`` for
-    an MCP and exits with a message when ``wait_s`` is positive and none answers."""
+    an MCP and exits with a message when ``wait_s`` is positive and none answers.
+    ``ros_arguments`` (``--ros-args -r __ns:=/robot1``) reach the MCP of that namespace."""
     manager = CommsManager(name)
+    manager.parse_options([name, *(ros_arguments or [])])
     manager.set_no_heartbeat()
     manager.set_no_sleep()
     control = robot_object_class('SimpleControl')('mcp_control')
@@ -71,7 +77,7 @@ def read_table(manager: CommsManager, control: Any,
 
 def mcp_controller(argv: list[str] | None = None) -> int:
     """``mcp_controller list | status | start M | stop M | restart M | state M STATE``."""
-    args = list(sys.argv[1:] if argv is None else argv)
+    args, ros_arguments = split_ros_arguments(list(sys.argv[1:] if argv is None else argv))
     if args[:1] == ['status']:
         args[0] = 'list'                  # the name a ROS 2 user tries first
     usage = 'usage: mcp_controller list | status | start M | stop M | restart M | state M STATE'
@@ -83,7 +89,7 @@ def mcp_controller(argv: list[str] | None = None) -> int:
     if args[0] == 'state' and args[2].upper() not in RunState.__members__:
         print(f'mcp_controller: unknown state {args[2]}\n{usage}', file=sys.stderr)
         return 2
-    manager, control = connect('mcpController')
+    manager, control = connect('mcpController', ros_arguments=ros_arguments)
     try:
         if args[0] == 'list':
             rows = read_table(manager, control)

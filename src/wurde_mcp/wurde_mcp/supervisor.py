@@ -174,7 +174,8 @@ class Supervisor:
             self._failed_start(module)
             return False
         try:
-            module.process = ModuleProcess(name, [binary, *module.spec.args, *argv_extra],
+            module.process = ModuleProcess(name, [binary, *module.spec.args, *argv_extra,
+                                                  *self._namespace_arguments()],
                                            self.log_directory,
                                            {MANAGED_ENV: module.spec.managed.name})
         except OSError as exc:
@@ -187,6 +188,12 @@ class Supervisor:
         self._changed = True
         g_info(f'MCP: started {name} (pid {module.pid})')
         return True
+
+    def _namespace_arguments(self) -> list[str]:
+        """An MCP in a namespace starts its modules there (``--ros-args -r __ns:=/robot1``), so
+        that their streams and the MCP's meet, and another robot's do not."""
+        namespace = self.manager.node.get_namespace()
+        return [] if namespace == '/' else ['--ros-args', '-r', f'__ns:={namespace}']
 
     def _failed_start(self, module: Module) -> None:
         module.status = StatusMode.DEAD

@@ -27,6 +27,7 @@ from typing import Any
 
 from wurde_core import CommsManager, ProcessType, RunState, WurdeError, stream_name
 from wurde_core.interfaces import robot_object_class
+from wurde_core.options import split_ros_arguments
 
 from .control import WAIT_S, connect, read_table, send
 from .supervisor import CMD_QUIT_ALL, CMD_STOP
@@ -59,8 +60,10 @@ def _wait(manager: CommsManager, done: Any, seconds: float) -> None:
 
 
 def _mcp_seen(manager: CommsManager) -> bool:
-    """Whether the ROS graph shows an MCP's node (before its control channel is matched)."""
-    return MCP_NAME in manager.node.get_node_names()
+    """Whether the ROS graph shows an MCP's node in this namespace (before its control channel
+    is matched)."""
+    namespace = manager.node.get_namespace()
+    return (MCP_NAME, namespace) in manager.node.get_node_names_and_namespaces()
 
 
 def _supervised(manager: CommsManager, heartbeat: Any) -> bool:
@@ -109,7 +112,7 @@ def _heartbeat_modules(manager: CommsManager) -> list[str]:
     names = set()
     for topic_name, _types in manager.node.get_topic_names_and_types():
         try:
-            stream, channel = stream_name(topic_name)
+            stream, channel = stream_name(topic_name, manager.node.get_namespace())
         except WurdeError:
             continue
         if channel == 'request' and stream.startswith(HEARTBEAT_PREFIX):
@@ -139,11 +142,11 @@ def _all(manager: CommsManager, control: Any) -> int:
 
 def turn_off(argv: list[str] | None = None) -> int:
     """``turn_off [MODULE]``."""
-    args = list(sys.argv[1:] if argv is None else argv)
+    args, ros_arguments = split_ros_arguments(list(sys.argv[1:] if argv is None else argv))
     if len(args) > 1:
-        print('usage: turn_off [MODULE]', file=sys.stderr)
+        print('usage: turn_off [MODULE] [--ros-args -r __ns:=/NAMESPACE]', file=sys.stderr)
         return 2
-    manager, control = connect('turnOff', wait_s=0.0)
+    manager, control = connect('turnOff', wait_s=0.0, ros_arguments=ros_arguments)
     try:
         return _one(manager, control, args[0]) if args else _all(manager, control)
     finally:
