@@ -52,6 +52,7 @@ from .robot_object import CONSUMER, SUPPLIER, RobotObject
 from .role_config import DEFAULT_ROLE_CONFIG, RoleConfiguration, set_global_configuration
 from .parameters import Tunable, Tunables, declare_configuration
 from .ros_adaptor import NodeEntities, SubscriptionWaiter, open_node
+from .timestamp import Time
 from .trigger import Trigger
 
 #: Longest single wait inside run_update, so that signals and commands are seen promptly.
@@ -573,6 +574,17 @@ class CommsManager:
             signal.signal(signum, signal.SIG_IGN if ending else handler)
         self._previous_handlers.clear()
         atexit.unregister(self.clean_up)
+
+    # -- time ----------------------------------------------------------------------------------
+    def now(self) -> Time:
+        """The module's time, which auto-timestamps use: the ROS clock of its node — the wall
+        clock, or the simulator's ``/clock`` when the node's ``use_sim_time`` is true (0 until
+        the first ``/clock`` message, as in any ROS 2 node).  Loop rates, heartbeats and the
+        MCP's TTLs stay on the machine's monotonic clock: they are about processes, not about
+        the simulated world."""
+        if self.node is None:
+            return Time.now()
+        return Time(microseconds=self.node.get_clock().now().nanoseconds // 1000)
 
     # -- logging helpers -----------------------------------------------------------------------
     def log_warning(self, text: str) -> None:

@@ -11,6 +11,7 @@ from __future__ import annotations
 from typing import Any, Protocol
 
 from .enums import RunState
+from .timestamp import Time
 
 
 class ManagerView(Protocol):
@@ -22,6 +23,9 @@ class ManagerView(Protocol):
 
     def log_warning(self, text: str) -> None:
         """Warn through the module's logger."""
+
+    def now(self) -> Time:
+        """The module's time (auto-timestamps): wall clock, or /clock with use_sim_time."""
 
     def entities_changed(self) -> None:
         """An object's publishers or subscriptions were made anew."""

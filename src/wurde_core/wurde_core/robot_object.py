@@ -20,7 +20,6 @@ from .naming import relative_topic
 from .qos import info_qos, stream_qos
 from .ros_adaptor import polled, wait_acked
 from .structs import DataStruct, InfoStruct
-from .timestamp import Time
 from .writable import DEVICE, describe_lock, lock_refusal
 
 if TYPE_CHECKING:
@@ -311,7 +310,7 @@ class RobotObject:
         if self._auto_tag:
             message.header.source = manager.name
         if self._auto_timestamp:
-            Time.now().to_msg(message.header.stamp)
+            manager.now().to_msg(message.header.stamp)
         outbox.send(message)
         return True
 

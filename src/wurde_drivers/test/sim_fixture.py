@@ -47,10 +47,15 @@ def sim_config(directory: pathlib.Path, *, top: dict[str, str] | None = None,
 class Observer:
     """A module in the test process that consumes streams in queue mode and keeps every event."""
 
-    def __init__(self, streams: dict[str, str], *, queue: bool = True, namespace: str = '/') -> None:
+    def __init__(self, streams: dict[str, str], *, queue: bool = True, namespace: str = '/',
+                 sim_time: bool = False) -> None:
+        """``namespace``: observe the robot started there; ``sim_time``: the observer's own
+        clock (``manager.now()``) follows the simulator's ``/clock``."""
         self.manager = CommsManager('Observer')
-        if namespace != '/':  # the streams of the robot started in that namespace
-            self.manager.parse_options(['observer', '--ros-args', '-r', f'__ns:={namespace}'])
+        ros_arguments = ['-r', f'__ns:={namespace}'] if namespace != '/' else []
+        ros_arguments += ['-p', 'use_sim_time:=true'] if sim_time else []
+        if ros_arguments:
+            self.manager.parse_options(['observer', '--ros-args', *ros_arguments])
         self.manager.set_no_sleep()
         self.objects = {}
         for stream, interface in streams.items():

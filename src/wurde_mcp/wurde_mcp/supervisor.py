@@ -175,7 +175,7 @@ class Supervisor:
             return False
         try:
             module.process = ModuleProcess(name, [binary, *module.spec.args, *argv_extra,
-                                                  *self._namespace_arguments()],
+                                                  *self._ros_arguments()],
                                            self.log_directory,
                                            {MANAGED_ENV: module.spec.managed.name})
         except OSError as exc:
@@ -189,11 +189,17 @@ class Supervisor:
         g_info(f'MCP: started {name} (pid {module.pid})')
         return True
 
-    def _namespace_arguments(self) -> list[str]:
-        """An MCP in a namespace starts its modules there (``--ros-args -r __ns:=/robot1``), so
-        that their streams and the MCP's meet, and another robot's do not."""
-        namespace = self.manager.node.get_namespace()
-        return [] if namespace == '/' else ['--ros-args', '-r', f'__ns:={namespace}']
+    def _ros_arguments(self) -> list[str]:
+        """What the MCP's own node was started with, its modules get: its namespace (``-r
+        __ns:=/robot1``: their streams and the MCP's meet, another robot's do not) and
+        ``use_sim_time`` (one clock for the whole robot)."""
+        node = self.manager.node
+        arguments = []
+        if node.get_namespace() != '/':
+            arguments += ['-r', f'__ns:={node.get_namespace()}']
+        if node.get_parameter('use_sim_time').value:
+            arguments += ['-p', 'use_sim_time:=true']
+        return ['--ros-args', *arguments] if arguments else []
 
     def _failed_start(self, module: Module) -> None:
         module.status = StatusMode.DEAD

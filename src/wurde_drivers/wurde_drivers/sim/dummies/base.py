@@ -7,7 +7,9 @@ dummies, tests and plots. Options: ``-c sim-config.xml`` (default: the config di
 config's base name, since the other dummies follow ``<base name>Truth``.
 
 Simulated time advances in the config's fixed steps; the loop catches up with the wall clock times
-the time scale, so at time scale 10 the robot lives ten seconds each wall second.
+the time scale, so at time scale 10 the robot lives ten seconds each wall second.  Each step's
+time is published on ``/clock`` (:mod:`wurde_drivers.sim.clock_topic`) for nodes with
+``use_sim_time``; the command watchdog counts simulated time.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from wurde_idl.errors import ConfigError
 from ...module_setup import exit_on_config_error, set_loop
 from ...streams.base import BaseLimits, BaseStreams
 from ..clock import SimClock, make_rng
+from ..clock_topic import ClockPublisher
 from ..loading import load_sim, sim_config_path
 from ..robot import SimRobot
 
@@ -63,6 +66,7 @@ def main(argv: list[str] | None = None) -> int:
     set_loop(manager, LOOP_S)
 
     clock = SimClock(step_s=config.step, time_scale=config.time_scale, start=time.time())
+    clock_topic = ClockPublisher(manager.node)
     streams.publish_all_info()
     streams.publish_sonar_info(count=spec.sonar.count, max_range=spec.sonar.max_range,
                                half_angle=spec.sonar.half_angle, radius=spec.sonar.radius, z=spec.sonar.mount_z)
@@ -116,6 +120,7 @@ def main(argv: list[str] | None = None) -> int:
                 logger.warn(f'{manager.name}: bumper {"front" if robot.bumpers[0] else "back"} '
                             'pressed: stopped')
             _publish(truth, robot.truth, clock.now)
+            clock_topic.publish(clock.now)
             n = clock.steps
             if n % odometry_every == 0:
                 o = robot.odometry

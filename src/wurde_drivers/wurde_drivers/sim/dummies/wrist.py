@@ -44,6 +44,22 @@ def main(argv: list[str] | None = None) -> int:
     clock = SimClock(step_s=STEP_S, time_scale=config.time_scale, start=time.time())
     publish_every = max(1, round(1.0 / (wc.rate * STEP_S)))
     wall0 = time.monotonic()
+    # With use_sim_time the simulator's /clock drives the wrist (its stamps then agree with the
+    # base's at any time scale); else its own clock runs at the time scale against the wall.
+    use_sim_time = bool(manager.node.get_parameter('use_sim_time').value)
+    clock_started = False
+
+    def target_steps() -> int:
+        nonlocal clock_started
+        if not use_sim_time:
+            return int((time.monotonic() - wall0) * config.time_scale / STEP_S)
+        now = manager.now().get_seconds()
+        if now <= 0.0:
+            return clock.steps                  # no /clock yet
+        if not clock_started:
+            clock.start, clock_started = now, True
+        return int((now - clock.start) / STEP_S)
+
     _publish_command(wrist, axes)
     while manager.run_update() == RunState.RUN:
         while wrist.get_next_request():
@@ -61,9 +77,8 @@ def main(argv: list[str] | None = None) -> int:
                 for axis, t, s, a in zip(axes, target, speed, accel):
                     axis.command(t, s, a)
             _publish_command(wrist, axes)
-        target_steps = int((time.monotonic() - wall0) * config.time_scale / STEP_S)
-        target_steps = min(target_steps, clock.steps + 1000)
-        while clock.steps < target_steps:
+        target = min(target_steps(), clock.steps + 1000)
+        while clock.steps < target:
             for axis in axes:
                 axis.step(clock.tick() if axis is axes[0] else STEP_S)
             if clock.steps % publish_every == 0:
