@@ -1,6 +1,7 @@
 # The two commands of this workspace:
 #   make demo   build everything, then run the main job
-#   make test   build everything, then run every package's tests (colcon test)
+#   make test   build everything, then run every package's tests (colcon test, two lanes at once:
+#               tools/test_lanes.sh)
 # Both set themselves up from nothing: virtual environment with pinned wheels, CMake fix, colcon build.
 
 SHELL := /bin/bash
@@ -30,7 +31,7 @@ $(BUILD_STAMP): $(VENV_STAMP) $(SOURCES)
 
 test: build
 	@rc=0; \
-	$(IN_ENV) colcon test $(COLCON_TEST_ARGS) || rc=$$?; \
+	tools/test_lanes.sh $(COLCON_TEST_ARGS) || rc=$$?; \
 	$(IN_ENV) colcon test-result --verbose || rc=$$((rc ? rc : $$?)); \
 	$(IN_ENV) python tools/test_summary.py build || rc=$$((rc ? rc : $$?)); \
 	exit $$rc
