@@ -95,6 +95,11 @@ class AvoidController:
         self.laser = (np.zeros((0, 2)), None)
         self.sonar = (np.zeros((0, 2)), np.zeros(0), None)
 
+    def tune(self, field: FieldSettings, guard: GuardLimits) -> None:
+        """Use these settings from now on (tunables a user changed while the module runs)."""
+        self.field = self.progress.settings = field
+        self.guard.limits = guard
+
     # -- inputs ----------------------------------------------------------------------------------
     def accept(self, command: AvoidCommand, now: float) -> None:
         """A new command replaces the old (a new goto starts afresh)."""

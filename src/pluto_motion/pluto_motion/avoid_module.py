@@ -50,6 +50,7 @@ import numpy as np
 from wurde_core import CommsManager, Logger, Trigger
 from wurde_core.interfaces import ActuatorState, FVectorState, RangeFinder
 from wurde_core.module_loop import run_loop, set_loop
+from wurde_core.parameters import TunedSettings
 
 from . import drive_command
 from .avoid_command import COMMAND, STATUS, AvoidCommand, parse_command
@@ -66,6 +67,14 @@ __all__ = ['COMMAND', 'STATUS', 'AvoidModule', 'Every', 'main']
 LOOP_S = 0.05
 #: A sonar reading older than this (s) is left out of the goto's field.
 SONAR_FRESH_S = 1.0
+#: Tunables (ROS 2 parameters of the node, ``ros2 param set /avoidModule goto.reach_goal 0.3``):
+#: the goto's and the laser guard's distances, what each means and its range.
+GOTO_TUNABLES = {'reach_goal': ('a goto has reached its goal within this distance, m', 0.02, 5.0),
+                 'goal_slow': ('a goto slows down within this distance of its goal, m', 0.0, 10.0),
+                 'reach': ('obstacles nearer than this push the goto away, m (Pluto 6.2: 3)', 0.5, 10.0),
+                 'stuck_s': ('a goto with no progress for this long is stuck, s', 1.0, 600.0)}
+LASER_TUNABLES = {'stop': ('laser protection stops at this free distance, m', 0.0, 2.0),
+                  'slow': ('laser protection slows from this free distance, m', 0.1, 10.0)}
 HELP = ('  -b BASE      the base module (default PlutoBase): reads <BASE>Sonar, <BASE>Motion\n'
         '  -L LASER     the laser (default PlutoLaser): RangeFinder stream LASER\n'
         '  -R RADIUS    the robot\'s radius, m (0.35)\n'
@@ -111,6 +120,8 @@ class AvoidModule:
     def __init__(self, manager: CommsManager, logger: Logger, control: AvoidController, *,
                  base: str, laser: str) -> None:
         self.manager, self.logger, self.control = manager, logger, control
+        self.tuned_field = TunedSettings(manager, control.field, GOTO_TUNABLES, 'goto.')
+        self.tuned_guard = TunedSettings(manager, control.guard.limits, LASER_TUNABLES, 'laser.')
         self.link = ChainLink(manager, logger, COMMAND, STATUS, parse=parse_command, accept=self._accept,
                               set_running=control.set_running, running=lambda: control.running)
         self.drive = ActuatorState(drive_command.COMMAND)
@@ -187,6 +198,7 @@ class AvoidModule:
 
     # -- one loop --------------------------------------------------------------------------------
     def step(self) -> None:
+        self.control.tune(self.tuned_field.current(), self.tuned_guard.current())
         now = time.monotonic()
         self._take_commands(now)
         pose = self.pose.pose()

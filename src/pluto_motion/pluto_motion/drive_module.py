@@ -42,7 +42,6 @@ the node, starting from the options, that ``ros2 param set`` or a ``--params-fil
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import sys
 import time
@@ -50,6 +49,7 @@ import time
 from wurde_core import CommsManager, Logger
 from wurde_core.interfaces import ActuatorState, Bumper, RangeFinder
 from wurde_core.module_loop import run_loop, set_loop
+from wurde_core.parameters import TunedSettings
 
 from .chain_link import ChainLink
 from .drive_command import COMMAND, STATUS, DriveCommand, Mode, parse_command
@@ -66,12 +66,12 @@ SONAR_FRESH_S = 1.0
 MAX_DT = 0.2
 OPTIONS = {'v': 'max_tv', 'w': 'max_rv', 'a': 'tv_accel', 'A': 'rv_accel', 't': 'timeout'}
 #: The limits as tunables (ROS 2 parameters ``ros2 param set /driveModule max_tv 0.5``): what
-#: each means, its unit, and its largest value.
-TUNABLES = {'max_tv': ('linear velocity limit, m/s', 5.0),
-            'max_rv': ('angular velocity limit, rad/s', 6.0),
-            'tv_accel': ('linear acceleration limit, m/s^2', 5.0),
-            'rv_accel': ('angular acceleration limit, rad/s^2', 10.0),
-            'timeout': ('seconds without a command before the drive stops', 60.0)}
+#: each means, its unit, and its range.
+TUNABLES = {'max_tv': ('linear velocity limit, m/s', 0.01, 5.0),
+            'max_rv': ('angular velocity limit, rad/s', 0.01, 6.0),
+            'tv_accel': ('linear acceleration limit, m/s^2', 0.01, 5.0),
+            'rv_accel': ('angular acceleration limit, rad/s^2', 0.01, 10.0),
+            'timeout': ('seconds without a command before the drive stops', 0.01, 60.0)}
 HELP = ('  -b BASE      the base module (default PlutoBase): writes <BASE>Command, reads <BASE>Bumpers,\n'
         '               <BASE>Sonar, <BASE>Motion\n'
         '  -v MAX_TV    linear velocity limit, m/s (1.0)\n'
@@ -105,8 +105,7 @@ class DriveModule:
         self.ranges_at = -math.inf
         self.last_step = time.monotonic()
         self.base_stopped = False
-        self.tunables = {name: manager.tunable(name, float(getattr(settings, name)), text, 0.01, top)
-                         for name, (text, top) in TUNABLES.items()}
+        self.tuned = TunedSettings(manager, settings, TUNABLES)
 
     # -- inputs ----------------------------------------------------------------------------------
     def _accept(self, command: DriveCommand, now: float) -> None:
@@ -154,16 +153,9 @@ class DriveModule:
         data.position = [] if command.mode is Mode.VELOCITY else [0.0, command.heading]
         self.link.commands.publish_data()
 
-    def _tune(self) -> None:
-        """Apply limits a user set as parameters since the last loop."""
-        values = {name: tunable.value for name, tunable in self.tunables.items()}
-        if any(getattr(self.control.settings, name) != value for name, value in values.items()):
-            self.control.settings = dataclasses.replace(self.control.settings, **values)
-            self.logger.notice(f'{self.manager.name}: limits now {values}')
-
     # -- one loop --------------------------------------------------------------------------------
     def step(self) -> None:
-        self._tune()
+        self.control.settings = self.tuned.current()    # limits a user set as parameters
         now = time.monotonic()
         dt, self.last_step = min(now - self.last_step, MAX_DT), now
         self.link.take_commands(now)

@@ -45,6 +45,11 @@ class GuardLimits:
     slow: float = 1.0
     creep: float = 0.05
 
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.stop < self.slow:
+            raise ValueError(f'the laser guard needs 0 <= stop < slow, not stop {self.stop}, '
+                             f'slow {self.slow}')
+
 
 def free_distance(points: np.ndarray, radius: float, margin: float = 0.0,
                   direction: float = 0.0) -> float:

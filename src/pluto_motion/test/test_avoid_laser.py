@@ -12,6 +12,7 @@ from avoid_fixture import RADIUS, Avoider, chain, write_world
 from drive_fixture import program
 from wurde_core import Time
 from wurde_core.interfaces import RangeFinder
+from wurde_testing.parameters import ParameterTool
 
 
 def _zero(test: Avoider) -> bool:
@@ -27,6 +28,15 @@ def test_laser_slow_stop_dead_laser_nan_and_release(ros_domain: int, tmp_path: p
         with chain(tmp_path) as processes:
             test.children = dict(processes)
             test.ready()
+            # The distances are tunables (ros2 param): a slow-down inside the stop is refused.
+            tool = ParameterTool('/avoidModule')
+            try:
+                assert tool.get('laser.stop', 'laser.slow', 'goto.reach') == [0.15, 1.0, 3.0]
+                taken, reason = tool.set('laser.slow', 0.1)
+                assert not taken and 'stop < slow' in reason
+                assert tool.set('laser.slow', 1.2) == (True, '')
+            finally:
+                tool.close()
             # Forward with laser protection only (cmdFlags 20): slowed (6), then stopped short of
             # the east wall (x = 6) without touching it.
             test.until(lambda: a.code == 6 and test.tv == 0.0 and _zero(test), 'stopped by the laser',

@@ -5,6 +5,7 @@ rclpy's own parameter client (what ``ros2 param`` uses)."""
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import pathlib
 
@@ -115,3 +116,34 @@ def test_readme_tunable_example_runs_as_written(ros_domain: int, tmp_path: pathl
         finally:
             tool.close()
         assert tuned.stop() == 0
+
+
+@dataclasses.dataclass(frozen=True)
+class _Guard:
+    stop: float = 0.15
+    slow: float = 1.0
+
+    def __post_init__(self) -> None:
+        if not self.stop < self.slow:
+            raise ValueError(f'stop {self.stop} must be below slow {self.slow}')
+
+
+def test_tuned_settings_follow_their_parameters_and_refuse_what_the_settings_refuse(ros_domain: int) -> None:
+    from rclpy.parameter import Parameter
+
+    from wurde_core import CommsManager
+    from wurde_core.parameters import TunedSettings
+    manager = CommsManager('Tuned')
+    try:
+        tuned = TunedSettings(manager, _Guard(), {'stop': ('stop here, m', 0.0, 2.0),
+                                                  'slow': ('slow from here, m', 0.1, 10.0)}, 'laser.')
+        manager.step()                                  # the node, with the tunables declared
+        first = tuned.current()
+        assert first == _Guard() and tuned.current() is first      # unchanged: the same object
+        result = manager.node.set_parameters([Parameter('laser.slow', value=0.1)])[0]
+        assert not result.successful and 'must be below' in result.reason
+        assert tuned.current() == _Guard()
+        assert manager.node.set_parameters([Parameter('laser.slow', value=2.5)])[0].successful
+        assert tuned.current() == _Guard(stop=0.15, slow=2.5)
+    finally:
+        manager.clean_up()

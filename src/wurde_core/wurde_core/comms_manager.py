@@ -50,7 +50,7 @@ from .mcp_client import McpClient
 from .naming import stream_segment_path
 from .robot_object import CONSUMER, SUPPLIER, RobotObject
 from .role_config import DEFAULT_ROLE_CONFIG, RoleConfiguration, set_global_configuration
-from .parameters import Tunable, Tunables, declare_configuration
+from .parameters import Check, Tunable, Tunables, declare_configuration
 from .ros_adaptor import NodeEntities, SubscriptionWaiter, open_node
 from .timestamp import Time
 from .trigger import Trigger
@@ -165,6 +165,11 @@ class CommsManager:
         ``minimum``..``maximum``; read it as ``.value`` where it is used.  The WURDE options and
         configuration are parameters too, read-only (:mod:`wurde_core.parameters`)."""
         return self._tunables.declare(name, default, description, minimum, maximum)
+
+    def check_tunables(self, check: Check) -> None:
+        """Refuse new tunable values that ``check`` (``{name: value}`` -> reason or None) finds
+        wrong, with its reason, before any is taken."""
+        self._tunables.add_check(check)
 
     # -- rate and heartbeat (guide 5.2) --------------------------------------------------------
     def set_sleep(self, seconds: float) -> None:

@@ -23,17 +23,20 @@ in a parameter name have each such character replaced by ``_``.
 A module adds what may change while it runs with :meth:`Tunables.declare` (through
 ``CommsManager.tunable``): a writable, typed parameter with a range, whose current value the
 program reads from the returned :class:`Tunable`; ``--params-file`` and ``ros2 param set`` reach
-it.
+it.  :class:`TunedSettings` makes chosen fields of a settings dataclass tunables in one step.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import re
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
+from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
+                                SetParametersResult)
 
 from .role_config import RoleConfiguration
 
@@ -114,12 +117,31 @@ class Tunable:
         return descriptor
 
 
+#: A check of new tunable values ({name: value} of those being set): the reason to refuse them,
+#: or None.
+Check = Callable[[dict[str, Any]], 'str | None']
+
+
 class Tunables:
     """The tunables of one module: declared on its node as soon as there is one."""
 
     def __init__(self) -> None:
         self._tunables: dict[str, Tunable] = {}
+        self._checks: list[Check] = []
         self._node: Any = None
+
+    def add_check(self, check: Check) -> None:
+        """Refuse a ``ros2 param set`` that ``check`` finds wrong (values that only make sense
+        together, such as a slow-down distance beyond the stop distance)."""
+        self._checks.append(check)
+
+    def _on_set(self, parameters: list[Any]) -> SetParametersResult:
+        values = {p.name: p.value for p in parameters if p.name in self._tunables}
+        for check in self._checks:
+            reason = check(values) if values else None
+            if reason:
+                return SetParametersResult(successful=False, reason=reason)
+        return SetParametersResult(successful=True)
 
     def declare(self, name: str, default: bool | int | float | str, description: str,
                 minimum: float | None = None, maximum: float | None = None) -> Tunable:
@@ -139,9 +161,46 @@ class Tunables:
     def attach(self, node: Any) -> None:
         """Declare every tunable on ``node`` (a ``--params-file`` value wins over the default)."""
         self._node = node
+        node.add_on_set_parameters_callback(self._on_set)
         for tunable in self._tunables.values():
             self._bind(tunable)
 
     def _bind(self, tunable: Tunable) -> None:
         self._node.declare_parameter(tunable.name, tunable.default, tunable.descriptor())
         tunable._node = self._node
+
+
+class TunedSettings:
+    """A frozen dataclass of a module's settings whose chosen fields are tunables.
+
+    ``fields`` maps a field to (description, minimum, maximum); each becomes the tunable
+    ``<prefix><field>``, starting from the settings given.  :meth:`current` returns the settings
+    with the tunables' present values — the same object until a user changes one — so a loop
+    reads ``tuned.current()`` where it used its settings.
+    """
+
+    def __init__(self, manager: Any, settings: Any,
+                 fields: dict[str, tuple[str, float | None, float | None]], prefix: str = '') -> None:
+        self._settings = settings
+        self._prefix = prefix
+        self._tunables = {name: manager.tunable(prefix + name, getattr(settings, name), text, low, high)
+                          for name, (text, low, high) in fields.items()}
+        manager.check_tunables(self._check)
+
+    def _check(self, values: dict[str, Any]) -> str | None:
+        """The settings' own validation (``__post_init__``) of the values being set."""
+        mine = {name: values[self._prefix + name] for name in self._tunables
+                if self._prefix + name in values}
+        if not mine:
+            return None
+        try:
+            dataclasses.replace(self.current(), **mine)
+        except (ValueError, TypeError) as error:
+            return str(error)
+        return None
+
+    def current(self) -> Any:
+        values = {name: tunable.value for name, tunable in self._tunables.items()}
+        if any(getattr(self._settings, name) != value for name, value in values.items()):
+            self._settings = dataclasses.replace(self._settings, **values)
+        return self._settings
