@@ -73,6 +73,19 @@ def _latency_us(stamp) -> float:
     return (_now_ns() - (stamp.sec * 1_000_000_000 + stamp.nanosec)) / 1000.0
 
 
+#: How long a receiver waits for the first message (discovery on a busy machine takes seconds).
+FIRST_WAIT_S = 30.0
+
+
+def _measuring(first: float | None, start: float, seconds: float, idle: bool) -> bool:
+    """Whether to go on receiving: ``seconds`` from the first message (from the start when
+    idle), waiting up to :data:`FIRST_WAIT_S` for that first message."""
+    now = time.monotonic()
+    if first is None and not idle:
+        return now - start < FIRST_WAIT_S
+    return now - (first or start) < seconds
+
+
 def receiver(mode: str, seconds: float, idle: bool) -> dict:
     """Receive for ``seconds`` after the first message; report count, latencies and CPU."""
     latencies: list[float] = []
@@ -91,7 +104,7 @@ def receiver(mode: str, seconds: float, idle: bool) -> dict:
         print('READY', flush=True)
         start = time.monotonic()
         cpu0 = time.process_time()
-        while time.monotonic() - (first or start) < seconds:
+        while _measuring(first, start, seconds, idle):
             manager.run_update(timeout=0.2)
             while laser.get_next_data():
                 if first is None:
@@ -117,7 +130,7 @@ def receiver(mode: str, seconds: float, idle: bool) -> dict:
         start = time.monotonic()
         cpu0 = time.process_time()
         take = subscription.handle.take_message
-        while time.monotonic() - (first or start) < seconds:
+        while _measuring(first, start, seconds, idle):
             if mode == 'executor':
                 executor.spin_once(timeout_sec=0.2)
                 messages = got[:]
