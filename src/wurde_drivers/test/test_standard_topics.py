@@ -14,7 +14,7 @@ from contextlib import ExitStack
 from typing import Any
 
 import pytest
-from sim_fixture import Observer, sim_config
+from sim_fixture import Observer, heartbeat, sim_config
 from wurde_core.ros_adaptor import take_stamped
 from wurde_testing import ChildProcess, find_executable
 
@@ -161,14 +161,16 @@ def test_every_dummy_device_is_on_a_standard_topic_with_its_frame_and_covariance
         imu = topics.messages['/PlutoDMU/imu'][-1]
         assert imu.header.frame_id == 'PlutoDMU'
         rate_variance = imu.angular_velocity_covariance[8]
-        assert MIN_VARIANCE <= rate_variance < RATE_NOISE ** 2    # the low-pass lowers it
+        assert MIN_VARIANCE < rate_variance < RATE_NOISE ** 2    # the low-pass lowers it
         assert all(v >= MIN_VARIANCE for v in (imu.orientation_covariance[0], imu.orientation_covariance[8],
                                                imu.linear_acceleration_covariance[0]))
         fix = topics.messages['/PlutoGPS/fix'][0]
         gps = config.gps
-        assert fix.header.frame_id == 'PlutoGPS' and fix.position_covariance_type == NavSatFix.COVARIANCE_TYPE_APPROXIMATED
+        assert fix.header.frame_id == 'PlutoGPS'
+        assert fix.position_covariance_type == NavSatFix.COVARIANCE_TYPE_APPROXIMATED
         assert list(fix.position_covariance) == pytest.approx(fix_covariance(gps.quality, gps.hdop))
-        assert fix.position_covariance[0] == pytest.approx((gps.hdop * 0.1) ** 2)   # DGPS: 0.1 m at HDOP 1
+        # DGPS: 0.1 m at HDOP 1 (nmea_navsat_driver's table)
+        assert fix.position_covariance[0] == pytest.approx(MIN_VARIANCE + (gps.hdop * 0.1) ** 2)
 
         # Wrist: JointState equals the stream's pan and tilt (commanded somewhere first).
         observer.request('PlutoWrist', cmd_flags=0, position=[0.5, -0.2], velocity=[1.0, 1.0],
@@ -176,7 +178,8 @@ def test_every_dummy_device_is_on_a_standard_topic_with_its_frame_and_covariance
 
         def moved(o: Observer) -> bool:
             topics.take()
-            return any(m.position[0] == pytest.approx(0.5, abs=1e-6) for m in topics.messages['/PlutoWrist/joint_states'])
+            return any(m.position[0] == pytest.approx(0.5, abs=1e-6)
+                       for m in topics.messages['/PlutoWrist/joint_states'])
         observer.until(moved, 'the wrist at pan 0.5 on joint_states', timeout=30)
         for joints in topics.messages['/PlutoWrist/joint_states'][-5:]:
             state = same_stamp(observer.events['PlutoWrist'], stamp(joints))
@@ -235,3 +238,60 @@ def test_the_ptu_server_publishes_joint_states_and_its_mounting(ros_domain: int,
         finally:
             observer.close()
     assert unit.error is None
+
+
+def test_the_real_laser_dmu_and_gps_drivers_publish_their_mountings_and_covariances(
+        ros_domain: int, tmp_path: pathlib.Path) -> None:
+    """sick_server, dmu_module and gps_module on their emulators: frames from the device configs'
+    ``mount-*``, the DMU's stated noise figures and the fix's HDOP in the covariances."""
+    from sensor_msgs.msg import Imu, LaserScan, NavSatFix
+
+    from wurde_drivers.dmu.emulator import DmuEmulator
+    from wurde_drivers.dmu.module import NOISE
+    from wurde_drivers.gps.emulator import GpsEmulator
+    from wurde_drivers.sick.emulator import SickEmulator
+
+    def config(kind: str, device: str) -> str:
+        path = tmp_path / f'{kind}-config.xml'
+        path.write_text(f'<?xml version="1.0"?>\n<{kind}-config>\n  {device}\n</{kind}-config>\n')
+        return str(path)
+
+    with ExitStack() as stack:
+        laser = stack.enter_context(SickEmulator())
+        dmu = stack.enter_context(DmuEmulator())
+        gps = stack.enter_context(GpsEmulator(quality=2, hdop=1.5, rate_hz=5.0))
+        configs = {
+            'sick_server': ('laser', config('laser', f'<device port="{laser.path}" name="laser" type="LMS" '
+                                                     'mount-x="0.25" mount-y="-0.1" mount-z="0.45"/>')),
+            'dmu_module': ('PlutoDMU', config('dmu', f'<device port="{dmu.path}" name="PlutoDMU" '
+                                                     'mount-x="-0.05" mount-z="0.3"/>')),
+            'gps_module': ('PlutoGPS', config('gps', f'<device port="{gps.path}" name="PlutoGPS" '
+                                                     'mount-x="-0.1" mount-y="0.05" mount-z="0.9"/>')),
+        }
+        observer = Observer(heartbeat('PlutoGPS'))   # a stream, so that the node exists
+        topics = Topics(observer.manager.node, {'/laser/scan': LaserScan, '/PlutoDMU/imu': Imu,
+                                                '/PlutoGPS/fix': NavSatFix})
+        try:
+            for exe, (name, path) in configs.items():
+                stack.enter_context(ChildProcess([find_executable('wurde_drivers', exe), '-c', path, '-n', name]))
+
+            def everything(o: Observer) -> bool:
+                topics.take()
+                return topics.has('/laser/scan', '/PlutoDMU/imu', '/PlutoGPS/fix') and len(
+                    topics.messages['/PlutoDMU/imu']) >= 3 and {'laser', 'PlutoDMU', 'PlutoGPS'} <= set(topics.frames)
+            observer.until(everything, 'a scan, Imu, fix and the three mountings', timeout=60)
+            mounted(topics.frames, 'laser', 0.25, -0.1, 0.45)
+            mounted(topics.frames, 'PlutoDMU', -0.05, 0.0, 0.3)
+            mounted(topics.frames, 'PlutoGPS', -0.1, 0.05, 0.9)
+            assert topics.messages['/laser/scan'][0].header.frame_id == 'laser'
+            imu = topics.messages['/PlutoDMU/imu'][-1]
+            assert imu.orientation_covariance[0] == pytest.approx(MIN_VARIANCE + NOISE.angle ** 2)
+            assert MIN_VARIANCE < imu.angular_velocity_covariance[0] < NOISE.rate ** 2      # after the low-pass
+            assert MIN_VARIANCE < imu.linear_acceleration_covariance[8] < NOISE.accel ** 2
+            assert imu.orientation_covariance[8] > MIN_VARIANCE                     # the heading's random walk
+            fix = topics.messages['/PlutoGPS/fix'][0]
+            assert fix.position_covariance_type == NavSatFix.COVARIANCE_TYPE_APPROXIMATED
+            assert fix.position_covariance[0] == pytest.approx(MIN_VARIANCE + (1.5 * 0.1) ** 2)
+            assert fix.position_covariance[8] == pytest.approx(MIN_VARIANCE + (2 * 1.5 * 0.1) ** 2)
+        finally:
+            observer.close()

@@ -1,23 +1,37 @@
 """Standard ROS 2 messages published alongside the WURDE streams (DESIGN, "Topics and QoS").
 
-ROS tools (RViz, Nav2, ``ros2 topic echo``) expect ``sensor_msgs/LaserScan``, ``nav_msgs/Odometry``
-and ``geometry_msgs/Twist`` in; the device modules give them next to their WURDE streams, for the
-stream ``S``:
+ROS tools (RViz, Nav2, ``ros2 topic echo``) expect standard messages; the device modules give
+them next to their WURDE streams. For a device module ``N`` (a base ``N``, a laser ``N``, ...):
 
-=============================== ========================= ==========================================
-topic                           type                      what
-=============================== ========================= ==========================================
-``/S/scan``                     sensor_msgs/LaserScan     a laser's scan (frame ``<S>``, REP-103)
-``/S/odom``                     nav_msgs/Odometry         a base's odometry (frames ``odom`` →
-                                                          ``base_link``, REP-105)
-``/S/cmd_vel``                  geometry_msgs/Twist (in)  velocity commands into the same watchdog
-                                                          as the WURDE drive requests
-``/S/imu``                      sensor_msgs/Imu           a DMU's filtered state (frame ``<S>``)
-``/S/fix``                      sensor_msgs/NavSatFix     a GPS fix (frame ``<S>``)
-=============================== ========================= ==========================================
+========================= ========================= ================================================
+topic                     type                      what
+========================= ========================= ================================================
+``/N/scan``               sensor_msgs/LaserScan     a laser's scan (frame ``N``, REP-103)
+``/N/odom``               nav_msgs/Odometry         a base's odometry (frames ``odom`` → ``base_link``,
+                                                    REP-105), covariance from its noise figures
+``/N/cmd_vel``            geometry_msgs/Twist (in)  velocity commands into the same watchdog as the
+                                                    WURDE drive requests
+``/N/imu``                sensor_msgs/Imu           a DMU's filtered state (frame ``N``), covariances
+                                                    from its noise and filter
+``/N/fix``                sensor_msgs/NavSatFix     a GPS fix (frame ``N``), covariance APPROXIMATED
+                                                    from HDOP and quality
+``/N/ground_truth/odom``  nav_msgs/Odometry         the simulator's true pose (frame ``map``)
+``/N/sonar``              sensor_msgs/Range         one per sonar, frame ``NSonar_i``
+                                                    (:mod:`~wurde_drivers.ros_std_base`)
+``/N/bumpers``            sensor_msgs/Range         one fixed-distance ranger per bumper, frame
+                                                    ``NBumpers_i`` (:mod:`~wurde_drivers.ros_std_base`)
+``/N/battery``            sensor_msgs/BatteryState  a base's Power stream (:mod:`~wurde_drivers.ros_std_base`)
+``/N/joint_states``       sensor_msgs/JointState    a wrist's or PTU's pan and tilt
+                                                    (:mod:`~wurde_drivers.ros_std_joints`)
+``/tf_static``            tf2_msgs/TFMessage        ``base_link`` → each device's frame at its
+                                                    configured mounting
+                                                    (:mod:`~wurde_drivers.ros_std_frames`)
+========================= ========================= ================================================
 
-Only plain stream names get these topics (``S`` is the stream's topic path, see
-:func:`wurde_core.naming.stream_segment_path`).
+Only plain stream names get these topics (``N`` is the stream's topic path, see
+:func:`wurde_core.naming.stream_segment_path`); every name comes from :func:`std_topic`. Frames
+follow one rule (:func:`wurde_drivers.ros_std_frames.frame_of`); covariances and their sources are
+in :mod:`wurde_drivers.ros_std_covariance`.
 """
 
 from __future__ import annotations

@@ -4,7 +4,7 @@ Every figure has a named source where it is set: the simulator's noise settings
 (``sim-config.xml``) for the dummies, the device's documented accuracy (or, where no manual is at
 hand, a stated assumption) for the real drivers. No covariance is published as all zeros: a zero
 variance claims perfect knowledge, which estimators (robot_localization, Nav2's AMCL) cannot
-fuse, so every variance is at least :data:`MIN_VARIANCE`. Axes a device does not measure get
+fuse, so :data:`MIN_VARIANCE` is added to every measured variance. Axes a device does not measure get
 :data:`UNKNOWN_VARIANCE` (as pluto_nav's localization does for z, roll and pitch).
 
 - :class:`OdometryCovariance`: the 2-D dead-reckoning error propagated
@@ -129,7 +129,7 @@ class ImuCovariance:
 
     @staticmethod
     def _diag(*variances: float) -> list[float]:
-        v = [max(MIN_VARIANCE, x) for x in variances]
+        v = [MIN_VARIANCE + x for x in variances]
         return [v[0], 0.0, 0.0, 0.0, v[1], 0.0, 0.0, 0.0, v[2]]
 
     def orientation(self) -> list[float]:
@@ -156,9 +156,9 @@ NO_FIX_EPE_M = EPE_M[0]
 
 def fix_covariance(quality: int, hdop: float) -> list[float]:
     """``NavSatFix.position_covariance`` (east, north, up; m²) as nmea_navsat_driver computes it:
-    horizontal ``(hdop * epe)²``, vertical ``(2 * hdop * epe)²``."""
+    horizontal ``(hdop * epe)²``, vertical ``(2 * hdop * epe)²`` (plus :data:`MIN_VARIANCE`)."""
     epe = EPE_M.get(int(quality), NO_FIX_EPE_M)
     h = hdop if math.isfinite(hdop) and hdop > 0 else 1.0
-    horizontal = max(MIN_VARIANCE, (h * epe) ** 2)
-    vertical = max(MIN_VARIANCE, (2 * h * epe) ** 2)
+    horizontal = MIN_VARIANCE + (h * epe) ** 2
+    vertical = MIN_VARIANCE + (2 * h * epe) ** 2
     return [horizontal, 0.0, 0.0, 0.0, horizontal, 0.0, 0.0, 0.0, vertical]

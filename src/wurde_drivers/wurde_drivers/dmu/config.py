@@ -45,9 +45,9 @@ class DmuDevice:
     baud: int = DEFAULT_BAUDRATE
     mode: DmuMode = DmuMode.ANGLE
     cutoff: float = 5.0
-    mount: Mounting = Mounting()
     path: str = ''
     line: int | None = None
+    mount: Mounting = Mounting()  # where it sits on the robot (mounting)
 
 
 def _device(path: str, node: etree._Element) -> DmuDevice:

@@ -54,9 +54,9 @@ class GpsDevice:
     min_satellites: int = 6
     min_quality: int = 2
     timeout: float = 3.0
-    mount: Mounting = Mounting()
     path: str = ''
     line: int | None = None
+    mount: Mounting = Mounting()  # where it sits on the robot (mounting)
 
 
 def _min_quality(attrs: Attributes) -> int:

@@ -41,9 +41,9 @@ class PtuDevice:
     name: str
     baud: int = 9600
     rate: float = 10.0
-    mount: Mounting = Mounting()
     path: str = ''
     line: int | None = None
+    mount: Mounting = Mounting()  # where it sits on the robot (mounting)
 
 
 def _device(path: str, node: etree._Element) -> PtuDevice:

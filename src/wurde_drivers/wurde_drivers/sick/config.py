@@ -59,9 +59,9 @@ class LaserDevice:
     resolution: float = 0.5
     units: str = 'cm'
     parity: str = ''
-    mount: Mounting = Mounting(z=0.4)
     path: str = ''
     line: int | None = None
+    mount: Mounting = Mounting(z=0.4)  # where it sits on the robot (mounting)
 
     def __post_init__(self) -> None:
         if not self.parity:

@@ -49,9 +49,9 @@ class WristDevice:
     pan_id: int = 1
     tilt_id: int = 2
     emulate: bool = False
-    mount: Mounting = Mounting()
     path: str = ''
     line: int | None = None
+    mount: Mounting = Mounting()  # where it sits on the robot (mounting)
 
 
 def _device(path: str, node: etree._Element) -> WristDevice:

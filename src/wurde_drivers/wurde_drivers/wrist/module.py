@@ -244,10 +244,10 @@ def main(argv: list[str] | None = None) -> int:
     device = configured_device(manager, argv, 'wrist-config.xml', load_wrist_config)
     wrist = ActuatorState(manager.name)
     wrist.set_auto_timestamp(False)
-    runner = WristRunner(device, wrist, Logger(manager.name),
-                         pan_tilt_standard(manager.node, manager.name, device.mount))
+    runner = WristRunner(device, wrist, Logger(manager.name))
     manager.register_supplier(wrist)
     manager.register_supplier(runner.logger)
+    runner.joints = pan_tilt_standard(manager.node, manager.name, device.mount)   # the node exists now
     set_loop(manager, SLEEP_S)
     if device.emulate:
         signal.signal(signal.SIGUSR1, lambda _signum, _frame: runner.toggle_emulated_silence())

@@ -4,8 +4,10 @@ It supplies exactly the streams of a real base (see :mod:`wurde_drivers.streams.
 ground truth on ``<name>Truth`` (Egomotion, every simulation step, queue mode) for the other
 dummies, tests and plots, mirrored as ``nav_msgs/Odometry`` on ``/<name>/ground_truth/odom``
 (frame ``map``: not odometry; :func:`wurde_drivers.ros_std.ground_truth_publisher`). The
-odometry's covariance on ``/<name>/odom`` follows the config's ``<odometry-noise>``. Options: ``-c sim-config.xml`` (default: the config directory's
-``sim-config.xml``) and the standard WURDE options; the module name (``-n``) should be the
+odometry's covariance on ``/<name>/odom`` follows the config's ``<odometry-noise>``.
+
+Options: ``-c sim-config.xml`` (default: the config directory's ``sim-config.xml``) and the
+standard WURDE options; the module name (``-n``) should be the
 config's base name, since the other dummies follow ``<base name>Truth``.
 
 Simulated time advances in the config's fixed steps; the loop catches up with the wall clock times
