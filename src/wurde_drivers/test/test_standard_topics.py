@@ -295,3 +295,48 @@ def test_the_real_laser_dmu_and_gps_drivers_publish_their_mountings_and_covarian
             assert fix.position_covariance[8] == pytest.approx(MIN_VARIANCE + (2 * 1.5 * 0.1) ** 2)
         finally:
             observer.close()
+
+
+def test_the_rflex_driver_mirrors_sonar_bumpers_battery_and_places_them(ros_domain: int,
+                                                                       tmp_path: pathlib.Path) -> None:
+    """rflex_server on the emulated B21r: 48 sonars and 14 bumper panels each in its frame at the
+    robot's documented position, the battery with its unmeasured current NaN."""
+    from nav_msgs.msg import Odometry
+    from sensor_msgs.msg import BatteryState, Range
+
+    from wurde_drivers.rflex.emulator import RFlexEmulator
+    from wurde_drivers.rflex.module import BUMPER_RINGS
+    from wurde_drivers.rflex.robots import B21R
+    ranges = [0.5 + 0.05 * i for i in range(len(B21R.sonars))]
+    with RFlexEmulator(B21R, voltage=25.5, sonar_ranges=lambda: ranges) as emulator:
+        config = tmp_path / 'rflex-config.xml'
+        config.write_text(f'<?xml version="1.0"?>\n<rflex-config>\n  <device port="{emulator.path}" name="base" '
+                          'type="B21r"/>\n</rflex-config>\n')
+        observer = Observer({'basePower': 'Power'})
+        topics = Topics(observer.manager.node, {'/base/sonar': Range, '/base/bumpers': Range,
+                                                '/base/battery': BatteryState, '/base/odom': Odometry})
+        try:
+            with ChildProcess([find_executable('wurde_drivers', 'rflex_server'), '-c', str(config), '-n', 'base']):
+                def everything(o: Observer) -> bool:
+                    topics.take()
+                    return (len(topics.messages['/base/sonar']) >= 48 and topics.has('/base/battery', '/base/odom')
+                            and len(topics.messages['/base/bumpers']) >= 14 and len(topics.frames) >= 48 + 14)
+                observer.until(everything, 'a sonar ring, the bumpers, the battery and the frames', timeout=30)
+        finally:
+            observer.close()
+    for i, sonar in enumerate(B21R.sonars):
+        mounted(topics.frames, f'baseSonar_{i}', sonar.x, sonar.y, sonar.z, sonar.yaw)
+    for i, panel in enumerate(B21R.bumpers):
+        radius, z = BUMPER_RINGS[panel.ring]
+        mounted(topics.frames, f'baseBumpers_{i}', radius * math.cos(panel.yaw), radius * math.sin(panel.yaw), z,
+                panel.yaw)
+    ring = topics.messages['/base/sonar'][-48:]
+    assert [r.header.frame_id for r in ring] == [f'baseSonar_{i}' for i in range(48)]
+    assert [r.range for r in ring] == pytest.approx(ranges, abs=2e-3)
+    assert all(r.max_range == 10.0 and r.field_of_view == pytest.approx(math.radians(25)) for r in ring)
+    assert all(b.range == math.inf for b in topics.messages['/base/bumpers'])
+    battery = topics.messages['/base/battery'][-1]
+    assert battery.voltage == pytest.approx(25.5, abs=0.01) and math.isnan(battery.current)
+    assert 0.0 < battery.percentage <= 1.0 and battery.capacity == pytest.approx(24.0 * 3600 * 40 / 24.0 / 3600)
+    odom = topics.messages['/base/odom'][-1]
+    assert odom.pose.covariance[0] >= MIN_VARIANCE and odom.twist.covariance[35] >= MIN_VARIANCE
