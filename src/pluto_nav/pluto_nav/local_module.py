@@ -150,8 +150,6 @@ class LocalModule:
             info = self.laser.info
             self.adjuster.mount = np.array([info.x_offset.get_value(), info.y_offset.get_value(), 0.0])
             self.mount_z = float(info.z_offset.get_value())
-            stamp = self.dr.latest.stamp if self.dr.latest else 0.0
-            self.ros.publish_mounting(self.adjuster.mount, self.mount_z, stamp)
 
     def _publish_robot(self, sample: DrSample) -> None:
         setter = self.adjuster.setter

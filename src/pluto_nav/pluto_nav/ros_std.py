@@ -7,10 +7,13 @@ topic             type                                         what
 ``pose``          geometry_msgs/PoseWithCovarianceStamped      stream (3) in ``map``
 ``tf``            tf2_msgs/TFMessage                           map → odom (the adjustment) and
                                                                odom → base_link (dead reckoning)
-``tf_static``     tf2_msgs/TFMessage (transient local)         base_link → the laser's frame
 ================= ============================================ =====================================
 
-All four are relative names, so they follow the node's namespace (``/tf`` for a robot started
+The sensors' mountings (``base_link`` → the laser's frame and the others) are not published here:
+each device module publishes its own on ``tf_static`` from its config (one home per transform,
+:mod:`wurde_drivers.ros_std_frames`).
+
+All three are relative names, so they follow the node's namespace (``/tf`` for a robot started
 plainly, ``/robot1/tf`` in ``/robot1``: the namespaced-TF convention of multi-robot ROS 2);
 covariances are the streams' (x, y, theta) ones placed in the 6x6 ROS layout (z, roll and pitch
 marked unknown-large).
@@ -24,15 +27,13 @@ from typing import Any
 import numpy as np
 from geometry_msgs.msg import PoseWithCovarianceStamped, TransformStamped
 from nav_msgs.msg import Odometry
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.qos import QoSProfile, ReliabilityPolicy
 from tf2_msgs.msg import TFMessage
 from wurde_core.ros_messages import quaternion, set_stamp
 
 __all__ = ['LocalizationPublisher', 'covariance6']
 
 _QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
-_STATIC = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
-                     durability=DurabilityPolicy.TRANSIENT_LOCAL)
 #: Variance given to the axes the localization does not estimate (z, roll, pitch): "unknown".
 UNKNOWN_VARIANCE = 1e6
 
@@ -49,10 +50,10 @@ _XY_YAW = [0, 1, 5]
 _UNKNOWN = [2, 3, 4]
 
 
-def _set_transform(t: TransformStamped, pose: Sequence[float], stamp: float, z: float = 0.0) -> None:
+def _set_transform(t: TransformStamped, pose: Sequence[float], stamp: float) -> None:
     set_stamp(t, stamp)
     translation, rotation = t.transform.translation, t.transform.rotation
-    translation.x, translation.y, translation.z = float(pose[0]), float(pose[1]), float(z)
+    translation.x, translation.y, translation.z = float(pose[0]), float(pose[1]), 0.0
     rotation.x, rotation.y, rotation.z, rotation.w = quaternion(float(pose[2]))
 
 
@@ -75,23 +76,15 @@ class LocalizationPublisher:
     """Publishes odom, pose and TF for the localModule on ``node``; the messages are built once
     and refilled (building ROS messages in Python costs more than publishing them)."""
 
-    def __init__(self, node: Any, *, laser_frame: str = 'laser') -> None:
+    def __init__(self, node: Any) -> None:
         self.odom = node.create_publisher(Odometry, 'odom', _QOS)
         self.pose = node.create_publisher(PoseWithCovarianceStamped, 'pose', _QOS)
         self.tf = node.create_publisher(TFMessage, 'tf', _QOS)
-        self.tf_static = node.create_publisher(TFMessage, 'tf_static', _STATIC)
-        self.laser_frame = laser_frame
         self._odom = Odometry()
         self._odom.header.frame_id, self._odom.child_frame_id = 'odom', 'base_link'
         self._pose = PoseWithCovarianceStamped()
         self._pose.header.frame_id = 'map'
         self._tf = TFMessage(transforms=[_transform('map', 'odom'), _transform('odom', 'base_link')])
-
-    def publish_mounting(self, mount: Sequence[float], z: float, stamp: float) -> None:
-        """base_link → laser, once (transient local: late subscribers get it)."""
-        t = _transform('base_link', self.laser_frame)
-        _set_transform(t, (mount[0], mount[1], 0.0), stamp, z)
-        self.tf_static.publish(TFMessage(transforms=[t]))
 
     def publish(self, stamp: float, dead_reckoning: np.ndarray, dr_cov: np.ndarray, tv: float, rv: float,
                 adjustment: np.ndarray, pose: np.ndarray, pose_cov: np.ndarray) -> None:

@@ -1,23 +1,37 @@
 """Standard ROS 2 messages published alongside the WURDE streams (DESIGN, "Topics and QoS").
 
-ROS tools (RViz, Nav2, ``ros2 topic echo``) expect ``sensor_msgs/LaserScan``, ``nav_msgs/Odometry``
-and ``geometry_msgs/Twist`` in; the device modules give them next to their WURDE streams, for the
-stream ``S``:
+ROS tools (RViz, Nav2, ``ros2 topic echo``) expect standard messages; the device modules give
+them next to their WURDE streams. For a device module ``N`` (a base ``N``, a laser ``N``, ...):
 
-=============================== ========================= ==========================================
-topic                           type                      what
-=============================== ========================= ==========================================
-``/S/scan``                     sensor_msgs/LaserScan     a laser's scan (frame ``<S>``, REP-103)
-``/S/odom``                     nav_msgs/Odometry         a base's odometry (frames ``odom`` →
-                                                          ``base_link``, REP-105)
-``/S/cmd_vel``                  geometry_msgs/Twist (in)  velocity commands into the same watchdog
-                                                          as the WURDE drive requests
-``/S/imu``                      sensor_msgs/Imu           a DMU's filtered state (frame ``<S>``)
-``/S/fix``                      sensor_msgs/NavSatFix     a GPS fix (frame ``<S>``)
-=============================== ========================= ==========================================
+========================= ========================= ================================================
+topic                     type                      what
+========================= ========================= ================================================
+``/N/scan``               sensor_msgs/LaserScan     a laser's scan (frame ``N``, REP-103)
+``/N/odom``               nav_msgs/Odometry         a base's odometry (frames ``odom`` → ``base_link``,
+                                                    REP-105), covariance from its noise figures
+``/N/cmd_vel``            geometry_msgs/Twist (in)  velocity commands into the same watchdog as the
+                                                    WURDE drive requests
+``/N/imu``                sensor_msgs/Imu           a DMU's filtered state (frame ``N``), covariances
+                                                    from its noise and filter
+``/N/fix``                sensor_msgs/NavSatFix     a GPS fix (frame ``N``), covariance APPROXIMATED
+                                                    from HDOP and quality
+``/N/ground_truth/odom``  nav_msgs/Odometry         the simulator's true pose (frame ``map``)
+``/N/sonar``              sensor_msgs/Range         one per sonar, frame ``NSonar_i``
+                                                    (:mod:`~wurde_drivers.ros_std_base`)
+``/N/bumpers``            sensor_msgs/Range         one fixed-distance ranger per bumper, frame
+                                                    ``NBumpers_i`` (:mod:`~wurde_drivers.ros_std_base`)
+``/N/battery``            sensor_msgs/BatteryState  a base's Power stream (:mod:`~wurde_drivers.ros_std_base`)
+``/N/joint_states``       sensor_msgs/JointState    a wrist's or PTU's pan and tilt
+                                                    (:mod:`~wurde_drivers.ros_std_joints`)
+``/tf_static``            tf2_msgs/TFMessage        ``base_link`` → each device's frame at its
+                                                    configured mounting
+                                                    (:mod:`~wurde_drivers.ros_std_frames`)
+========================= ========================= ================================================
 
-Only plain stream names get these topics (``S`` is the stream's topic path, see
-:func:`wurde_core.naming.stream_segment_path`).
+Only plain stream names get these topics (``N`` is the stream's topic path, see
+:func:`wurde_core.naming.stream_segment_path`); every name comes from :func:`std_topic`. Frames
+follow one rule (:func:`wurde_drivers.ros_std_frames.frame_of`); covariances and their sources are
+in :mod:`wurde_drivers.ros_std_covariance`.
 """
 
 from __future__ import annotations
@@ -34,7 +48,11 @@ from wurde_core.naming import stream_segment_path
 from wurde_core.ros_adaptor import polled, take
 from wurde_core.ros_messages import quaternion, set_stamp
 
-__all__ = ['FixPublisher', 'ImuPublisher', 'OdometryPublisher', 'ScanPublisher', 'TwistInbox']
+from .ros_std_covariance import ImuCovariance, ImuNoise, OdometryCovariance, fix_covariance
+from .ros_std_frames import frame_of
+
+__all__ = ['FixPublisher', 'ImuPublisher', 'OdometryPublisher', 'ScanPublisher', 'TwistInbox',
+           'ground_truth_publisher', 'std_topic']
 
 _QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 
@@ -53,7 +71,7 @@ class ScanPublisher:
                  frame: str | None = None) -> None:
         """``time_increment``: seconds between two measurements (the device's fact, 0 if unknown)."""
         self.publisher = node.create_publisher(LaserScan, std_topic(stream, 'scan'), _QOS)
-        self.frame = frame or stream.replace('/', '_')
+        self.frame = frame or frame_of(stream)
         self.max_range = max_range
         self.time_increment = time_increment
 
@@ -74,16 +92,28 @@ class ScanPublisher:
 
 
 class OdometryPublisher:
-    """``/S/odom``: pose and twist of ``base_link`` in ``odom`` (REP-105)."""
+    """``/S/odom``: pose and twist of ``base_link`` in ``odom`` (REP-105).
 
-    def __init__(self, node: Any, stream: str) -> None:
-        self.publisher = node.create_publisher(Odometry, std_topic(stream, 'odom'), _QOS)
+    :param covariance: grows the pose and twist covariances from the base's noise figures; None
+        publishes zeros (only for the simulator's ground truth, which is exact).
+    :param leaf: the topic's leaf; ``frame`` the pose's frame.
+    """
+
+    def __init__(self, node: Any, stream: str, *, covariance: OdometryCovariance | None,
+                 leaf: str = 'odom', frame: str = 'odom') -> None:
+        self.publisher = node.create_publisher(Odometry, std_topic(stream, leaf), _QOS)
+        self.covariance = covariance
+        self.frame = frame
 
     def publish(self, x: float, y: float, theta: float, tv: float, rv: float, stamp: float) -> None:
         msg = Odometry()
         set_stamp(msg, stamp)
-        msg.header.frame_id = 'odom'
+        msg.header.frame_id = self.frame
         msg.child_frame_id = 'base_link'
+        if self.covariance is not None:
+            self.covariance.update(x, y, theta, stamp)
+            msg.pose.covariance = self.covariance.pose6()
+            msg.twist.covariance = self.covariance.twist6()
         msg.pose.pose.position.x = x
         msg.pose.pose.position.y = y
         msg.pose.pose.orientation.z = math.sin(theta / 2)
@@ -91,6 +121,15 @@ class OdometryPublisher:
         msg.twist.twist.linear.x = tv
         msg.twist.twist.angular.z = rv
         self.publisher.publish(msg)
+
+
+def ground_truth_publisher(node: Any, base: str) -> OdometryPublisher:
+    """``/<base>/ground_truth/odom``: the simulator's true pose of ``base_link`` in ``map``.
+
+    A topic of its own, and frame ``map``, so that nobody takes it for odometry; its covariance
+    is zero because it is exact (the one standard message here that says so).
+    """
+    return OdometryPublisher(node, base, covariance=None, leaf='ground_truth/odom', frame='map')
 
 
 class TwistInbox:
@@ -109,16 +148,27 @@ class TwistInbox:
 
 
 class ImuPublisher:
-    """``/S/imu``: orientation, angular velocity and linear acceleration (REP-103, z up)."""
+    """``/S/imu``: orientation, angular velocity and linear acceleration (REP-103, z up).
 
-    def __init__(self, node: Any, stream: str) -> None:
+    :param noise: the raw sample's noise figures (the module names their source).
+    :param tau: the DMU filter's time constant (s): it lowers the rates' and accelerations'
+        variance.
+    """
+
+    def __init__(self, node: Any, stream: str, *, noise: ImuNoise, tau: float) -> None:
         self.publisher = node.create_publisher(Imu, std_topic(stream, 'imu'), _QOS)
-        self.frame = stream.replace('/', '_')
+        self.frame = frame_of(stream)
+        self.covariance = ImuCovariance(noise, tau)
 
     def publish(self, state: Any, stamp: float) -> None:
         msg = Imu()
         set_stamp(msg, stamp)
         msg.header.frame_id = self.frame
+        cov = self.covariance
+        cov.update(stamp)
+        msg.orientation_covariance = cov.orientation()
+        msg.angular_velocity_covariance = cov.angular_velocity()
+        msg.linear_acceleration_covariance = cov.linear_acceleration()
         q = quaternion(state.theta, state.phi or 0.0, state.psi or 0.0)
         msg.orientation.x, msg.orientation.y, msg.orientation.z, msg.orientation.w = q
         msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z = (
@@ -136,19 +186,22 @@ _STATUS = {0: NavSatStatus.STATUS_NO_FIX, 1: NavSatStatus.STATUS_FIX, 2: NavSatS
 
 
 class FixPublisher:
-    """``/S/fix``: latitude, longitude (degrees) and altitude (m) with the fix's status."""
+    """``/S/fix``: latitude, longitude (degrees) and altitude (m) with the fix's status, and a
+    position covariance APPROXIMATED from HDOP and quality
+    (:func:`~wurde_drivers.ros_std_covariance.fix_covariance`)."""
 
     def __init__(self, node: Any, stream: str) -> None:
         self.publisher = node.create_publisher(NavSatFix, std_topic(stream, 'fix'), _QOS)
-        self.frame = stream.replace('/', '_')
+        self.frame = frame_of(stream)
 
     def publish(self, *, latitude: float, longitude: float, altitude: float, quality: int,
-                stamp: float) -> None:
+                hdop: float, stamp: float) -> None:
         msg = NavSatFix()
         set_stamp(msg, stamp)
         msg.header.frame_id = self.frame
         msg.status.status = _STATUS.get(int(quality), NavSatStatus.STATUS_NO_FIX)
         msg.status.service = NavSatStatus.SERVICE_GPS
         msg.latitude, msg.longitude, msg.altitude = latitude, longitude, altitude
-        msg.position_covariance_type = NavSatFix.COVARIANCE_TYPE_UNKNOWN
+        msg.position_covariance = fix_covariance(quality, hdop)
+        msg.position_covariance_type = NavSatFix.COVARIANCE_TYPE_APPROXIMATED
         self.publisher.publish(msg)

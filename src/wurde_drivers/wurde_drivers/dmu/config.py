@@ -13,7 +13,9 @@ Pluto's dmuModule had no documented configuration file; the format follows WURDE
   PROTOCOLS.md 7);
 - ``mode``: ``angle`` (roll and pitch from the sensor's own filter, default) or ``scaled``
   (rates and accelerations only; pitch and roll are then published as 0);
-- ``cutoff``: the low-pass cut-off of the filtered DMUstate in Hz (> 0, default 5).
+- ``cutoff``: the low-pass cut-off of the filtered DMUstate in Hz (> 0, default 5);
+- ``mount-x``, ``mount-y``, ``mount-z``: where the unit sits on the robot
+  (:mod:`wurde_drivers.mounting`, default 0; its axes are the robot's).
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ import os
 
 from lxml import etree
 
+from ..mounting import MOUNT_XYZ, Mounting, read_mounting
 from ..xml_config import Attributes, device_named, read_devices
 from .codec import DEFAULT_BAUDRATE, DmuMode
 
@@ -44,11 +47,12 @@ class DmuDevice:
     cutoff: float = 5.0
     path: str = ''
     line: int | None = None
+    mount: Mounting = Mounting()  # where it sits on the robot (mounting)
 
 
 def _device(path: str, node: etree._Element) -> DmuDevice:
     attrs = Attributes(path, node, required=('port', 'name'),
-                       optional=('baud', 'mode', 'cutoff'))
+                       optional=('baud', 'mode', 'cutoff', *MOUNT_XYZ))
     cutoff = attrs.number('cutoff', 5.0)
     if not cutoff > 0:
         raise attrs.error(f'attribute cutoff={cutoff} of <device> must be above 0 Hz')
@@ -56,7 +60,7 @@ def _device(path: str, node: etree._Element) -> DmuDevice:
         port=attrs.text('port'), name=attrs.text('name'),
         baud=int(attrs.choice('baud', _BAUDS, str(DEFAULT_BAUDRATE))),
         mode=_MODES[attrs.choice('mode', tuple(_MODES), 'angle')],
-        cutoff=float(cutoff), path=path, line=attrs.line)
+        cutoff=float(cutoff), mount=read_mounting(attrs), path=path, line=attrs.line)
 
 
 def load_dmu_config(path: str | os.PathLike[str]) -> list[DmuDevice]:

@@ -19,6 +19,7 @@ theta stays relative to the starting orientation.
 
 from __future__ import annotations
 
+import math
 import sys
 import time
 
@@ -27,6 +28,7 @@ from wurde_core import CommsManager, Logger
 from ..errors import DriverError
 from ..module_setup import configured_device, run_loop, set_loop
 from ..ports.serial_link import SerialLink
+from ..ros_std_covariance import ImuNoise
 from ..streams.dmu import DmuStreams
 from .config import DmuDevice, load_dmu_config
 from .device import DmuDriver
@@ -108,11 +110,17 @@ class DmuRunner:
         self.driver.close()
 
 
+#: The raw sample's noise for ``/N/imu``'s covariances: rate 0.1 deg/s, acceleration 10 mg,
+#: roll and pitch 0.5 deg (1 sigma). Assumed, not measured: the DMU's manual is not at hand
+#: (PROTOCOLS.md 7); put the unit's datasheet figures here.
+NOISE = ImuNoise(rate=math.radians(0.1), accel=0.01 * 9.80665, angle=math.radians(0.5))
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('PlutoDMU')
     device = configured_device(manager, argv, 'dmu-config.xml', load_dmu_config)
-    streams = DmuStreams(manager.name, device.cutoff)
+    streams = DmuStreams(manager.name, device.cutoff, noise=NOISE, mount=device.mount)
     runner = DmuRunner(device, DmuDriver(SerialLink(device.port, device.baud), mode=device.mode),
                        streams, Logger(manager.name))
     streams.register(manager)

@@ -18,7 +18,9 @@ Pluto's gpsModule had no documented configuration file; the format follows WURDE
   8.4: "> 5 satellites and quality 2 for sub-meter accuracy"); the quality is a GGA code ranked
   by accuracy (:mod:`~wurde_drivers.gps.quality`): 0 (any measured fix), 1, 3, 2, 5 or 4 — never
   6 to 9, which measure nothing;
-- ``timeout``: seconds without a sentence before the receiver counts as silent (default 3).
+- ``timeout``: seconds without a sentence before the receiver counts as silent (default 3);
+- ``mount-x``, ``mount-y``, ``mount-z``: where the antenna sits on the robot
+  (:mod:`wurde_drivers.mounting`, default 0).
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ import os
 
 from lxml import etree
 
+from ..mounting import MOUNT_XYZ, Mounting, read_mounting
 from ..xml_config import Attributes, device_named, read_devices
 from .quality import MINIMUMS
 
@@ -53,6 +56,7 @@ class GpsDevice:
     timeout: float = 3.0
     path: str = ''
     line: int | None = None
+    mount: Mounting = Mounting()  # where it sits on the robot (mounting)
 
 
 def _min_quality(attrs: Attributes) -> int:
@@ -67,7 +71,7 @@ def _min_quality(attrs: Attributes) -> int:
 def _device(path: str, node: etree._Element) -> GpsDevice:
     attrs = Attributes(path, node, required=('port', 'name'),
                        optional=('baud', 'origin-latitude', 'origin-longitude', 'min-satellites',
-                                 'min-quality', 'timeout'))
+                                 'min-quality', 'timeout', *MOUNT_XYZ))
     origin = None
     given = [attrs.has('origin-latitude'), attrs.has('origin-longitude')]
     if any(given):
@@ -84,7 +88,7 @@ def _device(path: str, node: etree._Element) -> GpsDevice:
         baud=int(attrs.choice('baud', _BAUDS, '4800')), origin=origin,
         min_satellites=attrs.number('min-satellites', 6, minimum=0, maximum=64, integer=True),
         min_quality=_min_quality(attrs),
-        timeout=timeout, path=path, line=attrs.line)
+        timeout=timeout, mount=read_mounting(attrs), path=path, line=attrs.line)
 
 
 def load_gps_config(path: str | os.PathLike[str]) -> list[GpsDevice]:

@@ -119,7 +119,7 @@ def main(argv: list[str] | None = None) -> int:
     receiver = GpsReceiver(SerialLink(config.port, config.baud, retry_s=RETRY_S),
                            origin=config.origin, min_satellites=config.min_satellites,
                            min_quality=config.min_quality)
-    streams = GpsStreams(manager.name)
+    streams = GpsStreams(manager.name, mount=config.mount)
     logger = Logger(manager.name)
     streams.register(manager)
     manager.register_supplier(logger)

@@ -12,7 +12,9 @@ files (``laser-config``, guide 7.5)::
 - ``baud``: the unit's line speed, 600 to 38400 (default 9600, the PTU-46's factory setting,
   PROTOCOLS.md 2);
 - ``rate``: how often the measured pan and tilt are read and published, in Hz (1 to 30, default
-  10; each reading is four round trips on the line).
+  10; each reading is four round trips on the line);
+- ``mount-x``, ``mount-y``, ``mount-z``, ``mount-yaw``: where the unit's base sits on the robot
+  (:mod:`wurde_drivers.mounting`, default 0).
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ import os
 
 from lxml import etree
 
+from ..mounting import MOUNT_ATTRIBUTES, Mounting, read_mounting
 from ..xml_config import Attributes, device_named, read_devices
 
 __all__ = ['PtuDevice', 'device_named', 'load_ptu_config']
@@ -40,14 +43,15 @@ class PtuDevice:
     rate: float = 10.0
     path: str = ''
     line: int | None = None
+    mount: Mounting = Mounting()  # where it sits on the robot (mounting)
 
 
 def _device(path: str, node: etree._Element) -> PtuDevice:
-    attrs = Attributes(path, node, required=('port', 'name'), optional=('baud', 'rate'))
+    attrs = Attributes(path, node, required=('port', 'name'), optional=('baud', 'rate', *MOUNT_ATTRIBUTES))
     return PtuDevice(port=attrs.text('port'), name=attrs.text('name'),
                      baud=int(attrs.choice('baud', _BAUDS, '9600')),
                      rate=float(attrs.number('rate', 10.0, minimum=1.0, maximum=30.0)),
-                     path=path, line=attrs.line)
+                     mount=read_mounting(attrs), path=path, line=attrs.line)
 
 
 def load_ptu_config(path: str | os.PathLike[str]) -> list[PtuDevice]:

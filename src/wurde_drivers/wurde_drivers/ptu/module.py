@@ -14,7 +14,9 @@ One PTUnit stream named after the module (``-n``; the name also picks the ``<dev
   unit's limits and resolution (locked to suppliers: they are read only), the mode, and
   ``halt`` (true from a halt until the next motion command).
 - **Data**: measured pan and tilt, their velocities and whether the unit moves, read from the
-  unit at the configured rate (10 Hz by default), stamped with the time of the reading.
+  unit at the configured rate (10 Hz by default), stamped with the time of the reading; also as
+  ``sensor_msgs/JointState`` on ``/<name>/joint_states``, with the unit's base frame at the
+  ``<device>``'s ``mount-*`` on ``/tf_static`` (:mod:`wurde_drivers.ros_std_joints`).
 
 The unit is (re)connected about once a second until it answers; a unit that stops answering is
 logged once and no data is published until it is back. On reconnect the commanded settings are
@@ -35,6 +37,7 @@ from wurde_core.interfaces import PTUnit
 from ..errors import DeviceError, DeviceTimeout
 from ..module_setup import configured_device, run_loop, set_loop
 from ..ports.serial_link import SerialLink
+from ..ros_std_joints import JointStatePublisher, pan_tilt_standard
 from .codec import LimitHit
 from .config import load_ptu_config
 from .device import Ptu46
@@ -72,8 +75,11 @@ class PtuServer:
     :meth:`step` is called once per loop: (re)connects, applies requests, reads and publishes.
     """
 
-    def __init__(self, device: Ptu46, stream: PTUnit, logger: Logger, *, period: float) -> None:
+    def __init__(self, device: Ptu46, stream: PTUnit, logger: Logger, *, period: float,
+                 joints: JointStatePublisher | None = None) -> None:
+        """:param joints: the standard mirror of each reading, if any."""
         self.device = device
+        self.joints = joints
         self.stream = stream
         self.logger = logger
         self.label = f'PTU on {device.link.url}'
@@ -225,6 +231,9 @@ class PtuServer:
         data.moving = state.moving
         data.timestamp = Time(time.time() - (time.monotonic() - state.stamp))
         self.stream.publish_data()
+        if self.joints is not None:
+            self.joints.publish(pan=state.pan, tilt=state.tilt, pan_velocity=state.pan_velocity,
+                                tilt_velocity=state.tilt_velocity, stamp=data.timestamp.get_seconds())
         self.readings += 1
         self._next_read += self.period
         if self._next_read < now:            # fell behind (a slow line): keep the rate from now
@@ -267,7 +276,8 @@ def main(argv: list[str] | None = None) -> int:
     manager.register_supplier(stream)
     manager.register_supplier(logger)
     set_loop(manager, LOOP_S)
-    server = PtuServer(device, stream, logger, period=1.0 / config.rate)
+    server = PtuServer(device, stream, logger, period=1.0 / config.rate,
+                       joints=pan_tilt_standard(manager.node, manager.name, config.mount))
     return run_loop(manager, server.step, device.close)
 
 

@@ -38,6 +38,7 @@ from wurde_core import CommsManager, Logger, Pose3D, RunState
 from ..errors import DeviceError, DeviceTimeout
 from ..module_setup import configured_device, run_loop, set_loop
 from ..ports.serial_link import SerialLink
+from ..ros_std_covariance import OdometryCovariance
 from ..streams.base import BaseLimits, BaseStreams, VelocityCommand
 from . import codec
 from .config import RFlexDevice, load_rflex_config
@@ -67,6 +68,11 @@ BUMPER_RINGS = {'body': (0.25, 0.6), 'base': (0.26, 0.15)}
 #: Battery (both robots run on 24 V lead-acid packs); the dummy battery's thresholds.
 NOMINAL_V, LOW_V, CRITICAL_V = 24.0, 22.0, 21.0
 CAPACITY_J = 24.0 * 3600 * 40
+#: Odometry error for ``/N/odom``'s covariance (trans per sqrt(m), rot per sqrt(rad), drift rad/m).
+#: Neither the rFLEX nor the robots document an odometry accuracy (the encoders' resolution,
+#: robots.py, is far finer than wheel slip), so these are the simulated Pluto's figures
+#: (config/pluto/sim-config.xml, <odometry-noise>), which stand for this base's error.
+ODOMETRY_NOISE = {'trans': 0.05, 'rot': 0.05, 'drift': 0.02}
 
 
 def limits_for(robot: RobotParams) -> BaseLimits:
@@ -83,7 +89,7 @@ def publish_sensor_info(streams: BaseStreams, robot: RobotParams) -> None:
     sonar.uniform.set_value(False)
     sonar.half_angle.set_value(SONAR_HALF_ANGLE)
     sonar.sensor_positions.set_value([Pose3D(s.x, s.y, s.z, s.yaw, 0.0, 0.0) for s in robot.sonars])
-    streams.sonar.publish_info()
+    streams.announce_sonar()
     positions = []
     for panel in robot.bumpers:
         radius, z = BUMPER_RINGS[panel.ring]
@@ -91,7 +97,7 @@ def publish_sensor_info(streams: BaseStreams, robot: RobotParams) -> None:
                                 panel.yaw, 0.0, 0.0))
     streams.bumpers.info.uniform.set_value(False)
     streams.bumpers.info.sensor_positions.set_value(positions)
-    streams.bumpers.publish_info()
+    streams.announce_bumpers()
     streams.publish_power_info(NOMINAL_V, LOW_V, CRITICAL_V, CAPACITY_J)
 
 
@@ -270,7 +276,8 @@ def main(argv: list[str] | None = None) -> int:
     logger = Logger(manager.name)
     streams = BaseStreams(manager.name, synchro=robot.drive is DriveKind.SYNCHRO,
                           limits=limits_for(robot), command_timeout=device.command_timeout,
-                          logger=logger, brake_release=device.brake_reset)
+                          logger=logger, brake_release=device.brake_reset,
+                          odometry=OdometryCovariance(**ODOMETRY_NOISE))
     driver = RFlexDriver(SerialLink(device.port, BAUDRATE), robot, brake_reset=device.brake_reset,
                          command_timeout=None)
     runner = RFlexRunner(device, driver, streams, logger)

@@ -12,7 +12,9 @@ Optional attributes of ours, with their defaults (Pluto 8.1's: cm, 361 values, 3
 - ``units``: ``cm`` (81.82 m max, default) or ``mm`` (8.182 m max).  A PLS runs at 0.5° in cm only;
 - ``parity``: ``none`` or ``even``, default the device's own: ``even`` for a PLS (8E1), ``none``
   for an LMS (8N1).  Say ``none`` for a PLS on a pseudo-terminal, e.g. ``sick_emulator``'s link:
-  a pty cannot carry parity (PROTOCOLS.md 6: reconfiguring it with PARENB fails with EINVAL).
+  a pty cannot carry parity (PROTOCOLS.md 6: reconfiguring it with PARENB fails with EINVAL);
+- ``mount-x``, ``mount-y``, ``mount-z``: where the laser sits on the robot, m
+  (:mod:`wurde_drivers.mounting`; default 0, 0, 0.4).
 
 Example::
 
@@ -29,6 +31,7 @@ import os
 
 from lxml import etree
 
+from ..mounting import MOUNT_XYZ, Mounting, read_mounting
 from ..xml_config import Attributes, device_named, read_devices
 from . import facts
 
@@ -58,6 +61,7 @@ class LaserDevice:
     parity: str = ''
     path: str = ''
     line: int | None = None
+    mount: Mounting = Mounting(z=0.4)  # where it sits on the robot (mounting)
 
     def __post_init__(self) -> None:
         if not self.parity:
@@ -71,7 +75,8 @@ class LaserDevice:
 
 def _device(path: str, node: etree._Element) -> LaserDevice:
     attributes = Attributes(path, node, required=('port', 'name', 'type'),
-                            optional=('invert', 'log', 'baud', 'resolution', 'units', 'parity'))
+                            optional=('invert', 'log', 'baud', 'resolution', 'units', 'parity',
+                                      *MOUNT_XYZ))
     kind = attributes.choice('type', ('PLS', 'LMS'))
     resolution_text = attributes.text('resolution', '0.5')
     if resolution_text not in _RESOLUTIONS:
@@ -84,7 +89,7 @@ def _device(path: str, node: etree._Element) -> LaserDevice:
         resolution=_RESOLUTIONS[resolution_text],
         units=attributes.choice('units', ('cm', 'mm'), 'cm'),
         parity=attributes.choice('parity', ('none', 'even'), DEFAULT_PARITY[kind]),
-        path=path, line=node.sourceline)
+        mount=read_mounting(attributes, z=0.4), path=path, line=node.sourceline)
     if kind == 'PLS' and facts.variant_error(kind, device.values, device.units) is not None:
         raise attributes.error('a PLS runs at resolution 0.5 in cm only')
     return device

@@ -272,8 +272,9 @@ def main(argv: list[str] | None = None) -> int:
     streams.register(manager)
     manager.register_supplier(logger)
     set_loop(manager, SLEEP_S)
+    mount = device.mount
     streams.publish_info(count=device.values, max_range=facts.max_range_m(device.type, device.units),
-                         scan_time=scan_period(device))
+                         mount_x=mount.x, mount_y=mount.y, mount_z=mount.z, scan_time=scan_period(device))
     log_file = open_log(manager, logger) if device.log else None
     runner = SickRunner(device, streams, logger, log_file)
     try:

@@ -12,13 +12,17 @@ time scale::
       <laser name="PlutoLaser" model="LMS" count="361" units="cm" inverted="false"
              baud="38400" mount-x="0.2" noise="0"/>
       <wrist name="PlutoWrist" rate="20" max-velocity="1.0" max-acceleration="2.0"
-             pan-min="-2.9" pan-max="2.9" tilt-min="-0.8" tilt-max="0.5"/>
-      <dmu name="PlutoDMU" rate="50" rate-bias="0" rate-noise="0" cutoff="5.0"/>
+             pan-min="-2.9" pan-max="2.9" tilt-min="-0.8" tilt-max="0.5"
+             mount-x="0" mount-y="0" mount-z="0" mount-yaw="0"/>
+      <dmu name="PlutoDMU" rate="50" rate-bias="0" rate-noise="0" cutoff="5.0"
+           mount-x="0" mount-y="0" mount-z="0"/>
       <gps name="PlutoGPS" rate="1" latitude="59.3498" longitude="18.0707" altitude="30"
-           noise="0" satellites="8" quality="2" hdop="0.9"/>
+           noise="0" satellites="8" quality="2" hdop="0.9" mount-x="0" mount-y="0" mount-z="0"/>
     </sim-config>
 
 Every element but ``map`` and ``base`` is optional; every attribute has the default shown. The
+``mount-*`` attributes place a device on the robot (:mod:`wurde_drivers.mounting`); the sonar
+ring and the bumpers are placed by ``<sonar>`` and the base's ``radius``. The
 ground truth of the base is the stream ``<base name>Truth``; the other dummies read it. Wrong
 files are refused with file, line and reason.
 """
@@ -32,6 +36,7 @@ import pathlib
 
 from wurde_idl.errors import ConfigError
 
+from ..mounting import MOUNT_ATTRIBUTES, MOUNT_XYZ, Mounting, read_mounting
 from ..sick import facts as sick_facts
 from ..xml_config import Attributes, children, local_name, read_root
 from .body import BumperRing, SonarRing
@@ -65,6 +70,7 @@ class WristConfig:
     pan_max: float = 2.9
     tilt_min: float = -0.8
     tilt_max: float = 0.5
+    mount: Mounting = Mounting()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -74,6 +80,7 @@ class DmuConfig:
     rate_bias: float = 0.0
     rate_noise: float = 0.0
     cutoff: float = 5.0
+    mount: Mounting = Mounting()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -87,6 +94,7 @@ class GpsConfig:
     satellites: int = 8
     quality: int = 2
     hdop: float = 0.9
+    mount: Mounting = Mounting()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -167,12 +175,12 @@ _SCHEMA: dict[str, dict[str, tuple[str, ...]]] = {
     'odometry-noise': {'optional': ('trans', 'rot', 'drift')},
     'sonar': {'optional': ('count', 'radius', 'max-range', 'half-angle', 'rate')},
     'laser': {'required': ('name',), 'optional': ('model', 'count', 'units', 'inverted', 'baud',
-                                                   'mount-x', 'mount-y', 'mount-z', 'noise')},
+                                                   *MOUNT_XYZ, 'noise')},
     'wrist': {'optional': ('name', 'rate', 'max-velocity', 'max-acceleration', 'pan-min', 'pan-max',
-                           'tilt-min', 'tilt-max')},
-    'dmu': {'optional': ('name', 'rate', 'rate-bias', 'rate-noise', 'cutoff')},
+                           'tilt-min', 'tilt-max', *MOUNT_ATTRIBUTES)},
+    'dmu': {'optional': ('name', 'rate', 'rate-bias', 'rate-noise', 'cutoff', *MOUNT_XYZ)},
     'gps': {'optional': ('name', 'rate', 'latitude', 'longitude', 'altitude', 'noise', 'satellites',
-                         'quality', 'hdop')},
+                         'quality', 'hdop', *MOUNT_XYZ)},
 }
 
 
@@ -224,7 +232,8 @@ def _wrist(a: Attributes | None) -> WristConfig | None:
                        max_velocity=a.number('max-velocity', 1.0, minimum=0.0),
                        max_acceleration=a.number('max-acceleration', 2.0, minimum=0.0),
                        pan_min=a.number('pan-min', -2.9), pan_max=a.number('pan-max', 2.9),
-                       tilt_min=a.number('tilt-min', -0.8), tilt_max=a.number('tilt-max', 0.5))
+                       tilt_min=a.number('tilt-min', -0.8), tilt_max=a.number('tilt-max', 0.5),
+                       mount=read_mounting(a))
 
 
 def _dmu(a: Attributes | None) -> DmuConfig | None:
@@ -232,7 +241,7 @@ def _dmu(a: Attributes | None) -> DmuConfig | None:
         return None
     return DmuConfig(name=a.text('name', 'PlutoDMU'), rate=a.number('rate', 50.0, minimum=0.1),
                      rate_bias=a.number('rate-bias', 0.0), rate_noise=a.number('rate-noise', 0.0, minimum=0.0),
-                     cutoff=a.number('cutoff', 5.0, minimum=0.01))
+                     cutoff=a.number('cutoff', 5.0, minimum=0.01), mount=read_mounting(a))
 
 
 def _gps(a: Attributes | None) -> GpsConfig | None:
@@ -244,4 +253,4 @@ def _gps(a: Attributes | None) -> GpsConfig | None:
                      altitude=a.number('altitude', 30.0), noise=a.number('noise', 0.0, minimum=0.0),
                      satellites=a.number('satellites', 8, integer=True, minimum=0, maximum=32),
                      quality=a.number('quality', 2, integer=True, minimum=0, maximum=8),
-                     hdop=a.number('hdop', 0.9, minimum=0.0))
+                     hdop=a.number('hdop', 0.9, minimum=0.0), mount=read_mounting(a))

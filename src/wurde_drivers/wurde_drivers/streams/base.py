@@ -15,10 +15,13 @@ stream         interface        what
 ``NPower``     Power            battery
 ============== ================ =====================================================================
 
-Standard ROS: ``nav_msgs/Odometry`` on ``/N/odom`` and ``geometry_msgs/Twist`` commands on
-``/N/cmd_vel`` (:mod:`wurde_drivers.ros_std`). Whatever backend moves the robot, consumers see the
-same streams, so no module can tell a dummy
-from the real base.
+Standard ROS alongside (:mod:`wurde_drivers.ros_std`, :mod:`wurde_drivers.ros_std_base`):
+``nav_msgs/Odometry`` on ``/N/odom`` (covariance from the base's noise figures),
+``geometry_msgs/Twist`` commands on ``/N/cmd_vel``, ``sensor_msgs/Range`` per sonar on
+``/N/sonar`` and per bumper on ``/N/bumpers``, ``sensor_msgs/BatteryState`` on ``/N/battery``,
+and the sonars' and bumpers' mountings (from their info) on ``/tf_static``. Whatever backend
+moves the robot, consumers see the same streams, so no module can tell a dummy from the real
+base.
 
 Both drive interfaces: the guide's examples disagree on which one a base supplies (chapter 1 maps
 a SynchroDrive consumer to an ATRV Jr, the appendix a RobotDrive consumer to a B21r, and 7.3 says
@@ -48,7 +51,11 @@ from wurde_core.naming import typed_view
 from wurde_core.interfaces import (ActuatorState, Bumper, Egomotion, Power, RangeFinder, RobotDrive,
                                    SynchroDrive)
 
+from ..mounting import Mounting
 from ..ros_std import OdometryPublisher, TwistInbox
+from ..ros_std_base import BatteryPublisher, BumperPublisher, SonarPublisher
+from ..ros_std_covariance import OdometryCovariance
+from ..ros_std_frames import StaticFrames, member_frame
 
 __all__ = ['BaseLimits', 'BaseStreams', 'VelocityCommand']
 
@@ -81,9 +88,12 @@ class BaseStreams:
     """Suppliers of one base; call :meth:`register` once, then :meth:`take_command` every loop."""
 
     def __init__(self, name: str, *, synchro: bool, limits: BaseLimits, command_timeout: float,
-                 logger: Logger | None = None, brake_release: bool = True) -> None:
+                 logger: Logger | None = None, brake_release: bool = True,
+                 odometry: OdometryCovariance | None = None) -> None:
         """:param brake_release: whether a Drive request may release the brake at all (the
-            rFLEX config's ``brake-reset``); when not, such a request is refused whole."""
+            rFLEX config's ``brake-reset``); when not, such a request is refused whole.
+        :param odometry: the odometry's error model for ``/N/odom``'s covariance (the module
+            names the figures' source); None: no noise, the least variances only."""
         self.name = name
         self.brake_release = brake_release
         self.synchro = synchro
@@ -96,8 +106,10 @@ class BaseStreams:
         self.drive_view = other(typed_view(f'{name}Drive', other.interface_name))
         self.command = ActuatorState(f'{name}Command')
         self.motion = Egomotion(f'{name}Motion')
-        self.sonar = RangeFinder(f'{name}Sonar')
-        self.bumpers = Bumper(f'{name}Bumpers')
+        #: Stream names of the sonar ring and the bumpers (their frames follow them).
+        self.sonar_stream, self.bumper_stream = f'{name}Sonar', f'{name}Bumpers'
+        self.sonar = RangeFinder(self.sonar_stream)
+        self.bumpers = Bumper(self.bumper_stream)
         self.power = Power(f'{name}Power')
         self.current = VelocityCommand(0.0, 0.0, limits.tv_accel, limits.rv_accel)
         self.tv_limit = limits.max_tv
@@ -105,8 +117,13 @@ class BaseStreams:
         self.last_command = -math.inf
         self.timeouts = 0
         self.refused_commands = 0
+        self.odometry = odometry or OdometryCovariance(trans=0.0, rot=0.0, drift=0.0)
         self._odom: OdometryPublisher | None = None
         self._twist: TwistInbox | None = None
+        self._sonar_std: SonarPublisher | None = None
+        self._bumper_std: BumperPublisher | None = None
+        self._battery_std: BatteryPublisher | None = None
+        self._frames: StaticFrames | None = None
 
     @property
     def objects(self) -> list[object]:
@@ -116,8 +133,13 @@ class BaseStreams:
     def register(self, manager: CommsManager) -> None:
         for obj in self.objects:
             manager.register_supplier(obj)  # type: ignore[arg-type]
-        self._odom = OdometryPublisher(manager.node, self.name)
-        self._twist = TwistInbox(manager.node, self.name)
+        node = manager.node
+        self._odom = OdometryPublisher(node, self.name, covariance=self.odometry)
+        self._twist = TwistInbox(node, self.name)
+        self._sonar_std = SonarPublisher(node, self.name, self.sonar_stream)
+        self._bumper_std = BumperPublisher(node, self.name, self.bumper_stream)
+        self._battery_std = BatteryPublisher(node, self.name)
+        self._frames = StaticFrames(node)
 
     # -- info ---------------------------------------------------------------------------------
     def publish_drive_info(self) -> None:
@@ -164,14 +186,38 @@ class BaseStreams:
         info.theta_separation.set_value(2 * math.pi / count)
         info.sensor_positions.set_value([Pose3D(radius * math.cos(a), radius * math.sin(a), z, a, 0.0, 0.0)
                                          for a in (2 * math.pi * i / count for i in range(count))])
+        self.announce_sonar()
+
+    def _publish_frames(self, stream: str, positions: Sequence[Pose3D]) -> None:
+        if self._frames is not None:
+            self._frames.set((member_frame(stream, i), Mounting(p.x(), p.y(), p.z(), p.theta()))
+                             for i, p in enumerate(positions))
+
+    def announce_sonar(self) -> None:
+        """Publish the sonar info as filled in, and its standard mirrors: a Range per sonar on
+        ``/N/sonar`` and each sonar's frame at its ``sensor_positions`` on ``/tf_static``."""
         self.sonar.publish_info()
+        info = self.sonar.info
+        positions = list(info.sensor_positions.get_value())
+        if self._sonar_std is not None:
+            self._sonar_std.configure(count=len(positions), half_angle=info.half_angle.get_value(),
+                                      max_range=info.max_range.get_value())
+        self._publish_frames(self.sonar_stream, positions)
+
+    def announce_bumpers(self) -> None:
+        """Publish the bumper info as filled in, its Range mirror and its frames (as the sonar's)."""
+        self.bumpers.publish_info()
+        positions = list(self.bumpers.info.sensor_positions.get_value())
+        if self._bumper_std is not None:
+            self._bumper_std.configure(len(positions))
+        self._publish_frames(self.bumper_stream, positions)
 
     def publish_bumper_info(self, radius: float, z: float = 0.2) -> None:
         info = self.bumpers.info
         info.uniform.set_value(False)
         info.sensor_positions.set_value([Pose3D(radius, 0.0, z, 0.0, 0.0, 0.0),
                                          Pose3D(-radius, 0.0, z, math.pi, 0.0, 0.0)])
-        self.bumpers.publish_info()
+        self.announce_bumpers()
 
     def publish_power_info(self, nominal: float, low: float, critical: float, capacity: float) -> None:
         info = self.power.info
@@ -180,6 +226,8 @@ class BaseStreams:
         info.critical_voltage.set_value(critical)
         info.capacity.set_value(capacity)
         self.power.publish_info()
+        if self._battery_std is not None:
+            self._battery_std.configure(nominal_voltage=nominal, capacity_j=capacity)
 
     def publish_all_info(self) -> None:
         self.publish_drive_info()
@@ -318,18 +366,26 @@ class BaseStreams:
         self._stamp(self.motion, stamp)
         self.motion.publish_data()
         if self._odom is not None:
-            self._odom.publish(x, y, theta, tv, rv, stamp if stamp is not None else time.time())
+            self._odom.publish(x, y, theta, tv, rv, self._std_stamp(stamp))
 
     def publish_sonar(self, ranges: Sequence[float], stamp: float | None = None) -> None:
         self.sonar.data.ranges = [float(r) for r in ranges]
         self._stamp(self.sonar, stamp)
         self.sonar.publish_data()
+        if self._sonar_std is not None:
+            self._sonar_std.publish(self.sonar.data.ranges, self._std_stamp(stamp))
+
+    @staticmethod
+    def _std_stamp(stamp: float | None) -> float:
+        return stamp if stamp is not None else time.time()
 
     def publish_bumpers(self, pressed: Sequence[bool], stamp: float | None = None) -> None:
         self.bumpers.data.bumpers = [bool(p) for p in pressed]
         self.bumpers.data.bumped = any(pressed)
         self._stamp(self.bumpers, stamp)
         self.bumpers.publish_data()
+        if self._bumper_std is not None:
+            self._bumper_std.publish(pressed, self._std_stamp(stamp))
 
     def publish_power(self, *, voltage: float, current: float, power: float, charge: float, energy: float,
                       low: float, critical: float, stamp: float | None = None) -> None:
@@ -339,3 +395,6 @@ class BaseStreams:
         d.low, d.critical = voltage < low, voltage < critical
         self._stamp(self.power, stamp)
         self.power.publish_data()
+        if self._battery_std is not None:
+            self._battery_std.publish(voltage=voltage, current=current, charge=charge, charging=False,
+                                      stamp=self._std_stamp(stamp))

@@ -9,7 +9,9 @@ A DMU module named ``N`` supplies two DMUState streams, as Pluto's dmuModule had
   the filtered z rate since the start, stamped earlier by the filter's delay
   (:class:`wurde_drivers.dmu.filter.DmuFilter`). Its info carries the cut-off and the delay.
 
-The filtered state also goes out as ``sensor_msgs/Imu`` on ``/N/imu`` (:mod:`wurde_drivers.ros_std`).
+The filtered state also goes out as ``sensor_msgs/Imu`` on ``/N/imu`` (:mod:`wurde_drivers.ros_std`),
+in frame ``N`` (axes the robot's), with covariances from the module's noise figures, and the
+unit's mounting ``base_link`` → ``N`` on ``/tf_static``.
 """
 
 from __future__ import annotations
@@ -19,7 +21,10 @@ from wurde_core.interfaces import DMUState
 
 from ..dmu.filter import DmuFilter, FilteredState
 from ..dmu.sample import MOTION_FIELDS, Inertial
+from ..mounting import Mounting
 from ..ros_std import ImuPublisher
+from ..ros_std_covariance import ImuNoise
+from ..ros_std_frames import StaticFrames, frame_of
 
 __all__ = ['DmuStreams']
 
@@ -27,20 +32,27 @@ __all__ = ['DmuStreams']
 class DmuStreams:
     """Suppliers of one DMU and its filter; feed raw samples to :meth:`publish`."""
 
-    def __init__(self, name: str, cutoff_hz: float) -> None:
+    def __init__(self, name: str, cutoff_hz: float, *, noise: ImuNoise, mount: Mounting) -> None:
+        """:param noise: the raw sample's noise (the module names the figures' source).
+        :param mount: where the unit sits (translation only: the data are in the robot's axes)."""
         self.name = name
+        self.noise = noise
+        self.mount = Mounting(mount.x, mount.y, mount.z)
         self.filter = DmuFilter(cutoff_hz)
         self.raw = DMUState(f'{name}/Raw')
         self.state = DMUState(name)
         for obj in (self.raw, self.state):
             obj.set_auto_timestamp(False)
         self._imu: ImuPublisher | None = None
+        self._frames: StaticFrames | None = None
 
     def register(self, manager: CommsManager) -> None:
         manager.register_supplier(self.raw)
         manager.register_supplier(self.state)
         if '/' not in self.name:
-            self._imu = ImuPublisher(manager.node, self.name)
+            self._imu = ImuPublisher(manager.node, self.name, noise=self.noise, tau=self.filter.tau)
+        self._frames = StaticFrames(manager.node)
+        self._frames.set([(frame_of(self.name), self.mount)])
 
     def publish_info(self) -> None:
         for obj, filtered in ((self.raw, False), (self.state, True)):

@@ -6,7 +6,9 @@ around the origin given in the info — Pluto's gpsmeter grid. The info also say
 good fix (Pluto: more than 5 satellites and quality 2 for sub-metre accuracy); the quality is a
 GGA code ranked by accuracy, not a number to compare with ``>=``: with minimum 2 a good fix is 2
 (DGPS), 5 or 4 (RTK), never 6 (dead reckoning), see :mod:`wurde_drivers.gps.quality`. Each fix
-also goes out as ``sensor_msgs/NavSatFix`` on ``/N/fix`` (:mod:`wurde_drivers.ros_std`).
+also goes out as ``sensor_msgs/NavSatFix`` on ``/N/fix`` (:mod:`wurde_drivers.ros_std`), in frame
+``N`` (the antenna, whose mounting ``base_link`` → ``N`` goes to ``/tf_static``), its covariance
+approximated from HDOP and quality.
 
 Pluto's own layout (Pluto 8.4: "force[0]=number of satellites and force[3]=GPS quality") is the
 extra ActuatorState stream ``N/Pluto`` (:data:`PLUTO_SUFFIX`), one event per fix with the same
@@ -32,7 +34,9 @@ from __future__ import annotations
 from wurde_core import CommsManager, Time
 from wurde_core.interfaces import GPS, ActuatorState
 
+from ..mounting import Mounting
 from ..ros_std import FixPublisher
+from ..ros_std_frames import StaticFrames, frame_of
 
 __all__ = ['PLUTO_SUFFIX', 'GpsStreams', 'pluto_force']
 
@@ -48,8 +52,10 @@ def pluto_force(*, satellites: int, hdop: float, altitude: float, quality: int) 
 class GpsStreams:
     """The GPS supplier; :meth:`publish_info` once the origin is known, then :meth:`publish_fix`."""
 
-    def __init__(self, name: str) -> None:
+    def __init__(self, name: str, *, mount: Mounting) -> None:
+        """:param mount: where the antenna sits (translation only)."""
         self._name = name
+        self.mount = Mounting(mount.x, mount.y, mount.z)
         self.gps = GPS(name)
         self.gps.set_auto_timestamp(False)
         #: The same fixes in Pluto 8.4's layout (see the module's table).
@@ -63,6 +69,7 @@ class GpsStreams:
         manager.register_supplier(self.pluto)
         if '/' not in self._name:
             self._fix = FixPublisher(manager.node, self._name)
+        StaticFrames(manager.node).set([(frame_of(self._name), self.mount)])
 
     def publish_info(self, *, latitude: float, longitude: float, min_satellites: int = 6,
                      min_quality: int = 2) -> None:
@@ -91,5 +98,5 @@ class GpsStreams:
         self.pluto.publish_data()
         if self._fix is not None:
             self._fix.publish(latitude=latitude, longitude=longitude, altitude=altitude, quality=quality,
-                              stamp=stamp)
+                              hdop=hdop, stamp=stamp)
         self.fixes += 1

@@ -16,7 +16,8 @@ stream           interface      what
 
 Ranges are metres in the robot's order (counter-clockwise from −90° to +90°, also for a laser
 mounted upside down); a beam that saw nothing within range reads ``inf``. A ``sensor_msgs/LaserScan``
-of the main stream goes to ``/N/scan`` as well (:mod:`wurde_drivers.ros_std`). When the laser has a
+of the main stream goes to ``/N/scan`` as well (:mod:`wurde_drivers.ros_std`), in frame ``N``, whose
+mounting (``base_link`` → ``N``) the module publishes on ``/tf_static``. When the laser has a
 fatal error every range is −1 until it is back (Pluto 8.1: "all data is set to -1").
 """
 
@@ -28,7 +29,9 @@ from collections.abc import Sequence
 from wurde_core import CommsManager, Time
 from wurde_core.interfaces import FVectorState, RangeFinder
 
+from ..mounting import Mounting
 from ..ros_std import ScanPublisher
+from ..ros_std_frames import StaticFrames, frame_of
 from ..sick import facts
 
 __all__ = ['LaserStreams']
@@ -50,11 +53,13 @@ class LaserStreams:
         self.scans = 0
         self._node: object = None
         self._ros: ScanPublisher | None = None
+        self._frames: StaticFrames | None = None
 
     def register(self, manager: CommsManager) -> None:
         for obj in (self.scan, self.rwi, self.timing):
             manager.register_supplier(obj)
         self._node = manager.node
+        self._frames = StaticFrames(manager.node)
 
     def publish_info(self, *, count: int, max_range: float, mount_x: float = 0.0, mount_y: float = 0.0,
                      mount_z: float = 0.4, scan_time: float = 0.0) -> None:
@@ -66,6 +71,8 @@ class LaserStreams:
         if self._node is not None and self._ros is None and '/' not in self.name:
             self._ros = ScanPublisher(self._node, self.name, max_range=max_range,
                                       time_increment=1.0 / facts.MIRROR_HZ / 360.0)  # a turn per 360°
+        if self._frames is not None:
+            self._frames.set([(frame_of(self.name), Mounting(mount_x, mount_y, mount_z))])
         for obj, beams in ((self.scan, count), (self.rwi, facts.RWI_VALUES)):
             step = math.pi / (beams - 1)
             info = obj.info

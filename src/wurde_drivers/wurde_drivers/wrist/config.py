@@ -15,7 +15,9 @@ Pluto's wristModule had no documented configuration file; the format follows WUR
 - ``emulate`` (true/false, default false): the module hosts the wrist emulator itself on the same
   channel -- the no-hardware mode. python-can's virtual bus connects buses inside one process
   only (PROTOCOLS.md 5), so the emulator must live in the module's process; hence ``emulate``
-  is refused unless ``interface="virtual"``.
+  is refused unless ``interface="virtual"``;
+- ``mount-x``, ``mount-y``, ``mount-z``, ``mount-yaw``: where the wrist's base sits on the robot
+  (:mod:`wurde_drivers.mounting`, default 0).
 
 ``udp_multicast`` is refused: it would carry the bus out over the network (PROTOCOLS.md 5).
 """
@@ -28,6 +30,7 @@ import os
 from can.interfaces import VALID_INTERFACES
 from lxml import etree
 
+from ..mounting import MOUNT_ATTRIBUTES, Mounting, read_mounting
 from ..xml_config import Attributes, device_named, read_devices
 
 __all__ = ['WristDevice', 'device_named', 'load_wrist_config']
@@ -48,11 +51,12 @@ class WristDevice:
     emulate: bool = False
     path: str = ''
     line: int | None = None
+    mount: Mounting = Mounting()  # where it sits on the robot (mounting)
 
 
 def _device(path: str, node: etree._Element) -> WristDevice:
     attrs = Attributes(path, node, required=('name', 'interface', 'channel'),
-                       optional=('pan-id', 'tilt-id', 'emulate'))
+                       optional=('pan-id', 'tilt-id', 'emulate', *MOUNT_ATTRIBUTES))
     interface = attrs.text('interface')
     if interface in _REFUSED:
         raise attrs.error(f'interface="{interface}" is refused: {_REFUSED[interface]}')
@@ -70,7 +74,7 @@ def _device(path: str, node: etree._Element) -> WristDevice:
                           'own process')
     return WristDevice(name=attrs.text('name'), interface=interface,
                        channel=attrs.text('channel'), pan_id=pan_id, tilt_id=tilt_id,
-                       emulate=emulate, path=path, line=attrs.line)
+                       emulate=emulate, mount=read_mounting(attrs), path=path, line=attrs.line)
 
 
 def load_wrist_config(path: str | os.PathLike[str]) -> list[WristDevice]:

@@ -6,7 +6,9 @@ acceleration in rad/s^2 per axis, or cmdFlags < 0 to halt -- the info is the com
 executed, the data is the state (position and velocity read from the modules; acceleration the
 change of velocity between two states, an estimate: the modules do not report it). 8.3: "one
 must set both the velocity and acceleration > 0 if you want the position to change"; an axis
-commanded without both keeps where it is (its target becomes its current position).
+commanded without both keeps where it is (its target becomes its current position). Each state
+also goes out as ``sensor_msgs/JointState`` on ``/<name>/joint_states``, and the wrist's base
+frame at the ``<device>``'s ``mount-*`` on ``/tf_static`` (:mod:`wurde_drivers.ros_std_joints`).
 
 Configuration: the ``<device>`` named like the module in ``wrist-config.xml``
 (:mod:`wurde_drivers.wrist.config`; ``-c`` or the config directory) names a python-can interface
@@ -35,6 +37,7 @@ from wurde_core.interfaces import ActuatorState
 
 from ..errors import CodecError, DeviceTimeout
 from ..module_setup import configured_device, run_loop, set_loop
+from ..ros_std_joints import JointStatePublisher, pan_tilt_standard
 from .config import WristDevice, load_wrist_config
 from .device import WristDriver, WristState
 from .emulator import WristEmulator
@@ -65,10 +68,13 @@ class WristRunner:
     :param device: the configured device.
     :param wrist: the module's ActuatorState supplier (auto-timestamp off).
     :param logger: where connection and silence changes are logged (once each).
+    :param joints: the standard mirror of each published state, if any.
     """
 
-    def __init__(self, device: WristDevice, wrist: ActuatorState, logger: Logger) -> None:
+    def __init__(self, device: WristDevice, wrist: ActuatorState, logger: Logger,
+                 joints: JointStatePublisher | None = None) -> None:
         self.device = device
+        self.joints = joints
         self.wrist = wrist
         self.logger = logger
         self.emulator: WristEmulator | None = None
@@ -207,6 +213,9 @@ class WristRunner:
         data.force = []
         data.timestamp = Time(state.stamp + self._to_wall)
         self.wrist.publish_data()
+        if self.joints is not None:
+            self.joints.publish(pan=state.pan, tilt=state.tilt, pan_velocity=state.pan_velocity,
+                                tilt_velocity=state.tilt_velocity, stamp=state.stamp + self._to_wall)
 
     # -- fault injection and shutdown ---------------------------------------------------------
     def toggle_emulated_silence(self) -> None:
@@ -238,6 +247,7 @@ def main(argv: list[str] | None = None) -> int:
     runner = WristRunner(device, wrist, Logger(manager.name))
     manager.register_supplier(wrist)
     manager.register_supplier(runner.logger)
+    runner.joints = pan_tilt_standard(manager.node, manager.name, device.mount)   # the node exists now
     set_loop(manager, SLEEP_S)
     if device.emulate:
         signal.signal(signal.SIGUSR1, lambda _signum, _frame: runner.toggle_emulated_silence())

@@ -2,8 +2,12 @@
 
 It supplies exactly the streams of a real base (see :mod:`wurde_drivers.streams.base`), plus the
 ground truth on ``<name>Truth`` (Egomotion, every simulation step, queue mode) for the other
-dummies, tests and plots. Options: ``-c sim-config.xml`` (default: the config directory's
-``sim-config.xml``) and the standard WURDE options; the module name (``-n``) should be the
+dummies, tests and plots, mirrored as ``nav_msgs/Odometry`` on ``/<name>/ground_truth/odom``
+(frame ``map``: not odometry; :func:`wurde_drivers.ros_std.ground_truth_publisher`). The
+odometry's covariance on ``/<name>/odom`` follows the config's ``<odometry-noise>``.
+
+Options: ``-c sim-config.xml`` (default: the config directory's ``sim-config.xml``) and the
+standard WURDE options; the module name (``-n``) should be the
 config's base name, since the other dummies follow ``<base name>Truth``.
 
 Simulated time advances in the config's fixed steps; the loop catches up with the wall clock times
@@ -23,6 +27,8 @@ from wurde_core.interfaces import Egomotion
 from wurde_idl.errors import ConfigError
 
 from ...module_setup import exit_on_config_error, set_loop
+from ...ros_std import OdometryPublisher, ground_truth_publisher
+from ...ros_std_covariance import OdometryCovariance
 from ...streams.base import BaseLimits, BaseStreams
 from ..clock import SimClock, make_rng
 from ..clock_topic import ClockPublisher
@@ -56,12 +62,15 @@ def main(argv: list[str] | None = None) -> int:
     spec = config.robot
     limits = BaseLimits(spec.limits.max_tv, spec.limits.max_rv, spec.limits.tv_accel, spec.limits.rv_accel,
                         wheel_base=2 * spec.bumpers.radius)
+    noise = spec.odometry_noise   # the simulator's own error model is the covariance's source
     streams = BaseStreams(manager.name, synchro=config.base.type == 'B21r', limits=limits,
-                          command_timeout=config.base.command_timeout, logger=logger)
+                          command_timeout=config.base.command_timeout, logger=logger,
+                          odometry=OdometryCovariance(trans=noise.trans, rot=noise.rot, drift=noise.drift))
     truth = Egomotion(f'{manager.name}Truth')
     truth.set_queue_mode(True)
     streams.register(manager)
     manager.register_supplier(truth)
+    truth_std = ground_truth_publisher(manager.node, manager.name)
     manager.register_supplier(logger)
     set_loop(manager, LOOP_S)
 
@@ -119,7 +128,7 @@ def main(argv: list[str] | None = None) -> int:
                 streams.publish_drive_info()
                 logger.warn(f'{manager.name}: bumper {"front" if robot.bumpers[0] else "back"} '
                             'pressed: stopped')
-            _publish(truth, robot.truth, clock.now)
+            _publish(truth, truth_std, robot.truth, clock.now)
             clock_topic.publish(clock.now)
             n = clock.steps
             if n % odometry_every == 0:
@@ -138,13 +147,14 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
-def _publish(truth: Egomotion, state: object, stamp: float) -> None:
+def _publish(truth: Egomotion, standard: OdometryPublisher, state: object, stamp: float) -> None:
     data = truth.data
     data.location = Pose(state.x, state.y, state.theta)  # type: ignore[attr-defined]
     data.tv, data.rv, data.acceleration = state.tv, state.rv, state.acceleration  # type: ignore[attr-defined]
     truth.set_auto_timestamp(False)
     data.timestamp = Time(stamp)
     truth.publish_data()
+    standard.publish(state.x, state.y, state.theta, state.tv, state.rv, stamp)  # type: ignore[attr-defined]
 
 
 if __name__ == '__main__':

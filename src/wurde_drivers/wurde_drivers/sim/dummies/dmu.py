@@ -14,6 +14,7 @@ from wurde_core import CommsManager, Logger, RunState
 from wurde_core.interfaces import Egomotion
 
 from ...module_setup import set_loop
+from ...ros_std_covariance import ImuNoise
 from ...streams.dmu import DmuStreams
 from ..clock import make_rng
 from ..config import DmuConfig
@@ -28,7 +29,9 @@ def main(argv: list[str] | None = None) -> int:
     dc = config.dmu or DmuConfig()
     model = DmuModel(make_rng(config.seed, f'dmu:{manager.name}'), rate_bias=dc.rate_bias,
                      rate_noise=dc.rate_noise)
-    streams = DmuStreams(manager.name, dc.cutoff)
+    # The simulator's own noise settings: rate noise as configured, exact accelerations and
+    # angles (a flat world): their variances are the least ones.
+    streams = DmuStreams(manager.name, dc.cutoff, noise=ImuNoise(rate=dc.rate_noise), mount=dc.mount)
     truth = Egomotion(config.base.truth_stream)
     truth.set_queue_mode(True)
     logger = Logger(manager.name)

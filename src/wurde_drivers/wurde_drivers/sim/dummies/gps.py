@@ -30,7 +30,7 @@ def main(argv: list[str] | None = None) -> int:
     model = GpsModel(make_rng(config.seed, f'gps:{manager.name}'), lambda x, y: frame.from_xy(x, y),
                      noise_m=gc.noise, altitude=gc.altitude, satellites=gc.satellites,
                      quality=gc.quality, hdop=gc.hdop)
-    streams = GpsStreams(manager.name)
+    streams = GpsStreams(manager.name, mount=gc.mount)
     truth = Egomotion(config.base.truth_stream)
     truth.set_queue_mode(True)     # every step, so fixes fall exactly on the period
     logger = Logger(manager.name)

@@ -4,6 +4,8 @@ One ActuatorState stream named after the module (``-n``, default the config's wr
 consumer's request is the command — position (pan, tilt) in rad, velocity and acceleration per
 axis, both > 0 for the position to change — and the data is the state: current position,
 velocity and acceleration. Motion is trapezoidal within the configured limits, in simulated time.
+The state also goes out as ``sensor_msgs/JointState`` on ``/<name>/joint_states``, and the wrist's
+base frame at the config's ``mount-*`` on ``/tf_static`` (:mod:`wurde_drivers.ros_std_joints`).
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from wurde_core import CommsManager, Logger, RunState, Time
 from wurde_core.interfaces import ActuatorState
 
 from ...module_setup import set_loop
+from ...ros_std_joints import pan_tilt_standard
 from ..axis import Axis
 from ..clock import SimClock
 from ..config import WristConfig
@@ -40,6 +43,7 @@ def main(argv: list[str] | None = None) -> int:
     wrist.set_auto_timestamp(False)
     manager.register_supplier(wrist)
     manager.register_supplier(logger)
+    joints = pan_tilt_standard(manager.node, manager.name, wc.mount)
     set_loop(manager, min(0.02, 1.0 / wc.rate / config.time_scale / 2))
     clock = SimClock(step_s=STEP_S, time_scale=config.time_scale, start=time.time())
     publish_every = max(1, round(1.0 / (wc.rate * STEP_S)))
@@ -90,6 +94,8 @@ def main(argv: list[str] | None = None) -> int:
                 data.force = []
                 data.timestamp = Time(clock.now)
                 wrist.publish_data()
+                joints.publish(pan=axes[0].position, tilt=axes[1].position, pan_velocity=axes[0].velocity,
+                               tilt_velocity=axes[1].velocity, stamp=clock.now)
     manager.clean_up()
     return 0
 
