@@ -66,6 +66,11 @@ def test_odometry_covariance_grows_with_distance_and_turns_sideways() -> None:
     assert pose[5, 5] == pytest.approx(MIN_VARIANCE + 2 * 0.05 ** 2)
     assert pose[1, 1] == pytest.approx(MIN_VARIANCE + 0.05 ** 2)               # 1 m at var(theta) 0.05²
     assert pose[2, 2] > 1e5                                                   # z: not measured
+    # A turn through ±pi is the short turn, not nearly a whole circle.
+    cov = OdometryCovariance(trans=0.0, rot=0.1, drift=0.0)
+    cov.update(0.0, 0.0, math.pi - 0.05, 0.0)
+    cov.update(0.0, 0.0, -math.pi + 0.05, 1.0)
+    assert np.array(cov.pose6()).reshape(6, 6)[5, 5] == pytest.approx(MIN_VARIANCE + 0.1 ** 2 * 0.1)
 
 
 def test_imu_covariance_from_the_noise_and_the_filter() -> None:

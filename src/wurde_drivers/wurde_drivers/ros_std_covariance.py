@@ -56,7 +56,7 @@ class OdometryCovariance:
         if last is None:
             return
         ds = math.hypot(x - last[0], y - last[1])
-        dtheta = abs(theta - last[2])
+        dtheta = abs(math.remainder(theta - last[2], math.tau))   # across ±pi: the short way
         q = np.diag([self.trans ** 2 * ds, self.rot ** 2 * dtheta + (self.drift * ds) ** 2])
         heading = last[2]
         f = np.array([[1.0, 0.0, -ds * math.sin(heading)], [0.0, 1.0, ds * math.cos(heading)],
