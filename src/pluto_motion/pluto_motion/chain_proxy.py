@@ -41,6 +41,20 @@ class ChainProxy:
         self.stamp = 0.0
         #: The link's newest echo of a command it accepted: (cmdFlags, position, stamp).
         self.echo: tuple[int, list[float], float] | None = None
+        #: Objects whose request waits for the link's reader to be matched (see :meth:`_request`).
+        self._held: list[Any] = []
+
+    def _request(self, obj: Any) -> bool:
+        """Publish ``obj``'s request now, or hold it while the link's reader is not matched yet
+        (a request channel keeps nothing for a reader that comes later, so a command typed or
+        sent before discovery finished would be lost): :meth:`update` publishes the newest
+        request of each held object, in the order they were held, once it is.  Whether it went
+        now."""
+        if obj.peers('request'):
+            return obj.publish_request()
+        if obj not in self._held:
+            self._held.append(obj)
+        return False
 
     def _send(self, flags: int, velocity: Sequence[float], position: Sequence[float],
               force: Sequence[float] = ()) -> bool:
@@ -49,7 +63,7 @@ class ChainProxy:
         req.velocity.set_value(list(velocity))
         req.position.set_value(list(position))
         req.force.set_value(list(force))
-        return self.command.publish_request()
+        return self._request(self.command)
 
     def _take_echoes(self) -> None:
         while self.command.get_next_data():
@@ -108,10 +122,13 @@ class ChainProxy:
     def start_activity(self) -> bool:
         """Start the link's thread and the ones below it (nothing happens to a running one)."""
         self.status.requests.element.set_value([0])
-        return self.status.publish_request()
+        return self._request(self.status)
 
     def update(self) -> list[Any]:
-        """Take in what arrived; the status messages taken in, oldest first (empty: none)."""
+        """Send held requests whose reader is matched now; take in what arrived; the status
+        messages taken in, oldest first (empty: none)."""
+        while self._held and self._held[0].peers('request'):
+            self._held.pop(0).publish_request()
         taken = []
         while self.status.get_next_data():
             self.data, self.element = list(self.status.data.data), list(self.status.data.element)

@@ -131,8 +131,7 @@ def run_program(name: str, options: str, help_text: str,
     program = make(manager, user, ask)
     set_loop(manager, LOOP_S)
     print(f'keys: {COMMON_KEYS}{", " + program.KEYS if program.KEYS else ""}', flush=True)
-    program.proxy.command.wait_for_peers(5.0, channel='request')
-    program.proxy.start_activity()
+    program.proxy.start_activity()      # held until the link is matched, as every command
 
     def step() -> None:
         program.show_status()

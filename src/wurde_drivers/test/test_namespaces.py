@@ -91,9 +91,9 @@ def test_two_robots_share_a_domain_without_cross_talk(ros_domain: int, tmp_path:
             off = _tool('turn_off', '--ros-args', '-r', '__ns:=/robot2')
             assert off.returncode == 0 and 'asked the MCP to quit every module' in off.stdout, off.stderr
             two.until(lambda o: _status(o, 'PlutoBase') == StatusMode.DEAD, "robot2's base quit")
-            assert _status(one, 'PlutoBase') == StatusMode.ACTIVE
-            seen = len(one.events['PlutoBaseTruth'])
-            one.until(lambda o: len(o.events['PlutoBaseTruth']) >= seen + 10, 'robot1 goes on')
+            seen = len(one.events['PlutoBaseTruth'])        # robot1's MCP and base go on
+            one.until(lambda o: len(o.events['PlutoBaseTruth']) >= seen + 10
+                      and _status(o, 'PlutoBase') == StatusMode.ACTIVE, 'robot1 goes on, active')
             assert mcp2.process.poll() is None                    # robot2's MCP did not quit
     finally:
         for observer in observers.values():

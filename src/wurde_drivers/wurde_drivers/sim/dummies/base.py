@@ -12,7 +12,7 @@ config's base name, since the other dummies follow ``<base name>Truth``.
 
 Simulated time advances in the config's fixed steps; the loop catches up with the wall clock times
 the time scale, so at time scale 10 the robot lives ten seconds each wall second.  Each step's
-time is published on ``/clock`` (:mod:`wurde_drivers.sim.clock_topic`) for nodes with
+time is published on ``/clock`` (:mod:`wurde_drivers.sim.dummies.clock_topic`) for nodes with
 ``use_sim_time``; the command watchdog counts simulated time.
 """
 
@@ -31,7 +31,7 @@ from ...ros_std import OdometryPublisher, ground_truth_publisher
 from ...ros_std_covariance import OdometryCovariance
 from ...streams.base import BaseLimits, BaseStreams
 from ..clock import SimClock, make_rng
-from ..clock_topic import ClockPublisher
+from .clock_topic import ClockPublisher
 from ..loading import load_sim, sim_config_path
 from ..robot import SimRobot
 
