@@ -53,6 +53,16 @@ class Topics:
         return all(self.messages[name] for name in names)
 
 
+def whole_set(ranges: list[Any], count: int) -> list[Any]:
+    """The first reading set (one stamp) with all ``count`` sensors, in order, or [] (the
+    subscription may have matched in the middle of a set's burst, or the newest set may be
+    half taken)."""
+    sets: dict[float, list[Any]] = {}
+    for r in ranges:
+        sets.setdefault(stamp(r), []).append(r)
+    return next((s for s in sets.values() if len(s) == count), [])
+
+
 def mounted(frames: dict[str, Any], frame: str, x: float, y: float, z: float, yaw: float = 0.0) -> None:
     t = frames[frame]
     assert t.header.frame_id == 'base_link', frame
@@ -102,7 +112,9 @@ def test_every_dummy_device_is_on_a_standard_topic_with_its_frame_and_covariance
     def everything(o: Observer) -> bool:
         topics.take()
         return (topics.has(*[n for n in topics.messages if n != '/tf_static']) and set(frames) <= set(topics.frames)
-                and len(topics.messages['/PlutoBase/sonar']) >= sonar.count and 'PlutoBasePower' in o.infos
+                and whole_set(topics.messages['/PlutoBase/sonar'], sonar.count)
+                and whole_set(topics.messages['/PlutoBase/bumpers'], 2)
+                and 'PlutoBasePower' in o.infos
                 and all(o.events[s] for s in ('PlutoBaseSonar', 'PlutoBasePower', 'PlutoWrist')))
     try:
         observer.until(everything, 'every standard topic and every mounting', timeout=60)
@@ -125,15 +137,15 @@ def test_every_dummy_device_is_on_a_standard_topic_with_its_frame_and_covariance
 
         # Sonar: one Range per transducer in its own frame, the values of the WURDE stream.
         ranges = topics.messages['/PlutoBase/sonar']
-        first = stamp(ranges[0])
-        ring = [r for r in ranges if stamp(r) == first]
+        ring = whole_set(ranges, sonar.count)
+        first = stamp(ring[0])
         assert [r.header.frame_id for r in ring] == [f'PlutoBaseSonar_{i}' for i in range(sonar.count)]
         wurde = same_stamp(observer.events['PlutoBaseSonar'], first)
         assert [r.range for r in ring] == pytest.approx(list(wurde.ranges), abs=1e-6)
         assert all(r.radiation_type == Range.ULTRASOUND and r.field_of_view == pytest.approx(2 * sonar.half_angle)
                    and r.max_range == pytest.approx(sonar.max_range) and r.min_range == 0.0 for r in ring)
         # Bumpers: fixed-distance rangers, +inf while not pressed (the robot stands free).
-        bumpers = topics.messages['/PlutoBase/bumpers'][:2]
+        bumpers = whole_set(topics.messages['/PlutoBase/bumpers'], 2)
         assert [b.header.frame_id for b in bumpers] == ['PlutoBaseBumpers_0', 'PlutoBaseBumpers_1']
         assert all(b.range == math.inf and b.min_range == b.max_range == 0.0 for b in bumpers)
 
@@ -319,8 +331,10 @@ def test_the_rflex_driver_mirrors_sonar_bumpers_battery_and_places_them(ros_doma
             with ChildProcess([find_executable('wurde_drivers', 'rflex_server'), '-c', str(config), '-n', 'base']):
                 def everything(o: Observer) -> bool:
                     topics.take()
-                    return (len(topics.messages['/base/sonar']) >= 48 and topics.has('/base/battery', '/base/odom')
-                            and len(topics.messages['/base/bumpers']) >= 14 and len(topics.frames) >= 48 + 14)
+                    return (bool(whole_set(topics.messages['/base/sonar'], 48))
+                            and topics.has('/base/battery', '/base/odom')
+                            and bool(whole_set(topics.messages['/base/bumpers'], 14))
+                            and len(topics.frames) >= 48 + 14)
                 observer.until(everything, 'a sonar ring, the bumpers, the battery and the frames', timeout=30)
         finally:
             observer.close()
@@ -330,7 +344,7 @@ def test_the_rflex_driver_mirrors_sonar_bumpers_battery_and_places_them(ros_doma
         radius, z = BUMPER_RINGS[panel.ring]
         mounted(topics.frames, f'baseBumpers_{i}', radius * math.cos(panel.yaw), radius * math.sin(panel.yaw), z,
                 panel.yaw)
-    ring = topics.messages['/base/sonar'][-48:]
+    ring = whole_set(topics.messages['/base/sonar'], 48)
     assert [r.header.frame_id for r in ring] == [f'baseSonar_{i}' for i in range(48)]
     assert [r.range for r in ring] == pytest.approx(ranges, abs=2e-3)
     assert all(r.max_range == 10.0 and r.field_of_view == pytest.approx(math.radians(25)) for r in ring)
