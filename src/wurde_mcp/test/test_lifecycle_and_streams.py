@@ -48,7 +48,14 @@ def test_lifecycle_transitions_drive_the_modules(tmp_path, table) -> None:
         change = node.create_client(ChangeState, '/MCP/change_state')
         get = node.create_client(GetState, '/MCP/get_state')
         assert call(table, get, GetState.Request()).current_state.label == 'unconfigured'
-        names = node.get_node_names()  # the node that answered is the MCP's one node
+        # The node that answered is the MCP's one node (the graph's node names come with discovery,
+        # after the service has matched: waited for).
+        deadline = time.monotonic() + 30
+        while 'MCP' not in node.get_node_names():
+            assert time.monotonic() < deadline, f'no node MCP in the graph: {node.get_node_names()}'
+            table.refresh()
+            time.sleep(0.05)
+        names = node.get_node_names()
         assert names.count('MCP') == 1 and 'mcp' not in names, names
 
         def transition(tid: int) -> None:
