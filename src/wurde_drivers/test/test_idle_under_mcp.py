@@ -153,13 +153,20 @@ class Watcher:
         rows = self.refresh_table()
         return all(rows.get(m) == (StatusMode.ACTIVE, RunState.RUN) for m in STREAMS)
 
-    def idle_since(self, module: str) -> int | None:
-        """When the module is known to have been Idle: its Idle description's stamp, or else
-        the moment the MCP's table (which reports the module's own descriptions) first showed
-        it Idle — later than the truth, so a check against it is never stricter than the
-        truth.  (A test-side subscriber was seen, rarely and under load, to miss a description
-        the MCP received.)"""
-        return self.first(module, RunState.IDLE) or self.table_idle.get(module)
+    def forget_idle(self) -> int:
+        """Start looking for Idle afresh (a module may have been Idle before, while the critical
+        base was not up yet at start); returns the moment from which descriptions count."""
+        self.refresh_table()
+        self.table_idle.clear()
+        return time.time_ns()
+
+    def idle_since(self, module: str, after: int) -> int | None:
+        """When the module is known to have been Idle since ``after``: its first Idle
+        description written after it, or else the moment the MCP's table (which reports the
+        module's own descriptions) first showed it Idle since :meth:`forget_idle` — later than
+        the truth, so a check against it is never stricter than the truth.  (A test-side
+        subscriber was seen, rarely and under load, to miss a description the MCP received.)"""
+        return self.first(module, RunState.IDLE, after) or self.table_idle.get(module)
 
     def pids(self) -> dict[str, int]:
         """Each module's pid, from its newest description."""
@@ -198,10 +205,13 @@ def robot(ros_domain: int, tmp_path: pathlib.Path):  # type: ignore[no-untyped-d
 def test_deactivate_then_activate_keeps_every_pid_and_silences_data_while_idle(robot) -> None:
     watcher, _mcp = robot
     pids = watcher.pids()
+    # Only this deactivation's Idle counts: a module started before the critical base was up
+    # was Idle then (a two-lane fresh-clone run took that start-up Idle for this one).
+    asked = watcher.forget_idle()
     watcher.transition(Transition.TRANSITION_DEACTIVATE)
     watcher.until(lambda: watcher.refresh_table() is not None
-                  and all(watcher.idle_since(m) for m in STREAMS), 'every module Idle')
-    idle = {m: watcher.idle_since(m) for m in STREAMS}
+                  and all(watcher.idle_since(m, asked) for m in STREAMS), 'every module Idle')
+    idle = {m: watcher.idle_since(m, asked) for m in STREAMS}
     # Alive while Idle: every module goes on beating.
     watcher.until(lambda: all(watcher.beats_after(m, idle[m]) >= 2 for m in STREAMS),
                   'heartbeats from every idle module')
@@ -213,6 +223,13 @@ def test_deactivate_then_activate_keeps_every_pid_and_silences_data_while_idle(r
     for module in STREAMS:
         assert watcher.written_between(module, idle[module], activated) == [], module
         assert watcher.pids()[module] == pids[module] and _alive(pids[module]), module
+    # The wrist's states carry its simulated time (scale 1: the wall's, in 10 ms steps).  It
+    # stood still while Idle, so what it writes after is dated after it was told to Run: no
+    # burst of states back-dated into the Idle span, as a catch-up of the skipped steps wrote.
+    stamps = [m.header.stamp.sec * 10 ** 9 + m.header.stamp.nanosec
+              for m, s in watcher.events[('PlutoWrist', 'data')] if s > activated]
+    step_ns = 10 ** 7
+    assert stamps and min(stamps) >= activated - step_ns, (min(stamps) - activated) / 1e9
 
 
 def test_killing_the_critical_base_idles_the_others_until_it_runs_again(robot) -> None:

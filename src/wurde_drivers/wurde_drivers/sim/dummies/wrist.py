@@ -6,6 +6,8 @@ axis, both > 0 for the position to change — and the data is the state: current
 velocity and acceleration. Motion is trapezoidal within the configured limits, in simulated time.
 The state also goes out as ``sensor_msgs/JointState`` on ``/<name>/joint_states``, and the wrist's
 base frame at the config's ``mount-*`` on ``/tf_static`` (:mod:`wurde_drivers.ros_std_joints`).
+Idle (guide 5.2.1) brings it to rest, as the dummy base; back in Run its time jumps to now, and a
+starved loop drops steps rather than catch up for long (it must reach a Quit promptly).
 """
 
 from __future__ import annotations
@@ -24,6 +26,11 @@ from ..config import WristConfig
 from ..loading import read_sim_config
 
 STEP_S = 0.01
+#: Most simulation steps one loop may run before it gives up catching up (as the dummy base): a
+#: starved loop must still reach ``run_update`` (and a Quit) often.
+MAX_CATCH_UP = 200
+#: Longest an Idle stop may take (s of simulated time).
+MAX_STOP_S = 5.0
 
 
 def _pair(values: object) -> list[float] | None:
@@ -64,6 +71,24 @@ def main(argv: list[str] | None = None) -> int:
             clock.start, clock_started = now, True
         return int((now - clock.start) / STEP_S)
 
+    def hold_for_idle() -> None:
+        """Idle (guide 5.2.1): the wrist must not move on unattended; bring it to rest now."""
+        for axis in axes:
+            axis.halt()
+        for _ in range(int(MAX_STOP_S / STEP_S)):
+            if not any(axis.moving for axis in axes):
+                break
+            for axis in axes:
+                axis.step(clock.tick() if axis is axes[0] else STEP_S)
+
+    def resume() -> None:
+        """Back in Run: the wrist stood still while Idle; simulated time jumps to now (no burst
+        of back-dated states).  The command executed now is the stop Idle made."""
+        clock.steps = max(clock.steps, target_steps())
+        _publish_command(wrist, axes)
+
+    manager.on_state(RunState.IDLE, hold_for_idle)
+    manager.on_state(RunState.RUN, resume)
     _publish_command(wrist, axes)
     while manager.run_update() == RunState.RUN:
         while wrist.get_next_request():
@@ -81,7 +106,10 @@ def main(argv: list[str] | None = None) -> int:
                 for axis, t, s, a in zip(axes, target, speed, accel):
                     axis.command(t, s, a)
             _publish_command(wrist, axes)
-        target = min(target_steps(), clock.steps + 1000)
+        target = target_steps()
+        if target - clock.steps > MAX_CATCH_UP:
+            logger.warn(f'{manager.name}: {target - clock.steps} steps behind; dropping them')
+            clock.steps = target - 1
         while clock.steps < target:
             for axis in axes:
                 axis.step(clock.tick() if axis is axes[0] else STEP_S)
