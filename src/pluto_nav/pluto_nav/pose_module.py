@@ -20,6 +20,9 @@ from the start unless ``-x``.
 
 Options: ``-m MAP`` (default ``map.xml`` in the config directory: Pluto's "default mapfile"),
 ``-s LASER`` (default PlutoLaser), ``-x`` (do not start the thread).
+
+Tunables (ROS 2 parameters, :data:`MATCH_TUNABLES`): the matcher's gates and ranges,
+``match.<field>`` of :class:`pluto_nav.matching.MatchSettings`, taken at the next scan.
 """
 
 from __future__ import annotations
@@ -30,6 +33,7 @@ import numpy as np
 
 from wurde_core import CommsManager, Logger
 from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, set_loop
+from wurde_core.parameters import TunedSettings
 from wurde_idl.errors import ConfigError
 from wurde_idl.mapfile import load_map_data
 
@@ -46,6 +50,14 @@ STATUS = 'pose/status'
 HELP = ('  -m MAP    the a-priori map (default map.xml in the config directory)\n'
         '  -s LASER  the laser module (default PlutoLaser)\n'
         '  -x        do not start the thread at launch')
+#: The matcher's settings a user may tune while it runs (``match.<field>``).
+MATCH_TUNABLES = {
+    'gate_probability': ('probability mass of the chi-square gate matching a line to a wall', 0.5, 0.999999),
+    'fallback_gate_probability': ('the wider gate, for lines that fit no wall within the first', 0.5, 0.9999999),
+    'max_range': ('m: walls beyond this are not expected in a scan', 0.1, 100.0),
+    'overlap_tolerance': ('m of slack at the ends of a wall for the overlap test', 0.0, 2.0),
+    'min_coverage': ('fraction of an observed segment that must lie on the wall', 0.0, 1.0),
+    'ambiguity_margin': ('squared-distance lead the best wall needs over a second one', 0.0, 100.0)}
 
 
 class PoseModule(Estimator):
@@ -57,9 +69,12 @@ class PoseModule(Estimator):
                  start_running: bool) -> None:
         self.wall_map = wall_map
         self.find_wall_pending = False
-        super().__init__(manager, logger, PoseFilter(), status=STATUS, laser=laser, start_running=start_running)
+        filter_ = PoseFilter()
+        self.tuned = TunedSettings(manager, filter_.settings, MATCH_TUNABLES, 'match.')
+        super().__init__(manager, logger, filter_, status=STATUS, laser=laser, start_running=start_running)
 
     def update(self, lines: list[LineFeature]) -> bool:
+        self.filter.settings = self.tuned.current()  # type: ignore[attr-defined]
         return self.filter.update(lines, self.wall_map).matches > 0  # type: ignore[attr-defined]
 
     def command(self) -> None:

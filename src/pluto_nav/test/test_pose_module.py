@@ -1,6 +1,7 @@
 """poseModule with the simulated Pluto (noise on), all real processes, driven through pose_i as a
 user would: it localizes, holds setter 1, finds the wall in front, gives the setter back when
-stopped and takes a pose set by hand (Pluto 7.1's procedure), recovering from where it was set."""
+stopped and takes a pose set by hand (Pluto 7.1's procedure), recovering from where it was set.
+Its matcher's settings are tunables (``ros2 param set /poseModule match.max_range ...``)."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ import re
 
 import pytest
 from nav_fixture import Watcher, angle_error, interpolate_truth, module, pluto_config, processes, seconds
+from wurde_testing.parameters import ParameterTool
 
 from pluto_nav.streams import STREAMS
 
@@ -33,6 +35,20 @@ def _error_now(watcher: Watcher) -> tuple[float, float]:
         if true is not None:
             return math.hypot(message.pose.x - true[0], message.pose.y - true[1]), angle_error(message.pose.theta, true[2])
     return math.inf, math.inf
+
+
+def _matched(status) -> int:
+    """Scans used whose lines matched a wall (pose/status element[2] - element[3])."""
+    return int(status.element[2] - status.element[3])
+
+
+def _unmatched_run(statuses) -> int:
+    """Most scans used in a row, among ``statuses``, with no line matched."""
+    best = 0
+    for k, later in enumerate(statuses):
+        earlier = next(m for m in statuses[:k + 1] if _matched(m) == _matched(later))
+        best = max(best, int(later.element[2] - earlier.element[2]))
+    return best
 
 
 def test_pose_module_localizes_finds_the_wall_and_takes_a_pose_set_by_hand(
@@ -69,6 +85,23 @@ def test_pose_module_localizes_finds_the_wall_and_takes_a_pose_set_by_hand(
             watcher.until(lambda: abs(watcher.events['PlutoBaseTruth'][-1].tv) < 1e-6, 'stopped', every=lambda: drive(0.0))
             position, heading = _error_now(watcher)
             assert position < 0.05 and heading < math.radians(1.0), (position, heading)
+            # The matcher's tunables: a gate below the other is refused with the settings' reason;
+            # a 0.5 m range (no wall expected) leaves every scan unmatched until it is put back.
+            status = watcher.events['pose/status']
+            tool = ParameterTool('/poseModule')
+            try:
+                assert tool.get('match.gate_probability', 'match.max_range') == [0.99, pytest.approx(81.82)]
+                taken, reason = tool.set('match.fallback_gate_probability', 0.9)
+                assert not taken and 'fallback_gate_probability must not be below' in reason
+                assert tool.set('match.max_range', 0.5) == (True, '')
+                first = len(status)
+                watcher.until(lambda: _unmatched_run(status[first:]) >= 3, 'three scans used, none matched')
+                assert tool.set('match.max_range', 81.82) == (True, '')
+            finally:
+                tool.close()
+            again = len(status)
+            watcher.until(lambda: _matched(status[-1]) - _matched(status[again - 1]) >= 3,
+                          'scans matched again at the full range')
             # Stop: the setter goes back to 0.
             assert _reply(pose_i, 'stop') == 'ok stopped'
             watcher.until(lambda: watcher.events['pose/status'][-1].element[0] == 0, 'status: thread stopped')
