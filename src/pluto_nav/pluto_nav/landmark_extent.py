@@ -70,11 +70,6 @@ class AnchorCandidates:
     def empty(cls) -> AnchorCandidates:
         return cls(np.zeros(0, dtype=np.int64), np.zeros((0, 2)), np.zeros((0, 2)))
 
-    def with_landmark(self, key: int, line: NDArray, interval: tuple[float, float]
-                      ) -> AnchorCandidates:
-        return AnchorCandidates(np.append(self.keys, key), np.vstack([self.lines, line]),
-                                np.vstack([self.intervals, interval]))
-
 
 def resolve(extents: Sequence[Extent], lines: NDArray, lines_of: Callable[[NDArray], NDArray]
             ) -> NDArray:

@@ -225,9 +225,6 @@ class SlamFilter:
                 key = self._start_landmark(lines[k], pose, candidates)
                 if key is not None:
                     added.append(key)
-                    mark = self._marks[key]
-                    candidates = candidates.with_landmark(
-                        key, self._ekf.means([key])[0], (mark.extent.lo.t, mark.extent.hi.t))
         merged = self._merge({key for _, key in fix.used} | set(added))
         pruned = self._prune(self._ekf.active)
         committed = self._maybe_repartition()
@@ -255,14 +252,17 @@ class SlamFilter:
         return self._extents(self._ekf.active, self._ekf.active_mean[3:].reshape(-1, 2).copy())
 
     def _anchor_candidates(self, active: AnchorCandidates) -> AnchorCandidates:
-        """The landmarks that may anchor an end seen now: those within ``max_range +
-        anchor_radius`` of the laser (all active; the rule does not depend on the local area, so
-        compression changes no choice)."""
+        """The landmarks that may anchor an end seen now: the confirmed ones (a tentative line,
+        seen once or twice, may still move a lot) within ``max_range + anchor_radius`` of the
+        laser (all active; the rule does not depend on the local area, so compression changes no
+        choice)."""
         if len(active.keys) == 0:
             return active
         ends = point_at(active.lines[:, 0:1], active.lines[:, 1:2], active.intervals)  # (K, 2, 2)
-        near = distances_to_segments(self._ekf.robot_mean[:2], ends[:, 0], ends[:, 1]) <= \
-            self.settings.max_range + self.settings.anchor_radius
+        confirmed = np.array([self._marks[int(k)].seen >= self.settings.confirm_matches for k in active.keys],
+                             dtype=bool)
+        near = confirmed & (distances_to_segments(self._ekf.robot_mean[:2], ends[:, 0], ends[:, 1]) <=
+                            self.settings.max_range + self.settings.anchor_radius)
         return AnchorCandidates(active.keys[near], active.lines[near], active.intervals[near])
 
     def _seen_interval(self, line: LineFeature, pose: NDArray, landmark: NDArray

@@ -44,6 +44,27 @@ def test_first_scan_maps_the_walls_in_view() -> None:
     assert min(walls[:, [0, 2]].min(axis=1)) > 1.5
 
 
+def test_ends_are_tied_to_confirmed_walls_at_corners_only() -> None:
+    """An end tied to a crossing wall moves with that wall's corrections: right at a corner of
+    walls known well, wrong anywhere else (a door jamb tied to a wall 0.5 m off moved 20 cm)."""
+    room = World([(0, 0, 8, 0), (8, 0, 8, 6), (8, 6, 0, 6), (0, 6, 0, 0)])
+    slam = SlamFilter()
+    pose = (2.0, 3.0, 0.0)
+    slam.set_pose(pose, np.zeros((3, 3)))
+    lines = _scan_lines(room, pose)
+
+    def ends() -> list:
+        return [end for mark in slam._marks.values() for end in (mark.extent.lo, mark.extent.hi)]
+    slam.update(lines)
+    assert len(ends()) == 6 and all(end.anchor is None for end in ends())   # all three tentative
+    for _ in range(slam.settings.confirm_matches):
+        slam.predict((0.0, 0.0, 0.0), np.diag([1e-6, 1e-6, 1e-8]))
+        slam.update(lines)
+    tied = [end for end in ends() if end.anchor is not None]
+    # The corners (8, 0) and (8, 6), two ends each; the side walls' ends beside the laser are free.
+    assert len(tied) == 4 and max(abs(end.offset) for end in tied) < 0.3
+
+
 def test_walls_seen_again_are_matched_not_added() -> None:
     room = World([(0, 0, 8, 0), (8, 0, 8, 6), (8, 6, 0, 6), (0, 6, 0, 0)])
     slam = SlamFilter()
