@@ -67,7 +67,10 @@ def test_pose_module_localizes_finds_the_wall_and_takes_a_pose_set_by_hand(
         with processes(directory, ALL, ('local_module', []), ('pose_module', [])), \
                 module('pluto_nav', 'pose_i', directory) as pose_i:
             pose_i.expect('pose_i ready', timeout=60)
-            watcher.until(lambda: watcher.events[POSE] and watcher.events[POSE][-1].cmd_flags == 1,
+            # (the truth and the status too: the checks below read their newest, and each
+            # stream's subscription matches in its own time)
+            watcher.until(lambda: watcher.events[POSE] and watcher.events[POSE][-1].cmd_flags == 1
+                          and watcher.events['PlutoBaseTruth'] and watcher.events['pose/status'],
                           'the pose module holds the setter', timeout=90)
             # Find the wall in front: from (3, 7.5) facing east, the corridor's end wall at x = 20,
             # 20 - 3 - 0.2 (the laser's mounting) = 16.8 m ahead.
