@@ -34,6 +34,9 @@ the thread and the avoid thread (start_activity), -10 stops the motion thread al
 
 Options: ``-m MAP`` (plan on this map; without it moveto is ray following), ``-s LASER``, ``-b BASE``,
 ``-v MAX_TV`` (m/s, 0.6), ``-w MAX_RV`` (rad/s, 1.0).
+
+Tunables (ROS 2 parameters, :data:`TUNABLES`, starting from the options): the speeds and distances
+of :class:`pluto_motion.motion_behaviours.MotionSettings`, taken by the next motion command.
 """
 
 from __future__ import annotations
@@ -47,6 +50,7 @@ import numpy as np
 from wurde_core import CommsManager, Logger
 from wurde_core.interfaces import ActuatorState, FVectorState, RangeFinder
 from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, set_loop
+from wurde_core.parameters import TunedSettings, out_of_range
 from wurde_idl.errors import ConfigError
 
 from .motion_behaviours import AvoidRequest, MotionSettings
@@ -68,6 +72,14 @@ STATUS_PERIOD_S = 1.0
 PLANNING_TTL_S = 5.0
 #: Scans whose points the ray following and investigate decide on (the laser sees 180 degrees).
 RECENT_SCANS = 8
+#: The motion settings a user may tune while it runs; a motion command takes them when it starts.
+TUNABLES = {'max_tv': ('linear speed of the avoid goto, m/s', 0.05, 2.0),
+            'max_rv': ('angular speed of the avoid goto, rad/s', 0.05, 3.0),
+            'reach': ('a point within this is reached, m', 0.05, 2.0),
+            'near': ('a planned path this short is ended by the simple goto, m', 0.1, 5.0),
+            'investigate_distance': ('investigate: from the object\'s edge to the robot\'s centre, m', 0.3, 5.0),
+            'lane': ('explore: distance between the lanes, m', 0.3, 10.0),
+            'edge': ('explore: the lanes keep this far inside the rectangle, m', 0.0, 5.0)}
 HELP = ('  -m MAP       plan moveto on this map (config/maps format); without: ray following\n'
         '  -s LASER     the laser module (default PlutoLaser)\n'
         '  -b BASE      the base, for its odometry when no localModule runs and no map is given (PlutoBase)\n'
@@ -82,6 +94,7 @@ class MotionModule:
                  settings: MotionSettings, *, laser: str, base: str = 'PlutoBase') -> None:
         self.manager, self.logger = manager, logger
         self.control = MotionController(grid, settings, warn=self._warn)
+        self.tuned = TunedSettings(manager, settings, TUNABLES)
         self.commands = ActuatorState(COMMAND)
         self.commands.set_queue_mode(True)
         self.status = FVectorState(STATUS)
@@ -179,6 +192,7 @@ class MotionModule:
 
     def step(self) -> None:
         now = time.monotonic()
+        self.control.settings = self.tuned.current()
         pose = self.poses.pose()
         self._take_laser(pose)
         self._take_commands(pose)
@@ -197,6 +211,9 @@ def main(argv: list[str] | None = None) -> int:
     grid = None
     try:
         settings = MotionSettings(max_tv=float(user.get('v', 0.6)), max_rv=float(user.get('w', 1.0)))
+        problem = out_of_range(settings, TUNABLES)
+        if problem is not None:
+            raise ValueError(problem)
     except ValueError as error:
         print(f'motion_module: -v/-w: {error}', file=sys.stderr, flush=True)
         return 2

@@ -66,6 +66,7 @@ class Commander:
         self.manager.register_consumer(self.truth)
         self.world = load_map(map_file)
         self.truths: list[tuple[float, float, float]] = []
+        self.speeds: list[float] = []           # the truth's tv, with each of ``truths``
         self.statuses: list[Any] = []
         self.children: dict[str, ChildProcess] = {}
 
@@ -75,6 +76,7 @@ class Commander:
         while self.truth.get_next_data():
             loc = self.truth.data.location
             self.truths.append((loc.x(), loc.y(), loc.theta()))
+            self.speeds.append(float(self.truth.data.tv))
 
     def until(self, predicate: Callable[[], bool], what: str, timeout: float = 60.0,
               every: Callable[[], object] | None = None, period: float = 1.0) -> None:

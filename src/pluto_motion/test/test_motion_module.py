@@ -3,7 +3,8 @@ poseModule, drive, avoid), all real processes, driven through MotionProxy: a rec
 element[3] = -1, an unreachable goal ends with element[2] = 3, a moveto from the corridor into a
 room reaches the goal without the simulator's truth ever closer to a wall than the robot's radius,
 a velocity command passes through to avoid, NaN and unknown flags are refused and counted, and a
-release stops the thread (-10)."""
+release stops the thread (-10).  ``max_tv`` is a tunable: set to 0.3 m/s while the module runs,
+the next moveto goes no faster."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ import math
 import pathlib
 
 from motion_fixture import RADIUS, Commander, pluto, pluto_config
+from wurde_testing.parameters import ParameterTool
 
 from pluto_motion.task import TaskResult
 
@@ -43,6 +45,16 @@ def test_moveto_across_a_door_and_the_status_codes(ros_domain: int, tmp_path: pa
             m.send(41)
             c.until(lambda: m.refused == before + 2, 'NaN and 41 refused')
 
+            # The speed is a tunable (0.6 m/s from -v): 0.3 for the next moveto; 5 is refused.
+            tool = ParameterTool('/motionModule')
+            try:
+                assert tool.get('max_tv', 'reach') == [0.6, 0.25]
+                taken, reason = tool.set('max_tv', 5.0)
+                assert not taken and 'out of range' in reason
+                assert tool.set('max_tv', 0.3) == (True, '')
+            finally:
+                tool.close()
+
             # Corridor (start 3, 7.5) -> office2 (7.5, 3) through its 0.9 m door.
             start = len(c.truths)
             task = m.go_to(7.5, 3.0, timeout=240)
@@ -50,6 +62,7 @@ def test_moveto_across_a_door_and_the_status_codes(ros_domain: int, tmp_path: pa
             assert task.result() is TaskResult.SUCCEEDED, (task.reason, m.element)
             assert math.dist(c.truths[-1][:2], (7.5, 3.0)) < 0.4
             assert c.closest_to_walls(start) >= RADIUS
+            assert 0.2 < max(c.speeds[start:]) <= 0.3 + 1e-3          # float32 on the wire
             codes = {tuple(s.element[2:4]) for s in c.statuses}
             assert (-1, 3) in codes or (-1, 1) in codes                  # moveto set, following
             assert any(s.element[2] == -2 for s in c.statuses)           # nearing: the simple goto

@@ -147,3 +147,11 @@ def test_tuned_settings_follow_their_parameters_and_refuse_what_the_settings_ref
         assert tuned.current() == _Guard(stop=0.15, slow=2.5)
     finally:
         manager.clean_up()
+
+
+def test_out_of_range_says_which_starting_value_the_node_would_refuse() -> None:
+    from wurde_core.parameters import out_of_range
+    fields = {'stop': ('stop here, m', 0.0, 2.0), 'slow': ('slow from here, m', 0.1, 10.0)}
+    assert out_of_range(_Guard(), fields, 'laser.') is None
+    assert out_of_range(_Guard(stop=0.15, slow=12.0), fields, 'laser.') == \
+        'laser.slow = 12.0 is out of range [0.1, 10.0]'

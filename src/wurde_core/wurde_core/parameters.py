@@ -170,6 +170,17 @@ class Tunables:
         tunable._node = self._node
 
 
+def out_of_range(settings: Any, fields: dict[str, tuple[str, float | None, float | None]],
+                 prefix: str = '') -> str | None:
+    """Why ``settings`` cannot start :class:`TunedSettings` with ``fields`` (a value outside
+    its tunable's range, which the node would refuse), or None: for checking options first."""
+    for name, (_text, low, high) in fields.items():
+        value = getattr(settings, name)
+        if (low is not None and value < low) or (high is not None and value > high):
+            return f'{prefix}{name} = {value} is out of range [{low}, {high}]'
+    return None
+
+
 class TunedSettings:
     """A frozen dataclass of a module's settings whose chosen fields are tunables.
 
