@@ -248,3 +248,19 @@ def test_standard_ros_topics_scan_odometry_and_cmd_vel(base: ChildProcess, tmp_p
             observer.until(turning, 'the base turning on cmd_vel', timeout=30)
         finally:
             observer.close()
+
+
+def test_the_dummy_lasers_pose_between_two_truth_samples_turns_the_short_way() -> None:
+    """A scan's pose comes from the truth interpolated at its centre time; a robot turning past
+    west between two samples (+3.12 → -3.12 rad) faces west, not east (a test_slam_module run on a
+    loaded machine, whose half turn went past 180 degrees, got a scan taken facing east)."""
+    from wurde_drivers.sim.dummies.sick import TruthHistory
+    history = TruthHistory()
+    history.add(10.0, 1.0, 2.0, 3.12)
+    history.add(10.1, 1.1, 2.0, -3.12)
+    x, y, theta = history.at(10.05)
+    assert (x, y) == pytest.approx((1.05, 2.0))
+    assert abs(theta) == pytest.approx(math.pi, abs=1e-9)
+    assert history.at(10.025)[2] == pytest.approx(3.12 + 0.25 * (2 * math.pi - 6.24))
+    history.add(10.2, 1.2, 2.0, -3.0)
+    assert history.at(10.15)[2] == pytest.approx(-3.06)

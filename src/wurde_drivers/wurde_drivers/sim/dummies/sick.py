@@ -44,6 +44,8 @@ class TruthHistory:
         return self.poses[-1][0] if self.poses else -math.inf
 
     def at(self, t: float) -> tuple[float, float, float]:
+        """The pose at ``t``; the heading turns the short way between the two samples (across
+        +-pi too: a robot turning past west between two samples faces west, not east)."""
         before = None
         for pose in self.poses:
             if pose[0] > t:
@@ -51,7 +53,9 @@ class TruthHistory:
                     return pose[1:]
                 span = pose[0] - before[0]
                 f = (t - before[0]) / span if span > 0 else 1.0
-                return tuple(b + f * (a - b) for a, b in zip(pose[1:], before[1:]))  # type: ignore[return-value]
+                turn = math.remainder(pose[3] - before[3], math.tau)
+                return (before[1] + f * (pose[1] - before[1]), before[2] + f * (pose[2] - before[2]),
+                        math.remainder(before[3] + f * turn, math.tau))
             before = pose
         assert before is not None
         return before[1:]
