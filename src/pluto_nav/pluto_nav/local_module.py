@@ -10,7 +10,9 @@ Inputs (any subset may be missing; what is present is used):
 
 Outputs: the five LocalizationPose streams of :mod:`pluto_nav.streams`, a status stream
 ``Localization/Status`` (FVectorState, below), and the standard topics of :mod:`pluto_nav.ros_std`.
-(0) and (3) go out at the odometry's rate, (1) and (4) once per scan, interpolated at the scan's time.
+(0) and (3) go out at the odometry's rate, (1) and (4) once per scan, interpolated at the scan's time,
+and only once the laser's mounting is known (its RangeFinder info): a scan timed before that is
+held (up to ``MAX_PENDING_SCANS``), never placed at the robot's centre.
 
 Start: ``-p POSE_FILE`` (:mod:`pluto_nav.start_pose`), else the place ``start`` of the map
 ``-m MAP`` (default ``map.xml`` in the config directory, WURDE_CONFIG_DIR), else the origin.
@@ -94,6 +96,7 @@ class LocalModule:
         self.last_scan: tuple[float, np.ndarray] | None = None
         self.pan = self.tilt = 0.0
         self.mount_z = 0.0
+        self.mount_known = False              # the laser's RangeFinder info has come
         self.tv = self.rv = 0.0
         self.last_odometry_wall = -np.inf      # fresh only once odometry came
 
@@ -150,6 +153,7 @@ class LocalModule:
             info = self.laser.info
             self.adjuster.mount = np.array([info.x_offset.get_value(), info.y_offset.get_value(), 0.0])
             self.mount_z = float(info.z_offset.get_value())
+            self.mount_known = True
 
     def _publish_robot(self, sample: DrSample) -> None:
         setter = self.adjuster.setter
@@ -165,6 +169,9 @@ class LocalModule:
                          self.adjuster.offset, pose, cov)
 
     def _publish_scans(self) -> None:
+        if not self.mount_known:
+            return      # where the laser is on the robot is not known yet (a loaded machine's
+            #             first scans came before the laser's info: SLAM's map was 0.2 m off)
         latest = self.dr.latest
         while self.pending_scans and latest is not None and self.pending_scans[0] <= latest.stamp:
             stamp = self.pending_scans.popleft()

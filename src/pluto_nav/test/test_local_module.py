@@ -144,6 +144,44 @@ def test_post_pose_moves_pose_but_not_dead_reckoning_and_the_setter_rules_hold(
         watcher.close()
 
 
+def _placed(events: dict, stamp: float) -> bool:
+    """Whether the scan at ``stamp`` is out on both laser streams, (1) and (4)."""
+    return all(any(abs(seconds(m) - stamp) < 1e-6 for m in events[s]) for s in (LASER_DR, LASER_POSE))
+
+
+def test_scans_timed_before_the_lasers_info_are_placed_with_its_mounting_once_it_comes(
+        ros_domain: int, tmp_path: pathlib.Path) -> None:
+    """On a loaded machine a laser's first scans came before its RangeFinder info, and the
+    localModule placed them at the robot's centre: slamModule's map, started from such a
+    Laser_Pose, lay 0.2 m off.  Here the test is the laser: scans timed first, the info later."""
+    from wurde_drivers.streams.laser import LaserStreams
+    directory = pluto_config(tmp_path, elements=EXACT)
+    watcher = _watcher()
+    laser = LaserStreams('PlutoLaser')
+    laser.register(watcher.manager)
+    events = watcher.events
+    try:
+        with processes(directory, ['PlutoBase'], ('local_module', [])):
+            watcher.until(lambda: len(events[DR]) >= 3, 'dead reckoning')
+            early = seconds(events[DR][-1])                 # covered by the odometry
+            laser.publish_scan([1.0] * 361, centre_stamp=early, arrival_stamp=early)
+            # The module reads its inputs every loop, and publishes dead reckoning in each.
+            count = len(events[DR])
+            watcher.until(lambda: len(events[DR]) >= count + 5, 'five more dead-reckoning steps')
+            laser.publish_info(count=361, max_range=8.0, mount_x=MOUNT_X)
+            watcher.until(lambda: _placed(events, early), 'the early scan placed')
+            late = seconds(events[DR][-1])
+            laser.publish_scan([1.0] * 361, centre_stamp=late, arrival_stamp=late)
+            watcher.until(lambda: _placed(events, late), 'the later scan placed')
+        robot = {round(seconds(m), 6): m.pose for m in events[DR]}
+        assert len(events[LASER_DR]) == len(events[LASER_POSE]) == 2
+        for placed in events[LASER_DR] + events[LASER_POSE]:
+            centre = robot[round(seconds(placed), 6)]          # standing still, facing east
+            assert (placed.pose.x, placed.pose.y) == pytest.approx((centre.x + MOUNT_X, centre.y), abs=1e-6)
+    finally:
+        watcher.close()
+
+
 def test_when_the_odometry_stops_the_status_says_so_and_the_covariance_grows(
         ros_domain: int, tmp_path: pathlib.Path) -> None:
     directory = pluto_config(tmp_path, elements=EXACT)
