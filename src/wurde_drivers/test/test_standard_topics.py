@@ -53,14 +53,15 @@ class Topics:
         return all(self.messages[name] for name in names)
 
 
-def whole_set(ranges: list[Any], count: int) -> list[Any]:
+def whole_set(ranges: list[Any], count: int, events: list[tuple[float, Any]] | None = None) -> list[Any]:
     """The first reading set (one stamp) with all ``count`` sensors, in order, or [] (the
     subscription may have matched in the middle of a set's burst, or the newest set may be
-    half taken)."""
+    half taken); with ``events``, the first whose WURDE twin is among them."""
     sets: dict[float, list[Any]] = {}
     for r in ranges:
         sets.setdefault(stamp(r), []).append(r)
-    return next((s for s in sets.values() if len(s) == count), [])
+    return next((s for t, s in sets.items() if len(s) == count
+                 and (events is None or same_stamp(events, t) is not None)), [])
 
 
 def mounted(frames: dict[str, Any], frame: str, x: float, y: float, z: float, yaw: float = 0.0) -> None:
@@ -77,7 +78,15 @@ def stamp(message: Any) -> float:
 
 
 def same_stamp(events: list[tuple[float, Any]], t: float) -> Any:
-    return next(event for when, event in events if abs(when - t) < 1e-6)
+    """The WURDE event stamped ``t``, or None: each subscription matches in its own time, so a
+    standard message's twin may have come before the observer listened, or not be taken yet."""
+    return next((event for when, event in events if abs(when - t) < 1e-6), None)
+
+
+def twinned(messages: list[Any], events: list[tuple[float, Any]]) -> list[tuple[Any, Any]]:
+    """(standard message, WURDE event) pairs with one stamp, in order."""
+    pairs = [(m, same_stamp(events, stamp(m))) for m in messages]
+    return [(m, e) for m, e in pairs if e is not None]
 
 
 @pytest.fixture
@@ -112,9 +121,11 @@ def test_every_dummy_device_is_on_a_standard_topic_with_its_frame_and_covariance
     def everything(o: Observer) -> bool:
         topics.take()
         return (topics.has(*[n for n in topics.messages if n != '/tf_static']) and set(frames) <= set(topics.frames)
-                and whole_set(topics.messages['/PlutoBase/sonar'], sonar.count)
+                and whole_set(topics.messages['/PlutoBase/sonar'], sonar.count, o.events['PlutoBaseSonar'])
                 and whole_set(topics.messages['/PlutoBase/bumpers'], 2)
                 and 'PlutoBasePower' in o.infos
+                and twinned(topics.messages['/PlutoBase/battery'], o.events['PlutoBasePower'])
+                and twinned(topics.messages['/PlutoBase/ground_truth/odom'], o.events['PlutoBaseTruth'])
                 and all(o.events[s] for s in ('PlutoBaseSonar', 'PlutoBasePower', 'PlutoWrist')))
     try:
         observer.until(everything, 'every standard topic and every mounting', timeout=60)
@@ -137,7 +148,7 @@ def test_every_dummy_device_is_on_a_standard_topic_with_its_frame_and_covariance
 
         # Sonar: one Range per transducer in its own frame, the values of the WURDE stream.
         ranges = topics.messages['/PlutoBase/sonar']
-        ring = whole_set(ranges, sonar.count)
+        ring = whole_set(ranges, sonar.count, observer.events['PlutoBaseSonar'])
         first = stamp(ring[0])
         assert [r.header.frame_id for r in ring] == [f'PlutoBaseSonar_{i}' for i in range(sonar.count)]
         wurde = same_stamp(observer.events['PlutoBaseSonar'], first)
@@ -150,8 +161,8 @@ def test_every_dummy_device_is_on_a_standard_topic_with_its_frame_and_covariance
         assert all(b.range == math.inf and b.min_range == b.max_range == 0.0 for b in bumpers)
 
         # Battery: the Power stream in BatteryState's units, NaN where unknown.
-        battery = topics.messages['/PlutoBase/battery'][0]
-        power, info = same_stamp(observer.events['PlutoBasePower'], stamp(battery)), observer.infos['PlutoBasePower']
+        battery, power = twinned(topics.messages['/PlutoBase/battery'], observer.events['PlutoBasePower'])[0]
+        info = observer.infos['PlutoBasePower']
         assert battery.voltage == pytest.approx(power.voltage, rel=1e-6)
         assert battery.current == pytest.approx(-power.current, rel=1e-6, abs=1e-6)
         assert battery.percentage == pytest.approx(power.charge, rel=1e-6) and 0.0 < battery.percentage <= 1.0
@@ -163,9 +174,8 @@ def test_every_dummy_device_is_on_a_standard_topic_with_its_frame_and_covariance
         assert battery.header.frame_id == 'base_link'
 
         # Ground truth: its own topic, frame map, equal to the Truth stream.
-        truth = topics.messages['/PlutoBase/ground_truth/odom'][-1]
+        truth, true = twinned(topics.messages['/PlutoBase/ground_truth/odom'], observer.events['PlutoBaseTruth'])[-1]
         assert (truth.header.frame_id, truth.child_frame_id) == ('map', 'base_link')
-        true = same_stamp(observer.events['PlutoBaseTruth'], stamp(truth))
         assert (truth.pose.pose.position.x, truth.pose.pose.position.y) == pytest.approx(
             (true.location.x, true.location.y), abs=1e-9)
 
@@ -190,11 +200,10 @@ def test_every_dummy_device_is_on_a_standard_topic_with_its_frame_and_covariance
 
         def moved(o: Observer) -> bool:
             topics.take()
-            return any(m.position[0] == pytest.approx(0.5, abs=1e-6)
-                       for m in topics.messages['/PlutoWrist/joint_states'])
+            pairs = twinned(topics.messages['/PlutoWrist/joint_states'], o.events['PlutoWrist'])
+            return len(pairs) >= 5 and any(m.position[0] == pytest.approx(0.5, abs=1e-6) for m, _ in pairs)
         observer.until(moved, 'the wrist at pan 0.5 on joint_states', timeout=30)
-        for joints in topics.messages['/PlutoWrist/joint_states'][-5:]:
-            state = same_stamp(observer.events['PlutoWrist'], stamp(joints))
+        for joints, state in twinned(topics.messages['/PlutoWrist/joint_states'], observer.events['PlutoWrist'])[-5:]:
             assert list(joints.name) == ['PlutoWrist_pan', 'PlutoWrist_tilt']
             assert list(joints.position) == pytest.approx(list(state.position[:2]), rel=1e-6, abs=1e-7)
             assert list(joints.velocity) == pytest.approx(list(state.velocity[:2]), rel=1e-6, abs=1e-7)
@@ -238,12 +247,12 @@ def test_the_ptu_server_publishes_joint_states_and_its_mounting(ros_domain: int,
 
                 def there(o: Observer) -> bool:
                     topics.take()
-                    return 'PTU' in topics.frames and any(
-                        m.position[0] == pytest.approx(0.4, abs=0.01) for m in topics.messages['/PTU/joint_states'])
+                    pairs = twinned(topics.messages['/PTU/joint_states'], o.events['PTU'])
+                    return 'PTU' in topics.frames and len(pairs) >= 3 and any(
+                        m.position[0] == pytest.approx(0.4, abs=0.01) for m, _ in pairs)
                 observer.until(there, 'the PTU at pan 0.4 on joint_states, and its frame', timeout=30)
             mounted(topics.frames, 'PTU', 0.1, -0.05, 0.8, 0.3)
-            for joints in topics.messages['/PTU/joint_states'][-3:]:
-                data = same_stamp(observer.events['PTU'], stamp(joints))
+            for joints, data in twinned(topics.messages['/PTU/joint_states'], observer.events['PTU'])[-3:]:
                 assert list(joints.name) == ['PTU_pan', 'PTU_tilt']
                 assert list(joints.position) == pytest.approx([data.pan, data.tilt], rel=1e-6)
                 assert list(joints.velocity) == pytest.approx([data.pan_velocity, data.tilt_velocity], rel=1e-6)
