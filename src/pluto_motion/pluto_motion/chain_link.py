@@ -11,7 +11,7 @@ import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from wurde_core import CommsManager, Logger
+from wurde_core import CommsManager, Logger, Time
 from wurde_core.interfaces import ActuatorState, FVectorState
 
 from .drive_command import CommandRefused
@@ -81,11 +81,18 @@ class ChainLink:
             self._set(running)
             self.logger.notice(f'{self.manager.name}: thread {"started" if running else "stopped"}: {why}')
 
-    def publish_status(self, data: Sequence[float], element: Sequence[int], now: float) -> None:
-        """Publish when changed or :data:`STATUS_PERIOD_S` after the last publication."""
+    def publish_status(self, data: Sequence[float], element: Sequence[int], now: float,
+                       stamp: Time | None = None) -> None:
+        """Publish when changed or :data:`STATUS_PERIOD_S` after the last publication; stamped
+        ``stamp`` (the instant the loop computed it, as the ``now`` its rates used) or else at
+        publication (a loaded machine can delay a publication past the next loop's start, and
+        a ramp read from such stamps looks steeper than it was)."""
         value = ([float(v) for v in data], [int(e) for e in element])
         if value == self.sent_status and now - self.status_at < STATUS_PERIOD_S:
             return
+        if stamp is not None:
+            self.status.set_auto_timestamp(False)
+            self.status.data.timestamp = stamp
         self.status.data.data, self.status.data.element = value
         self.status.publish_data()
         self.sent_status, self.status_at = value, now

@@ -5,6 +5,7 @@ start_activity and release_robot verbs, and waiting on the status with a deadlin
 
 from __future__ import annotations
 
+import collections
 import math
 import time
 from collections.abc import Callable, Sequence
@@ -18,6 +19,8 @@ from .task import Task, TaskResult
 
 #: Seconds between sends of a goal command the link has not echoed yet.
 RESEND_S = 1.0
+#: Statuses kept for update() when nobody asks (queue mode's cap).
+UNREPORTED_MAX = 1000
 
 __all__ = ['ChainProxy']
 
@@ -43,6 +46,8 @@ class ChainProxy:
         self.echo: tuple[int, list[float], float] | None = None
         #: Objects whose request waits for the link's reader to be matched (see :meth:`_request`).
         self._held: list[Any] = []
+        #: Statuses taken in and not yet returned by update() (the newest 1000, as a queue).
+        self._unreported: collections.deque[Any] = collections.deque(maxlen=UNREPORTED_MAX)
 
     def _request(self, obj: Any) -> bool:
         """Publish ``obj``'s request now, or hold it while the link's reader is not matched yet
@@ -85,7 +90,7 @@ class ChainProxy:
 
         def poll() -> tuple[TaskResult, str]:
             self.spin_once(0.05)
-            self.update()
+            self._exchange()
             self._take_echoes()
             if self.refused > refused:
                 return TaskResult.FAILED, f'{what} refused (see the module log)'
@@ -126,15 +131,23 @@ class ChainProxy:
 
     def update(self) -> list[Any]:
         """Send held requests whose reader is matched now; take in what arrived; the status
-        messages taken in, oldest first (empty: none)."""
+        messages taken in since the last call, oldest first (empty: none) — also those a task's
+        poll took in meanwhile."""
+        self._exchange()
+        taken = list(self._unreported)
+        self._unreported.clear()
+        return taken
+
+    def _exchange(self) -> None:
+        """Send held requests whose reader is matched now; take in the statuses for :meth:`update`
+        to report (a task's poll must not swallow them: a caller that lists them saw a goto end
+        without its final status)."""
         while self._held and self._held[0].peers('request'):
             self._held.pop(0).publish_request()
-        taken = []
         while self.status.get_next_data():
             self.data, self.element = list(self.status.data.data), list(self.status.data.element)
             self.stamp = self.status.data.timestamp.get_seconds()
-            taken.append(self.status.data.ros_message())
-        return taken
+            self._unreported.append(self.status.data.ros_message())
 
     @property
     def velocities(self) -> tuple[float, float] | None:
@@ -150,7 +163,7 @@ class ChainProxy:
         """Run the manager's loop until ``test(self)`` holds; False after ``timeout`` s or on Quit."""
         deadline = time.monotonic() + timeout
         while True:
-            self.update()
+            self._exchange()
             if test(self):
                 return True
             if time.monotonic() >= deadline or not self.spin_once(0.05):

@@ -104,6 +104,8 @@ class DriveModule:
         self.uniform: tuple[float, float, float, float, float] | None = None
         self.ranges_at = -math.inf
         self.last_step = time.monotonic()
+        self.loop_stamp = manager.now()    # the instant the current loop began (ROS clock)
+        self.link.commands.set_auto_timestamp(False)
         self.base_stopped = False
         self.tuned = TunedSettings(manager, settings, TUNABLES)
 
@@ -151,12 +153,13 @@ class DriveModule:
         data.cmd_flags = command.cmd_flags
         data.velocity = [command.tv, command.rv] if command.mode is Mode.VELOCITY else [command.tv]
         data.position = [] if command.mode is Mode.VELOCITY else [0.0, command.heading]
+        data.timestamp = self.loop_stamp   # accepted at the loop's instant, as the watchdog counts
         self.link.commands.publish_data()
 
     # -- one loop --------------------------------------------------------------------------------
     def step(self) -> None:
         self.control.settings = self.tuned.current()    # limits a user set as parameters
-        now = time.monotonic()
+        now, self.loop_stamp = time.monotonic(), self.manager.now()   # one instant: rates, stamps
         dt, self.last_step = min(now - self.last_step, MAX_DT), now
         self.link.take_commands(now)
         self._take_sensors(now)
@@ -170,7 +173,8 @@ class DriveModule:
         elif not self.base_stopped:
             self._write_base(0.0, 0.0)              # the thread stops: one stop, then hands off
             self.base_stopped = True
-        self.link.publish_status(self.control.output, [self.control.code, self.link.refused], now)
+        self.link.publish_status(self.control.output, [self.control.code, self.link.refused], now,
+                                 self.loop_stamp)
 
     def close(self) -> None:
         """Leave the base stopped (idempotent)."""
