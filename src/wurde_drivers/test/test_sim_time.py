@@ -44,9 +44,15 @@ def test_stamps_follow_the_simulators_clock_at_time_scale_3(ros_domain: int, tmp
     clocks: list[float] = []
 
     def enough(o: Observer) -> bool:
+        """Enough of each, counted from the first truth heard (each subscription matches in its
+        own time: a loaded run heard five heartbeats before its first truth)."""
         clocks.extend(Time.from_msg(m.clock).get_seconds() for m, _ in take_stamped(clock))
-        beats = [t for t, _ in o.events[HEARTBEAT + 'PlutoWrist'] if t > 0]
-        return len(clocks) >= 20 and len(beats) >= 5 and len(o.events['PlutoWrist']) >= 20
+        if not o.events['PlutoBaseTruth']:
+            return False
+        first = min(t for t, _ in o.events['PlutoBaseTruth'])
+        beats = [t for t, _ in o.events[HEARTBEAT + 'PlutoWrist'] if t >= first]
+        wrist = [t for t, _ in o.events['PlutoWrist'] if t >= first]
+        return len([c for c in clocks if c >= first]) >= 20 and len(beats) >= 5 and len(wrist) >= 20
     env = dict(os.environ, WURDE_CONFIG_DIR=str(tmp_path), WURDE_LOG_DIRECTORY=str(tmp_path))
     try:
         with ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', str(tmp_path / 'mcp-config.xml'),
