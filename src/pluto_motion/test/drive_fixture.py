@@ -90,13 +90,16 @@ class Driver:
     def until(self, predicate: Callable[[], bool], what: str, timeout: float = 30.0,
               every: Callable[[], object] | None = None, period: float = 0.5) -> float:
         """Pump until ``predicate()``; ``every`` is called at most each ``period`` s (a command
-        resent).  Returns the monotonic time the predicate first held."""
+        resent).  Returns the monotonic time the predicate first held, after one more pump (a
+        predicate that polls a task takes statuses in that only the next pump reports)."""
         deadline = time.monotonic() + timeout
         sent = -math.inf
         while True:
             self.pump()
             if predicate():
-                return time.monotonic()
+                held = time.monotonic()
+                self.pump()
+                return held
             for name, child in self.children.items():
                 if child.process.poll() is not None:
                     raise AssertionError(f'{what}: {name} exited ({child.process.returncode}): {child.stderr}')

@@ -80,7 +80,8 @@ class Commander:
 
     def until(self, predicate: Callable[[], bool], what: str, timeout: float = 60.0,
               every: Callable[[], object] | None = None, period: float = 1.0) -> None:
-        """Pump until ``predicate()``; ``every`` is called at most each ``period`` s."""
+        """Pump until ``predicate()``, then once more (a predicate that polls a task takes statuses
+        in that only the next pump reports); ``every`` is called at most each ``period`` s."""
         deadline = time.monotonic() + timeout
         sent = -math.inf
         while not predicate():
@@ -96,6 +97,7 @@ class Commander:
                 every()
                 sent = now
             self.manager.wait(0.05)
+        self.pump()
 
     def closest_to_walls(self, since: int = 0) -> float:
         """The smallest distance (m) of the truth from any wall since truth sample ``since``."""

@@ -44,14 +44,25 @@ class LocProxy:
             self.streams[n] = obj
         self.streams[POST_POSE].set_auto_timestamp(False)
         self._setter: int | None = None
+        #: A pose written while the localModule's reader was not matched yet, to send once it is.
+        self._held = False
 
     def _check(self, n: int) -> LocalizationPose:
         if not 0 <= n < len(STREAMS) or not self.mask & (1 << n):
             raise ValueError(f'interface {n} is not in the mask {self.mask}')
         return self.streams[n]
 
+    def update(self) -> bool:
+        """Send a held pose (see :meth:`set_pose`) if the localModule's reader is matched now;
+        every other method of the proxy does this too.  Whether a pose is still held."""
+        posts = self.streams[POST_POSE]
+        if self._held and posts.peers('request'):
+            self._held = not posts.publish_request()
+        return self._held
+
     def get_pose(self, n: int) -> LocPose | None:
         """The newest pose of interface ``n`` taken in so far (None before the first)."""
+        self.update()
         obj = self._check(n)
         while obj.get_next_data():
             self._latest[n] = read_pose(obj.data)
@@ -59,6 +70,7 @@ class LocProxy:
 
     def get_poses(self, n: int) -> list[LocPose]:
         """Every pose of interface ``n`` taken in since the last call (queue mode keeps them all)."""
+        self.update()
         obj = self._check(n)
         poses = []
         while obj.get_next_data():
@@ -70,6 +82,7 @@ class LocProxy:
     @property
     def setter(self) -> int | None:
         """The localization's current setter (None until the localModule has been heard)."""
+        self.update()
         posts = self.streams[POST_POSE]
         while posts.get_next_info():
             self._setter = int(posts.info.cmd_flags.get_value())
@@ -78,12 +91,20 @@ class LocProxy:
     def set_pose(self, pose: tuple[float, float, float], setter: int = USER_SETTER, *,
                  covariance: np.ndarray | None = None, stamp: float = 0.0) -> bool:
         """Write ``pose`` (x, y, theta) to Post_Pose: a robot pose when ``setter`` < 0, else a laser
-        pose at ``stamp`` (0: now).  The localModule refuses a setter that is not allowed now."""
+        pose at ``stamp`` (0: now).  The localModule refuses a setter that is not allowed now.
+
+        A request channel keeps nothing for a reader that matches later, so a pose written before
+        the localModule's reader is matched is held (the newest one) and sent by the proxy's next
+        call once it is.  Whether it was sent now (False: held, or not sendable in this state)."""
         value = LocPose(pose=(pose[0], pose[1], 0.0, pose[2], 0.0, 0.0), setter=setter, stamp=stamp,
                         covariance=np.zeros((3, 3)) if covariance is None else np.asarray(covariance))
         posts = self.streams[POST_POSE]
         write_pose(posts.requests, value)
-        return posts.publish_request()
+        if posts.peers('request'):
+            self._held = False
+            return posts.publish_request()
+        self._held = True
+        return False
 
     def wait_for_setter(self, accept: int | Callable[[int], bool], timeout: float) -> bool:
         """Run the manager's loop until the setter is ``accept`` (or ``accept(setter)`` holds), at

@@ -102,6 +102,7 @@ def test_post_pose_moves_pose_but_not_dead_reckoning_and_the_setter_rules_hold(
 
     def pump_both() -> None:
         other.pump()
+        slam.update()                 # sends its pose once the localModule's reader is matched
 
     try:
         with processes(directory, ['PlutoBase', 'PlutoLaser'], ('local_module', [])):
@@ -110,7 +111,7 @@ def test_post_pose_moves_pose_but_not_dead_reckoning_and_the_setter_rules_hold(
                           'setter 0, a scan placed, dead reckoning')
             before = watcher.events[DR][-1].pose
             # A user sets the robot pose (setter -1): Pose jumps there, dead reckoning does not.
-            assert user.set_pose((5.0, 7.0, 0.5), -1)
+            user.set_pose((5.0, 7.0, 0.5), -1)      # held until matched; user.setter sends it
             watcher.until(lambda: user.setter == -1, 'setter -1')
             count = len(watcher.events[POSE])
             watcher.until(lambda: len(watcher.events[POSE]) > count + 2, 'poses after the set')
@@ -120,10 +121,10 @@ def test_post_pose_moves_pose_but_not_dead_reckoning_and_the_setter_rules_hold(
             after = watcher.events[DR][-1].pose
             assert (after.x, after.y) == pytest.approx((before.x, before.y), abs=1e-6)
             # NaN is refused and counted.
-            assert user.set_pose((math.nan, 1.0, 0.0), -1)
+            assert user.set_pose((math.nan, 1.0, 0.0), -1)       # matched by now: sent at once
             watcher.until(lambda: len(status()) == 4 and status()[3] == 1, 'one refusal counted')
             # An estimator takes the setter (a laser pose, setter 2) ...
-            assert slam.set_pose((4.0, 7.0, 0.0), 2)
+            slam.set_pose((4.0, 7.0, 0.0), 2)
             watcher.until(lambda: user.setter == 2, 'setter 2', every=pump_both)
             # ... and then a user's robot pose, another setter's pose and its release are refused.
             user.set_pose((1.0, 1.0, 0.0), -1)

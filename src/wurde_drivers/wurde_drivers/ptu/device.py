@@ -34,6 +34,9 @@ BAUDRATE = 9600
 _ARCSEC = math.pi / (180.0 * 3600.0)
 #: Player's initialisation (ptu46.cc): terse feedback, echo off, independent control, immediate.
 _INIT = ('ft', 'ed', 'ci', 'i')
+#: A velocity's interval is at least this many times the uncertainty of its two read instants
+#: (10: the interval, and so the speed, is off by 10 % at most).
+TIMING_MARGIN = 10.0
 _LIMIT_QUERIES = ('pn', 'px', 'tn', 'tx', 'pl', 'pu', 'tl', 'tu')
 
 PtuEvent = LimitHit | ResetDone
@@ -95,7 +98,10 @@ class Ptu46:
         self._disconnects = 0
         self._velocity_mode = False
         self._targets = (0, 0)
-        self._last: tuple[float, float, float] | None = None
+        #: The velocity's reference sample: pan, tilt (positions), read instant and its lateness (s).
+        self._last: tuple[float, float, float, float] | None = None
+        #: Half the quickest pan query's round trip since connecting (s): what every read shares.
+        self._least_spread = math.inf
         self._velocity = (0.0, 0.0)
         #: Replies that answered nothing (late replies after a timeout, stray ``*``).
         self.unsolicited = 0
@@ -148,7 +154,7 @@ class Ptu46:
         self._velocity_mode = False
         self._targets = (round(self._query_number('pp', self._step(deadline))),
                          round(self._query_number('tp', self._step(deadline))))
-        self._last = None
+        self._last, self._least_spread = None, math.inf
         self._connected = True
         self._stale = False
 
@@ -240,22 +246,33 @@ class Ptu46:
 
         Velocities are the change of the angles over at least 20 ms between queries (the
         reference sample is renewed every 100 ms), so quick successive queries repeat the last
-        estimate rather than amplify the one-step quantisation.
+        estimate rather than amplify the one-step quantisation.  The instant the unit read an
+        angle is taken as the middle of the query's round trip; the part of a round trip beyond
+        the quickest one seen (the line's own time, shared by every read) makes that instant
+        uncertain, so the interval must also be :data:`TIMING_MARGIN` times the two samples'
+        uncertainty: on a loaded machine, where a round trip is late by tens of milliseconds,
+        the estimate waits for a longer baseline instead of dividing by a guessed interval (a
+        20 ms interval read 36 % too fast in CI).
         """
         self._ensure()
         deadline = self._deadline(4)
         asked = time.monotonic()
         pan = self._query_number('pp', deadline)
-        now = (asked + time.monotonic()) / 2.0         # when the unit read its pan position
+        replied = time.monotonic()
+        now, spread = (asked + replied) / 2.0, (replied - asked) / 2.0   # when the unit read its pan
+        self._least_spread = min(self._least_spread, spread)
+        late = spread - self._least_spread
         tilt = self._query_number('tp', deadline)
         speeds = [self._query_number(name, deadline) for name in ('ps', 'ts')]
         rp, rt = self._resolution('p'), self._resolution('t')
         if self._last is None:
-            self._last, self._velocity = (pan, tilt, now), (0.0, 0.0)
-        elif (dt := now - self._last[2]) >= 0.02:
+            self._last, self._velocity = (pan, tilt, now, late), (0.0, 0.0)
+        elif (dt := now - self._last[2]) >= max(0.02, TIMING_MARGIN * (late + self._last[3])):
             self._velocity = ((pan - self._last[0]) * rp / dt, (tilt - self._last[1]) * rt / dt)
             if dt >= 0.1:
-                self._last = (pan, tilt, now)
+                self._last = (pan, tilt, now, late)
+        elif dt >= 0.1 and late < self._last[3]:
+            self._last = (pan, tilt, now, late)          # a surer reference than a late one
         velocities = self._velocity
         if self._velocity_mode:
             moving = any(velocities) or any(speeds)
