@@ -5,16 +5,17 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from hypothesis import given, settings, strategies as st
 
-from pluto_motion.corridor_avoid import AvoidSettings, choose, free_lengths, scan_to_points
+from pluto_motion.corridor_avoid import ESCAPE_ANGLE, AvoidSettings, choose, free_lengths, scan_to_points
 
 HALF = 0.5
 points_st = st.lists(st.tuples(st.floats(-3, 3), st.floats(-3, 3)), min_size=1, max_size=30)
 
 
-def _touches(points: np.ndarray, center: np.ndarray) -> bool:
-    return bool((np.hypot(*(points - center).T) < HALF - 1e-6).any())
+def _touching(points: np.ndarray, center: np.ndarray) -> np.ndarray:
+    return np.hypot(*(points - center).T) < HALF - 1e-6
 
 
 @settings(max_examples=200, deadline=None)
@@ -24,12 +25,33 @@ def test_the_free_length_is_exact_for_a_swept_disc(raw: list, heading: float) ->
     limit = 2.5
     free = float(free_lengths(points, np.array([heading]), HALF, limit)[0])
     direction = np.array([math.cos(heading), math.sin(heading)])
-    if _touches(points, np.zeros(2)):
-        assert free == 0.0              # already touching: no move at all (fail closed)
+    already = _touching(points, np.zeros(2))
+    nearer = already & (points @ direction > 1e-9)
+    if nearer.any():
+        assert free == 0.0              # already touching and coming nearer: no move (fail closed)
+    start = np.hypot(*points[already].T)
     for s in np.linspace(0.0, max(free - 1e-4, 0.0), 60):
-        assert not _touches(points, s * direction) or free == 0.0
+        center = s * direction
+        assert not _touching(points[~already], center).any() or free == 0.0
+        assert (np.hypot(*(points[already] - center).T) >= start - 1e-9).all()   # only moves away
     if free < limit - 1e-3 and free > 0:
-        assert _touches(points, (free + 1e-3) * direction)
+        assert _touching(points, (free + 1e-3) * direction).any()
+
+
+def test_a_robot_come_too_near_turns_away_and_then_moves_away() -> None:
+    box = np.array([[0.4, y] for y in np.linspace(-0.3, 0.3, 13)])     # 0.4 m ahead: inside the margin
+    goal = (3.0, 0.5)
+    choice = choose(box, goal)
+    assert choice.rotate and not choice.blocked
+    assert choice.heading == pytest.approx(ESCAPE_ANGLE)                # nearly a quarter turn, to the goal's side
+    c, s = math.cos(choice.heading), math.sin(choice.heading)
+    turned = box @ np.array([[c, -s], [s, c]])                           # the points after the turn
+    goal_turned = (goal[0] * c + goal[1] * s, -goal[0] * s + goal[1] * c)
+    after = choose(turned, goal_turned)
+    assert not after.blocked and not after.rotate and after.length > 0
+    direction = np.array([math.cos(after.heading), math.sin(after.heading)])
+    gaps = [np.hypot(*(turned - t * direction).T).min() for t in np.linspace(0, after.length, 20)]
+    assert all(b >= a - 1e-9 for a, b in zip(gaps, gaps[1:]))            # it only moves away
 
 
 def test_a_wall_ahead_is_steered_round_and_a_box_is_blocked() -> None:
