@@ -22,5 +22,6 @@ setup(
         'mcp = wurde_mcp.node:main',
         'turn_off = wurde_mcp.turn_off:turn_off',
         'mcp_controller = wurde_mcp.control:mcp_controller',
+        'xml_server = wurde_mcp.xml_server.module:main',
     ]},
 )

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Iterator
 
 import pytest
 
 from mcp_fixture import Table
+from xml_server_fixture import Start, running
 
 pytest_plugins = ['wurde_testing.fixtures']
 
@@ -19,3 +21,10 @@ def table(ros_domain: int) -> Iterator[Table]:
         yield reader
     finally:
         reader.close()
+
+
+@pytest.fixture
+def start() -> Iterator[Start]:
+    """xmlServers the test starts (``start(**settings)``), stopped at the test's end."""
+    with contextlib.ExitStack() as stack:
+        yield lambda **kw: stack.enter_context(running(**kw))
