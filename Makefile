@@ -81,3 +81,9 @@ bench-avoid: build
 .PHONY: bench-motion
 bench-motion: build
 	$(IN_ENV) python bench/nav_motion.py
+
+# The xmlServer (issue 15): var gets per second at 10 clients, and varpush latency beside a raw rclpy
+# subscriber to the same stream in the same run (about a minute).
+.PHONY: bench-xml
+bench-xml: build
+	$(IN_ENV) python bench/xml_server.py

@@ -73,6 +73,11 @@ class EventPush(Push):
         self.every = every
         self._seen = updates
 
+    def pending(self, pool: VariablePool) -> bool:
+        """Whether the push is due: the structure was updated ``every`` times since it last ran."""
+        updates = pool.updates(self.struct)
+        return updates < self._seen or updates - self._seen >= self.every
+
     def poll(self, now: float, pool: VariablePool) -> bool:
         updates = pool.updates(self.struct)
         if updates < self._seen:                # the count went back: start again from it

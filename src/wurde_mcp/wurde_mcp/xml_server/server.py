@@ -26,7 +26,7 @@ from collections.abc import Callable, Sequence
 
 from .command import (NAME, Command, CommandError, closing, escape, help_block, parse_command,
                       reply)
-from .push import TimePush
+from .push import EventPush, TimePush
 from .push_commands import PushCommands, push_help, varpush_help
 from .session import TOO_LONG, Session
 from .settings import PORTS, ServerSettings, ServerStats
@@ -194,7 +194,8 @@ class XmlServer:
     # ---- one turn -----------------------------------------------------------------------------
 
     def _wait(self, now: float, timeout: float) -> float:
-        """How long select() may wait: 0 when lines wait, else until the next push is due."""
+        """How long select() may wait: 0 when lines wait or a variable an event push watches was
+        updated since (the module's loop took a stream in), else until the next push is due."""
         wait = max(0.0, timeout)
         for session in self._sessions:
             if session.ending:
@@ -204,6 +205,8 @@ class XmlServer:
             for push in session.pushes:
                 if isinstance(push, TimePush):
                     wait = min(wait, max(0.0, push.next_due - now))
+                elif isinstance(push, EventPush) and push.pending(self.pool):
+                    return 0.0
         return wait
 
     def _guarded(self, session: Session, step: Callable[[Session], None]) -> None:
