@@ -23,5 +23,7 @@ setup(
         'turn_off = wurde_mcp.turn_off:turn_off',
         'mcp_controller = wurde_mcp.control:mcp_controller',
         'xml_server = wurde_mcp.xml_server.module:main',
+        'param_daemon = wurde_mcp.carmen.daemon:main',
+        'param_tool = wurde_mcp.carmen.tool:main',
     ]},
 )

@@ -1,0 +1,556 @@
+"""CARMEN's parameter interface for any module: parameters from the running ``param_daemon``.
+
+The calls of "Programming with CARMEN", section 6, on ROS 2 parameters::
+
+    params = CarmenParams(manager)                   # the daemon is /param_daemon
+    speed = params.get_double('robot_max_t_vel')     # carmen_param_get_double
+    params.set_module('robot')                       # carmen_param_set_module
+    flipped = params.get_onoff('laser_flipped')      # None, and a warning, if not defined
+
+The daemon serves ``module_variable`` of carmen.ini as its ROS 2 parameter ``module.variable``;
+here names are spelt as CARMEN spells them.  Where the seed is silent:
+
+- A get returns the value, or ``None`` (after the seed's warning on stderr, unless
+  :meth:`CarmenParams.allow_unfound_variables`) when the daemon has no such parameter.  A value
+  that cannot be converted to the type asked for (``"abc"`` as an int, ``0.5`` as an int) raises
+  :class:`ParamTypeError`: it is a wrong carmen.ini, not a missing parameter.
+- Subscription targets are ``(obj, 'attr')`` (``setattr``) or ``(mapping, key)``: Python has no
+  pointers.  Handlers are called ``handler(module, variable, value)`` (CARMEN's
+  ``carmen_param_change_handler_t``), after the target is set.
+- Changes are applied in the program's own thread when it calls :meth:`CarmenParams.update`
+  once per loop turn (CARMEN applied them when the program's IPC dispatch ran) — and while any
+  other call of this object waits for the daemon.  Handlers never run in another thread.
+
+How it talks to the daemon: through rclpy's :class:`~rclpy.parameter_client.AsyncParameterClient`
+on a node in a context of its own, spun by its own executor only while a call waits (each with a
+deadline).  The module's CommsManager polls its node without an executor and serves no service
+clients, so neither can block or starve the other; the price is one more DDS participant.
+"""
+
+from __future__ import annotations
+
+import atexit
+import enum
+import math
+import re
+import sys
+import time
+from collections.abc import Callable, MutableMapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import rclpy
+from rcl_interfaces.msg import ParameterEvent
+from rclpy.context import Context
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.parameter import Parameter, parameter_value_to_python
+from rclpy.parameter_client import AsyncParameterClient
+from rclpy.qos import qos_profile_parameter_events
+from rclpy.signals import SignalHandlerOptions
+
+from .errors import InvalidValueError, WurdeError
+
+__all__ = ['CALL_WAIT_S', 'DAEMON', 'REREAD', 'SERVICE_WAIT_S', 'CarmenParams', 'DaemonError',
+           'Param', 'ParamError', 'ParamExit', 'ParamType', 'ParamTypeError', 'convert',
+           'param_table', 'text_of', 'typed_value']
+
+#: The daemon's node, as CARMEN has one parameter server.
+DAEMON = '/param_daemon'
+#: The daemon's parameter that makes it re-read its carmen.ini when set to true.
+REREAD = 'reread'
+#: Longest wait for the daemon's parameter services to be discovered (a loaded machine).
+SERVICE_WAIT_S = 30.0
+#: Longest wait for one answer of the daemon.
+CALL_WAIT_S = 10.0
+#: Longest wait for the daemon's parameter events to reach a new subscription.
+MATCH_WAIT_S = 10.0
+_EVENTS = '/parameter_events'
+
+_INT = re.compile(r'[+-]?\d+')
+_FLOAT = re.compile(r'[+-]?(\d+\.\d*|\.\d+|\d+)([eE][+-]?\d+)?')
+_ONOFF = {'on': True, 'off': False}
+
+
+class ParamType(enum.Enum):
+    """CARMEN_PARAM_INT, _DOUBLE, _ONOFF, _STRING."""
+
+    INT = 'int'
+    DOUBLE = 'double'
+    ONOFF = 'onoff'
+    STRING = 'string'
+
+
+class ParamError(WurdeError):
+    """Root of this module's errors."""
+
+
+class ParamTypeError(ParamError, ValueError):
+    """A parameter's value cannot be had as the type asked for."""
+
+
+class DaemonError(ParamError):
+    """The daemon did not answer in time, or refused a set (its reason is in the message)."""
+
+
+class ParamExit(SystemExit):
+    """:meth:`CarmenParams.install_params` ends the program: ``-h`` (status 0), or a parameter
+    missing or unusable (status 1); ``str()`` is the message, already printed."""
+
+    def __init__(self, status: int, message: str) -> None:
+        super().__init__(status)
+        self.message = message
+
+    def __str__(self) -> str:
+        return self.message
+
+
+#: Where a value goes: ``(obj, 'attr')`` or ``(mapping, key)``.
+Target = tuple[Any, str]
+#: ``handler(module, variable, value)``, after the target was set.
+Handler = Callable[[str, str, Any], None]
+
+
+@dataclass(frozen=True)
+class Param:
+    """One entry of the parameter factory's list (carmen_param_t, 6.2)."""
+
+    module: str
+    variable: str
+    type: ParamType | str   # a ParamType or its value ('int', 'double', 'onoff', 'string')
+    target: Target | None = None
+    subscribe: bool = False
+    handler: Handler | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, 'type', ParamType(self.type))
+        target = self.target
+        if target is not None and not (isinstance(target, tuple) and len(target) == 2):
+            raise InvalidValueError(f'{self.name}: target must be (obj, "attr") or (mapping, key)')
+
+    @property
+    def name(self) -> str:
+        return f'{self.module}_{self.variable}'
+
+
+def typed_value(text: str) -> bool | int | float | str:
+    """A carmen.ini value as the daemon serves it: an int, a float, on/off (any case) as a bool,
+    else the text."""
+    text = text.strip()
+    if _INT.fullmatch(text) and abs(int(text)) < 2**63:
+        return int(text)
+    if _FLOAT.fullmatch(text) and math.isfinite(float(text)):
+        return float(text)
+    return _ONOFF.get(text.lower(), text)
+
+
+def text_of(value: Any) -> str:
+    """A value as CARMEN's text: on/off for a bool."""
+    if isinstance(value, bool):
+        return 'on' if value else 'off'
+    return str(value)
+
+
+def convert(value: Any, kind: ParamType, name: str) -> Any:
+    """``value`` (a served value, or text) as ``kind`` — the conversion on demand of section 6:
+    an int is a fine double, anything is a string (its text).
+
+    :raises ParamTypeError: naming the parameter, its value and the type asked for.
+    """
+    kind = ParamType(kind)
+    if kind is ParamType.STRING:
+        return text_of(value)
+    if isinstance(value, str):
+        value = typed_value(value)
+    if kind is ParamType.ONOFF and isinstance(value, bool):
+        return value
+    if not isinstance(value, bool):
+        if kind is ParamType.INT and isinstance(value, int):
+            return value
+        if kind is ParamType.DOUBLE and isinstance(value, (int, float)):
+            return float(value)
+    article = 'an' if kind is ParamType.INT else 'a'
+    raise ParamTypeError(f'{name} is {text_of(value)!r}, not {article} {kind.value}')
+
+
+def param_table(program: str, params: Sequence[Param]) -> str:
+    """The ``-h`` listing of 6.2: each parameter, its type and whether it is subscribed."""
+    width = max([len(p.name) for p in params] + [4])
+    lines = [f'{program}: parameters (from the parameter server; -VARIABLE VALUE overrides one)',
+             f'  {"name":<{width}}  type    subscribed']
+    lines += [f'  {p.name:<{width}}  {p.type.value:<6}  {"yes" if p.subscribe else "no"}'
+              for p in params]
+    return '\n'.join(lines)
+
+
+def _assign(target: Target | None, value: Any) -> None:
+    if target is None:
+        return
+    obj, key = target
+    if isinstance(obj, MutableMapping):
+        obj[key] = value
+    else:
+        setattr(obj, key, value)
+
+
+@dataclass(frozen=True)
+class _Subscription:
+    kind: ParamType
+    target: Target | None
+    handler: Handler | None
+
+
+class CarmenParams:
+    """The parameter interface of one program (libparam_interface), talking to ``daemon``.
+
+    Nothing is opened until the first call; :meth:`close` (also at exit) releases it.
+    """
+
+    def __init__(self, manager: Any, daemon: str = DAEMON) -> None:
+        """``manager`` is the program's CommsManager (its name names this client's node)."""
+        self.daemon = daemon if daemon.startswith('/') else '/' + daemon
+        self._node_name = re.sub(r'[^A-Za-z0-9_]', '_', str(manager.name)) + '_carmen_param'
+        self._module: str | None = None
+        self._allow_unfound = False
+        self._subscriptions: dict[str, list[_Subscription]] = {}
+        self._context: Context | None = None
+        self._node: Any = None
+        self._executor: SingleThreadedExecutor | None = None
+        self._client: AsyncParameterClient | None = None
+        self._events: Any = None
+        self._received = 0
+        self._ready = False
+        self._closed = False
+
+    # -- connection ----------------------------------------------------------------------------
+    def open(self) -> None:
+        """Connect to the daemon (done by the first call that needs it).
+
+        :raises DaemonError: when its parameter services are not found within
+            :data:`SERVICE_WAIT_S`.
+        """
+        if self._ready:
+            return
+        if self._closed:
+            raise ParamError('this CarmenParams was closed')
+        if self._node is None:
+            self._create()
+        assert self._client is not None
+        deadline = time.monotonic() + SERVICE_WAIT_S
+        while not self._client.services_are_ready():
+            if time.monotonic() > deadline:
+                raise DaemonError(f'no parameter daemon {self.daemon} within {SERVICE_WAIT_S} s')
+            time.sleep(0.05)
+        self._ready = True
+
+    def _create(self) -> None:
+        context = Context()
+        rclpy.init(args=['carmen_param'], context=context,
+                   signal_handler_options=SignalHandlerOptions.NO)
+        try:
+            self._node = rclpy.create_node(self._node_name, context=context,
+                                           start_parameter_services=False, enable_rosout=False)
+            self._executor = SingleThreadedExecutor(context=context)
+            self._executor.add_node(self._node)
+            self._client = AsyncParameterClient(self._node, self.daemon)
+        finally:
+            self._context = context
+        atexit.register(self.close)
+
+    def close(self) -> None:
+        """Release the node and its context; idempotent."""
+        if self._closed:
+            return
+        self._closed = True
+        atexit.unregister(self.close)
+        if self._executor is not None:
+            self._executor.shutdown()
+        if self._node is not None:
+            self._node.destroy_node()
+        if self._context is not None:
+            self._context.try_shutdown()
+
+    def __enter__(self) -> 'CarmenParams':
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def _call(self, future: Any) -> Any:
+        assert self._executor is not None
+        self._executor.spin_until_future_complete(future, timeout_sec=CALL_WAIT_S)
+        if not future.done():
+            future.cancel()
+            raise DaemonError(f'{self.daemon} did not answer within {CALL_WAIT_S} s')
+        return future.result()
+
+    def _fetch(self, names: Sequence[str]) -> dict[str, Any]:
+        """The served values of those of ``names`` the daemon has (ROS names)."""
+        self.open()
+        assert self._client is not None
+        declared = set(self._call(self._client.list_parameters(
+            sorted({n.split('.', 1)[0] for n in names}))).result.names)
+        present = [n for n in names if n in declared]
+        if not present:
+            return {}
+        values = self._call(self._client.get_parameters(present)).values
+        return {n: parameter_value_to_python(v) for n, v in zip(present, values)}
+
+    # -- getting parameters (6) ------------------------------------------------------------------
+    def set_module(self, module: str | None) -> None:
+        """carmen_param_set_module: bare variable names are looked up in ``module`` (6)."""
+        self._module = module or None
+
+    def allow_unfound_variables(self, allow: bool = True) -> None:
+        """carmen_param_allow_unfound_variables: no warning for a missing parameter, and
+        :meth:`install_params` does not exit on one (6, 6.2)."""
+        self._allow_unfound = bool(allow)
+
+    def _candidates(self, name: str) -> list[str]:
+        """ROS names for ``name``: after set_module, ``module.name`` first, then ``name`` itself
+        as fully qualified if it can be."""
+        names = [f'{self._module}.{name}'] if self._module else []
+        module, _, variable = name.partition('_')
+        if module and variable:
+            names.append(f'{module}.{variable}')
+        if not names:
+            raise InvalidValueError(f'{name!r} is not module_variable, and no module was set')
+        return names
+
+    def _get(self, name: str, kind: ParamType, caller: str) -> Any:
+        """Section 6: the value converted on demand, or None after the unfound warning."""
+        candidates = self._candidates(name)
+        values = self._fetch(candidates)
+        for ros in candidates:
+            if ros in values:
+                return convert(values[ros], kind, ros.replace('.', '_', 1))
+        self._unfound(name, caller)
+        return None
+
+    def _unfound(self, name: str, caller: str) -> None:
+        if not self._allow_unfound:
+            shown = f'{self._module}_{name}' if self._module and '_' not in name else name
+            print(f'WARNING: {caller}: the parameter server {self.daemon} has no definition for '
+                  f'{shown} (is carmen.ini out of date?)', file=sys.stderr, flush=True)
+
+    def get_int(self, name: str) -> int | None:
+        """carmen_param_get_int: ``module_variable`` (or the variable after set_module).
+
+        :raises ParamTypeError: for a value that is not an integer.
+        """
+        return self._get(name, ParamType.INT, 'get_int')
+
+    def get_double(self, name: str) -> float | None:
+        """carmen_param_get_double (an int is a fine double).
+
+        :raises ParamTypeError: for a value that is not a number.
+        """
+        return self._get(name, ParamType.DOUBLE, 'get_double')
+
+    def get_onoff(self, name: str) -> bool | None:
+        """carmen_param_get_onoff: True for on, False for off.
+
+        :raises ParamTypeError: for a value that is not on/off.
+        """
+        return self._get(name, ParamType.ONOFF, 'get_onoff')
+
+    def get_string(self, name: str) -> str | None:
+        """carmen_param_get_string: any value, as its text (on/off for a bool)."""
+        return self._get(name, ParamType.STRING, 'get_string')
+
+    # -- subscribing to changes (6.1) ----------------------------------------------------------
+    def _subscribe(self, module: str, variable: str, kind: ParamType, target: Target | None,
+                   handler: Handler | None) -> None:
+        """6.1: set ``target`` to each new value, then call ``handler(module, variable, value)``."""
+        self.open()
+        if self._events is None:
+            self._events = self._node.create_subscription(ParameterEvent, _EVENTS, self._on_event,
+                                                          qos_profile_parameter_events)
+            self._wait_matched()
+        self._subscriptions.setdefault(f'{module}.{variable}', []).append(
+            _Subscription(ParamType(kind), target, handler))
+
+    def _wait_matched(self) -> None:
+        """Until the daemon's parameter events reach the subscription (a change made before
+        would be lost: the topic keeps no history), at most :data:`MATCH_WAIT_S`."""
+        assert self._executor is not None
+        deadline = time.monotonic() + MATCH_WAIT_S
+        while time.monotonic() < deadline:
+            writers = self._node.get_publishers_info_by_topic(_EVENTS)
+            daemon = any(('/' + f'{w.node_namespace}/{w.node_name}'.strip('/')) == self.daemon
+                         for w in writers)
+            if daemon and self._events.get_publisher_count() >= len(writers):
+                return
+            self._executor.spin_once(timeout_sec=0.05)
+        print(f'WARNING: the parameter events of {self.daemon} did not arrive within '
+              f'{MATCH_WAIT_S} s; changes may be missed', file=sys.stderr, flush=True)
+
+    def subscribe_int(self, module: str, variable: str, target: Target | None = None,
+                      handler: Handler | None = None) -> None:
+        """carmen_param_subscribe_int (6.1)."""
+        self._subscribe(module, variable, ParamType.INT, target, handler)
+
+    def subscribe_double(self, module: str, variable: str, target: Target | None = None,
+                         handler: Handler | None = None) -> None:
+        """carmen_param_subscribe_double (6.1)."""
+        self._subscribe(module, variable, ParamType.DOUBLE, target, handler)
+
+    def subscribe_onoff(self, module: str, variable: str, target: Target | None = None,
+                        handler: Handler | None = None) -> None:
+        """carmen_param_subscribe_onoff (6.1)."""
+        self._subscribe(module, variable, ParamType.ONOFF, target, handler)
+
+    def subscribe_string(self, module: str, variable: str, target: Target | None = None,
+                         handler: Handler | None = None) -> None:
+        """carmen_param_subscribe_string (6.1)."""
+        self._subscribe(module, variable, ParamType.STRING, target, handler)
+
+    def _on_event(self, event: ParameterEvent) -> None:
+        self._received += 1
+        if event.node != self.daemon:
+            return
+        for parameter in [*event.new_parameters, *event.changed_parameters]:
+            for sub in self._subscriptions.get(parameter.name, ()):
+                module, variable = parameter.name.split('.', 1)
+                try:
+                    value = convert(parameter_value_to_python(parameter.value), sub.kind,
+                                    f'{module}_{variable}')
+                except ParamTypeError as error:
+                    print(f'WARNING: subscription ignores a change: {error}', file=sys.stderr,
+                          flush=True)
+                    continue
+                _assign(sub.target, value)
+                if sub.handler is not None:
+                    sub.handler(module, variable, value)
+
+    def update(self, timeout: float = 0.0) -> int:
+        """Apply the changes that arrived (targets, then handlers), waiting up to ``timeout``
+        for the first; returns how many parameter events were taken in.  Call it once per loop
+        turn of a program that subscribes."""
+        if self._events is None or self._executor is None:
+            return 0
+        before = self._received
+        self._executor.spin_once(timeout_sec=max(0.0, timeout))
+        for _ in range(1000):
+            seen = self._received
+            self._executor.spin_once(timeout_sec=0.0)
+            if self._received == seen:
+                break
+        return self._received - before
+
+    # -- the parameter factory (6.2) and the command line (6.3) ---------------------------------
+    def install_params(self, argv: Sequence[str], params: Sequence[Param]) -> list[str]:
+        """carmen_param_install_params: load every parameter of ``params`` in one step into its
+        target, and subscribe those marked so (6.2).
+
+        ``-h`` or ``-help`` in ``argv`` prints :func:`param_table` and exits 0.  ``-VARIABLE
+        VALUE`` (no module name, 6.3) overrides that parameter for this process; the daemon need
+        not have it, and a subscribed one still follows later changes.  Call this before
+        ``manager.parse_options``: it returns ``argv`` without the pairs it took.
+
+        :raises ParamExit: status 0 after ``-h``; status 1 naming the first parameter the daemon
+            does not have (unless unfound variables are allowed) or whose value does not convert.
+        """
+        argv = list(argv)
+        program = argv[0] if argv else 'program'
+        if any(arg in ('-h', '-help', '--help') for arg in argv[1:]):
+            print(param_table(program, params), flush=True)
+            raise ParamExit(0, 'help')
+        rest, overrides = self._overrides(argv, params)
+        wanted = [f'{p.module}.{p.variable}' for p in params if p.name not in overrides]
+        served = self._fetch(wanted) if wanted else {}
+        for p in params:
+            try:
+                if p.name in overrides:
+                    value = convert(overrides[p.name], p.type, p.name)
+                elif f'{p.module}.{p.variable}' in served:
+                    value = convert(served[f'{p.module}.{p.variable}'], p.type, p.name)
+                elif self._allow_unfound:
+                    continue
+                else:
+                    self._exit(f'{program}: the parameter server {self.daemon} has no definition '
+                               f'for {p.name}, which this program needs')
+            except ParamTypeError as error:
+                self._exit(f'{program}: {error}')
+            _assign(p.target, value)
+        for p in params:
+            if p.subscribe:
+                self._subscribe(p.module, p.variable, p.type, p.target, p.handler)
+        return rest
+
+    @staticmethod
+    def _exit(message: str) -> None:
+        print(message, file=sys.stderr, flush=True)
+        raise ParamExit(1, message)
+
+    @staticmethod
+    def _overrides(argv: list[str], params: Sequence[Param]) -> tuple[list[str], dict[str, str]]:
+        """6.3: ``-variable value`` pairs matched against the list's variable names (the first
+        parameter of that variable name wins; the seed leaves duplicates undefined)."""
+        by_variable: dict[str, Param] = {}
+        for p in params:
+            by_variable.setdefault(p.variable, p)
+        rest, overrides = argv[:1], {}
+        index = 1
+        while index < len(argv):
+            arg = argv[index]
+            if arg == '--ros-args':
+                rest += argv[index:]
+                break
+            p = by_variable.get(arg[1:]) if arg.startswith('-') else None
+            if p is not None and index + 1 < len(argv):
+                overrides[p.name] = argv[index + 1]
+                index += 2
+                continue
+            rest.append(arg)
+            index += 1
+        return rest, overrides
+
+    # -- changing the daemon's parameters (param_tool) ------------------------------------------
+    def set_variable(self, name: str, value: Any) -> str:
+        """carmen_param_set_variable: set ``module_variable`` on the daemon; text is taken as the
+        type the daemon serves when it reads as one.  Returns the value set, as text.
+
+        :raises DaemonError: with the daemon's reason (undeclared, wrong type, read-only).
+        """
+        candidates = self._candidates(name)
+        served = self._fetch(candidates)
+        ros = next((n for n in candidates if n in served), candidates[0])
+        if isinstance(value, str):
+            value = _as_served(value, served.get(ros))
+        try:
+            self._set(ros, value, name)
+        except DaemonError as error:
+            if ros in served:
+                raise
+            raise DaemonError(f'{name}: {self.daemon} has no such parameter; {error}') from None
+        return text_of(value)
+
+    def reread(self) -> None:
+        """Ask the daemon to re-read its carmen.ini.
+
+        :raises DaemonError: with the daemon's file:line: reason when it refuses the file.
+        """
+        self._set(REREAD, True, 'reread')
+
+    def _set(self, ros: str, value: Any, label: str) -> None:
+        self.open()
+        assert self._client is not None
+        result = self._call(self._client.set_parameters([Parameter(ros, value=value)])).results[0]
+        if not result.successful:
+            raise DaemonError(f'{label}: {result.reason}')
+
+
+def _as_served(text: str, served: Any) -> Any:
+    """``text`` as the served value's type, where it reads as one; else as the daemon types
+    carmen.ini text (the daemon then refuses a mismatch with its reason)."""
+    if isinstance(served, str):
+        return text
+    kind = {bool: ParamType.ONOFF, int: ParamType.INT, float: ParamType.DOUBLE}.get(type(served))
+    if kind is ParamType.ONOFF and text.lower() in ('true', 'false'):
+        return text.lower() == 'true'
+    if kind is not None:
+        try:
+            return convert(text, kind, '')
+        except ParamTypeError:
+            pass
+    return typed_value(text)

@@ -1,0 +1,213 @@
+"""``param_daemon``: CARMEN's parameter server as a WURDE module whose node serves carmen.ini.
+
+    ros2 run wurde_mcp param_daemon [-a] [-R ROBOT] [MAP] [INI]
+
+Every parameter of the chosen robot (``[*]``, overridden by ``[ROBOT]``) becomes the ROS 2
+parameter ``module.variable`` of the node ``/param_daemon``, typed from its text (int, float,
+on/off as bool, else string), so ``ros2 param list/get/set /param_daemon`` and
+``/parameter_events`` work and the client API (:mod:`wurde_core.carmen_param`, Programming with
+CARMEN 6) reads them.  A set keeps each parameter's type (an int is taken for a float) and is
+refused with rclpy's reason otherwise; a set of a parameter the daemon does not have is refused
+by rclpy's own undeclared-parameter error.
+
+Where CARMEN's daemon differs: its ``-r ROBOT`` is ``-R`` here, because ``-r`` is every WURDE
+module's registration mode; with several robots and none chosen it refuses, listing them,
+instead of asking (a daemon the MCP starts has nobody to ask); an argument ending in ``.ini`` is
+the ini file, another one the map, served as the read-only ``map.file``.  Setting the
+parameter ``reread`` to true re-reads the ini file: a broken file, or one that changes a
+parameter's type, is refused with file:line: reason and the old values stay; otherwise the
+changed values are set (parameter events go out) and new ones declared; parameters no longer
+in the file stay as they are.
+"""
+
+from __future__ import annotations
+
+import sys
+from typing import Any
+
+from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
+from rclpy.parameter import Parameter
+from wurde_core import CommsManager
+from wurde_core.carmen_param import REREAD, typed_value
+from wurde_core.module_loop import exit_on_config_error, run_loop, set_loop
+from wurde_idl.errors import ConfigError
+
+from .ini import Entry, IniFile, choose_robot, find_ini, read_ini
+
+__all__ = ['MAP_PARAMETER', 'ParamDaemon', 'main', 'ros_name', 'split_arguments']
+
+#: The read-only parameter naming the map file given on the command line.
+MAP_PARAMETER = 'map.file'
+#: Longest wait per loop turn for a parameter request (s); requests wake the loop at once.
+SERVE_S = 0.1
+
+HELP = ('  -a          print the loaded parameters (module_variable value, sorted) at start\n'
+        '  -R ROBOT    serve [*] and [ROBOT] of the ini file (CARMEN\'s -r: -r is WURDE\'s\n'
+        '              registration mode); needed when the file has several robots\n'
+        '  MAP         a map file, served as the read-only parameter map.file\n'
+        '  INI         the carmen.ini (an argument ending in .ini); default: the first of\n'
+        '              ./carmen.ini, ../carmen.ini, ../src/carmen.ini\n'
+        '  set the parameter "reread" to true (param_tool reread) to re-read the ini file')
+
+
+def ros_name(entry: Entry) -> str:
+    """``module.variable``: dots, so that ``ros2 param list`` groups a module's parameters."""
+    return f'{entry.module}.{entry.variable}'
+
+
+def split_arguments(arguments: list[str]) -> tuple[str | None, str | None]:
+    """``(map, ini)`` from the positional arguments (``[MAP] [INI]``; a lone ``*.ini`` is the ini).
+
+    :raises ValueError: for more than two.
+    """
+    if len(arguments) > 2:
+        raise ValueError(f'at most a map and an ini file, not {" ".join(arguments)}')
+    if len(arguments) == 2:
+        return arguments[0], arguments[1]
+    if arguments and arguments[0].endswith('.ini'):
+        return None, arguments[0]
+    return (arguments[0] if arguments else None), None
+
+
+def _kind(value: Any) -> str:
+    return {bool: 'on/off', int: 'int', float: 'double', str: 'string'}[type(value)]
+
+
+class ParamDaemon:
+    """The parameters of one robot of one carmen.ini on ``node``."""
+
+    def __init__(self, node: Any, ini: IniFile, robot: str | None, map_path: str | None) -> None:
+        self.node = node
+        self.path = ini.path
+        self.robot = robot
+        self.map_path = map_path
+        self.entries = self._served(ini)
+        self._pending: dict[str, Entry] | None = None
+
+    def _served(self, ini: IniFile) -> dict[str, Entry]:
+        entries = ini.parameters(self.robot)
+        if self.map_path is not None:   # the command line's map wins over the file's map_file
+            entries.pop('map_file', None)
+        return entries
+
+    def declare(self) -> None:
+        """Declare every parameter, the map and the ``reread`` trigger."""
+        self.node.add_pre_set_parameters_callback(self._widen)
+        self.node.add_on_set_parameters_callback(self._check)
+        for entry in self.entries.values():
+            self._declare(entry)
+        if self.map_path is not None:
+            self.node.declare_parameter(MAP_PARAMETER, self.map_path, ParameterDescriptor(
+                description='the map file given to param_daemon', read_only=True))
+        self.node.declare_parameter(REREAD, False, ParameterDescriptor(
+            description=f'set true to re-read {self.path}'))
+
+    def _declare(self, entry: Entry) -> None:
+        self.node.declare_parameter(ros_name(entry), typed_value(entry.value), ParameterDescriptor(
+            description=f'carmen.ini {entry.name}'))
+
+    def listing(self) -> list[str]:
+        """``module_variable value`` of every served parameter, sorted (``-a``)."""
+        lines = {name: f'{name} {entry.value}' for name, entry in self.entries.items()}
+        if self.map_path is not None:
+            lines['map_file'] = f'map_file {self.map_path}'
+        return [lines[name] for name in sorted(lines)]
+
+    def _widen(self, parameters: list[Parameter]) -> list[Parameter]:
+        """An int set on a double parameter is taken as that double."""
+        return [Parameter(p.name, value=float(p.value))
+                if p.type_ == Parameter.Type.INTEGER and self._type(p.name) == Parameter.Type.DOUBLE
+                else p for p in parameters]
+
+    def _type(self, name: str) -> Parameter.Type | None:
+        return self.node.get_parameter(name).type_ if self.node.has_parameter(name) else None
+
+    def _check(self, parameters: list[Parameter]) -> SetParametersResult:
+        """A set of ``reread`` to true reads the file now: refused with file:line: reason when
+        the file is; else the loop applies it after this set returns."""
+        for parameter in parameters:
+            if parameter.name == REREAD and parameter.value is True:
+                try:
+                    self._pending = self.prepare()
+                except ConfigError as error:
+                    return SetParametersResult(successful=False, reason=str(error))
+        return SetParametersResult(successful=True)
+
+    def prepare(self) -> dict[str, Entry]:
+        """The ini file's parameters for this robot, read again.
+
+        :raises ConfigError: for a broken file, a robot no longer in it, or a value whose type
+            differs from the one served (an int for a double is fine).
+        """
+        entries = self._served(read_ini(self.path))
+        for entry in entries.values():
+            served = self._type(ros_name(entry))
+            value = Parameter(ros_name(entry), value=typed_value(entry.value))
+            if served is None or served == value.type_ or (
+                    served == Parameter.Type.DOUBLE and value.type_ == Parameter.Type.INTEGER):
+                continue
+            old = self.node.get_parameter(ros_name(entry)).value
+            raise ConfigError(entry.path, entry.line,
+                              f'{entry.name} {entry.value!r} is {_kind(value.value)}, but it is '
+                              f'served as {_kind(old)}: restart param_daemon to change a type')
+        return entries
+
+    def apply_pending(self) -> int:
+        """Set what a re-read found changed, declare what is new; returns how many changed."""
+        entries, self._pending = self._pending, None
+        if entries is None:
+            return 0
+        changed = []
+        for entry in entries.values():
+            name, value = ros_name(entry), typed_value(entry.value)
+            if not self.node.has_parameter(name):
+                self._declare(entry)
+                changed.append(name)
+            elif self.node.get_parameter(name).value != value:
+                result = self.node.set_parameters([Parameter(name, value=value)])[0]
+                if result.successful:
+                    changed.append(name)
+                else:
+                    print(f'param_daemon: {entry.path}:{entry.line}: {result.reason}',
+                          file=sys.stderr, flush=True)
+        self.entries.update(entries)
+        self.node.set_parameters([Parameter(REREAD, value=False)])
+        print(f'param_daemon reread {self.path}: {len(changed)} changed'
+              + (f' ({", ".join(changed)})' if changed else ''), flush=True)
+        return len(changed)
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv if argv is None else argv)
+    manager = CommsManager('param_daemon')
+    manager.set_help_string(HELP)
+    opts = manager.parse_options(argv, 'aR:')
+    try:
+        map_path, ini_path = split_arguments(opts.arguments)
+    except ValueError as error:
+        print(f'param_daemon: {error}', file=sys.stderr, flush=True)
+        return 2
+    try:
+        ini = read_ini(ini_path or find_ini())
+        robot = choose_robot(ini, opts.user.get('R'))
+    except ConfigError as error:
+        return exit_on_config_error(argv[0], error)
+    manager.wait(0.0)   # opens the module's node
+    daemon = ParamDaemon(manager.node, ini, robot, map_path)
+    daemon.declare()
+    if 'a' in opts.user:
+        print('\n'.join(daemon.listing()), flush=True)
+    print(f'param_daemon serves {len(daemon.entries)} parameters of '
+          f'{"[" + robot + "]" if robot else "[*]"} from {ini.path}', flush=True)
+    print('param_daemon ready', flush=True)
+    set_loop(manager, 0.0)
+
+    def step() -> None:
+        daemon.apply_pending()
+        manager.wait(SERVE_S)
+
+    return run_loop(manager, step, lambda: None)
+
+
+if __name__ == '__main__':
+    sys.exit(main())
