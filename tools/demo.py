@@ -1,15 +1,18 @@
-"""`make demo`: the main job — the simulated Pluto robot, brought up by the MCP, driven round the office.
+"""`make demo`: the main job — the simulated Pluto, brought up by the MCP, on a mission by place names.
 
-1. The MCP (``wurde_mcp``'s ``mcp``) reads ``config/sim/mcp-config.xml`` and starts every dummy
-   (base, laser, wrist, DMU, GPS) as a supervised module; they read ``config/sim/sim-config.xml``
-   from the config directory (``WURDE_CONFIG_DIR=config/sim``).
-2. The ``tour`` client drives the robot through waypoints of the office map with its odometry and
-   laser, printing what it sees, and saves a plot (map, path, last laser scan) as
-   ``demo-output/tour.png``.
+1. The MCP (``wurde_mcp``'s ``mcp``) reads ``config/pluto/mcp-config.xml`` and starts the whole
+   robot as supervised modules: the dummies (base, laser, wrist, DMU, GPS; odometry, laser and
+   DMU noise on), the localModule and poseModule (Pluto 3 and 7) and the chain drive -> avoid ->
+   motion (Pluto 4 and 6); they read ``sim-config.xml`` and ``map.xml`` from the config directory
+   (``WURDE_CONFIG_DIR=config/pluto``).
+2. The ``mission`` client (``pluto_motion``) sends the robot through named places of the map by
+   moveto, shows live progress (goal, distance left, pose error against the simulator's truth,
+   the modules' states), ends with a summary table and saves ``demo-output/mission.png``.
 3. The MCP is stopped with SIGINT, which quits every module.
 
 DDS stays on loopback (env.sh sets ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST). Options (for tests):
-``--config-dir DIR`` another config directory, ``--output DIR`` where the plot goes.
+``--config-dir DIR`` another config directory, ``--output DIR`` where the plot goes,
+``--places a,b,c`` other places.
 """
 
 from __future__ import annotations
@@ -22,7 +25,7 @@ import subprocess
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-TOUR_TIMEOUT_S = 600.0
+MISSION_TIMEOUT_S = 900.0
 
 
 def find_executable(package: str, name: str) -> str:
@@ -36,8 +39,9 @@ def find_executable(package: str, name: str) -> str:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument('--config-dir', default=str(ROOT / 'config' / 'sim'))
+    parser.add_argument('--config-dir', default=str(ROOT / 'config' / 'pluto'))
     parser.add_argument('--output', default=str(ROOT / 'demo-output'))
+    parser.add_argument('--places', default='', help='comma-separated place names (default: the mission\'s)')
     args = parser.parse_args()
     if os.environ.get('ROS_AUTOMATIC_DISCOVERY_RANGE') != 'LOCALHOST':
         raise SystemExit('demo: DDS must stay on loopback; run through `make demo` or env.sh')
@@ -47,18 +51,19 @@ def main() -> int:
     env = dict(os.environ, WURDE_CONFIG_DIR=str(config_dir), WURDE_DATA_DIR=str(output),
                WURDE_LOG_DIRECTORY=str(output))
     print(f'demo: ROS_DOMAIN_ID={os.environ.get("ROS_DOMAIN_ID")}, discovery on loopback only; '
-          f'the MCP brings up the dummy Pluto from {config_dir}', flush=True)
+          f'the MCP brings up the simulated Pluto from {config_dir}', flush=True)
     mcp = subprocess.Popen([sys.executable, find_executable('wurde_mcp', 'mcp'),
                             '-c', str(config_dir / 'mcp-config.xml'),
                             '-m', str(config_dir / 'mcp-mappings.xml'), '-a'], env=env)
     try:
-        tour = subprocess.run([sys.executable, find_executable('wurde_drivers', 'tour'),
-                               '-p', str(output / 'tour.png')], env=env, timeout=TOUR_TIMEOUT_S,
-                              check=False)
-        tour_code = tour.returncode
+        places = ['-P', args.places] if args.places else []
+        mission = subprocess.run([sys.executable, find_executable('pluto_motion', 'mission'),
+                                  '-O', str(output), *places], env=env, timeout=MISSION_TIMEOUT_S,
+                                 check=False)
+        mission_code = mission.returncode
     except subprocess.TimeoutExpired:
-        print(f'demo: the tour took longer than {TOUR_TIMEOUT_S:.0f} s', flush=True)
-        tour_code = 1
+        print(f'demo: the mission took longer than {MISSION_TIMEOUT_S:.0f} s', flush=True)
+        mission_code = 1
     finally:
         if mcp.poll() is None:
             mcp.send_signal(signal.SIGINT)
@@ -67,9 +72,9 @@ def main() -> int:
         except subprocess.TimeoutExpired:
             mcp.kill()
             mcp_code = mcp.wait()
-    print(f'demo: tour exit {tour_code}, MCP exit {mcp_code}; plot in {output / "tour.png"}; '
+    print(f'demo: mission exit {mission_code}, MCP exit {mcp_code}; plot in {output / "mission.png"}; '
           f'module logs in {output / "mcp-modules"}', flush=True)
-    return 0 if tour_code == 0 and mcp_code == 0 else 1
+    return 0 if mission_code == 0 and mcp_code == 0 else 1
 
 
 if __name__ == '__main__':

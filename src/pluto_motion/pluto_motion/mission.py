@@ -1,0 +1,189 @@
+"""``mission``: send the robot through named places of its map by moveto, and show how it goes.
+
+    mission [-m MAP] [-P place,place,...] [-O DIR] [-t SECONDS] [-T TRUTH]
+
+The client of ``make demo`` (the main job): for each place of ``-P`` (names from the map's place
+list; an unknown name is skipped with a warning, as CARMEN's navigator ignores an unknown place),
+a moveto (cmdFlags 42) through ``motion/command`` (:class:`~pluto_motion.motion_proxy.MotionProxy`),
+waiting for its end.  The terminal shows live progress (rich): the goal, the distance left, the
+Localization/Pose and its error against the simulator's truth (``-T``, default ``PlutoBaseTruth``;
+``-T ''`` none), and the modules' run states from the MCP's table.  At the end a summary table
+(goals reached, time, distance, pose RMSE, wall contacts) and ``DIR/mission.png``
+(:mod:`pluto_motion.mission_plot`).  Exit status 0 when every goal was reached without a contact.
+"""
+
+from __future__ import annotations
+
+import math
+import pathlib
+import sys
+import time
+
+from rich.console import Console, Group
+from rich.live import Live
+from rich.table import Table
+from wurde_core import CommsManager, RunState
+from wurde_core.interfaces import Egomotion, SimpleControl
+from wurde_core.module_loop import config_file
+from wurde_idl.errors import ConfigError
+from wurde_idl.mapfile import load_map_data
+
+from pluto_nav.loc_proxy import LocProxy
+from pluto_nav.streams import POSE
+
+from .mission_log import Goal, MissionLog, Sample
+from .mission_plot import plot_mission
+from .motion_proxy import MotionProxy
+from .task import TaskResult
+
+__all__ = ['DEFAULT_PLACES', 'main']
+
+#: The office tour of ``make demo``: two offices, the lab, the kitchen and back.
+DEFAULT_PLACES = ('office2', 'lab', 'kitchen', 'office1', 'start')
+#: The robot's radius (m): a truth nearer a wall is a contact.
+RADIUS = 0.35
+SAMPLE_S = 0.1
+START_TIMEOUT_S = 120.0
+HELP = ('  -m MAP       the map file (default map.xml of the config directory)\n'
+        f'  -P PLACES    comma-separated place names (default {",".join(DEFAULT_PLACES)})\n'
+        '  -O DIR       where mission.png goes (default the data directory)\n'
+        '  -t SECONDS   longest time per goal (default 240)\n'
+        '  -T STREAM    the simulator\'s truth (default PlutoBaseTruth; empty: none)')
+
+
+class Mission:
+    """The streams the mission reads and the log it keeps."""
+
+    def __init__(self, manager: CommsManager, walls: list, truth: str) -> None:
+        self.manager = manager
+        self.motion = MotionProxy(manager)
+        self.loc = LocProxy(manager, 1 << POSE)
+        self.truth = Egomotion(truth) if truth else None
+        self.table = SimpleControl('mcp_control')
+        for obj in (self.truth, self.table):
+            if obj is not None:
+                manager.register_consumer(obj)
+        self.log = MissionLog(walls, RADIUS)
+        self.latest_truth: tuple[float, float, float] | None = None
+        self.modules: dict[str, str] = {}
+        self._sampled = -math.inf
+        self.start = time.monotonic()
+
+    def take(self) -> None:
+        """Take in the truth and the MCP's table; a sample every :data:`SAMPLE_S`."""
+        self.motion.update()
+        if self.truth is not None:
+            while self.truth.get_next_data():
+                loc = self.truth.data.location
+                self.latest_truth = (loc.x(), loc.y(), loc.theta())
+        while self.table.get_next_data():
+            d = self.table.data
+            self.modules = {n: RunState(s).name for n, s in zip(d.module_names, d.module_state)}
+        pose = self.loc.get_pose(POSE)
+        now = time.monotonic()
+        if pose is not None and now - self._sampled >= SAMPLE_S:
+            self._sampled = now
+            self.log.add(Sample(now - self.start, (pose.pose[0], pose.pose[1], pose.pose[3]),
+                                pose.covariance, self.latest_truth))
+
+    def view(self, goal: Goal | None) -> Group:
+        """The live view: the goal's line and the modules' states."""
+        table = Table(title='Pluto mission', expand=False)
+        for column in ('goal', 'distance left', 'pose (x, y, theta)', 'error vs truth', 'time'):
+            table.add_column(column)
+        sample = self.log.samples[-1] if self.log.samples else None
+        if goal is not None and sample is not None:
+            x, y, theta = sample.pose
+            error = f'{math.dist(sample.pose[:2], sample.truth[:2]):.2f} m' if sample.truth else '-'
+            table.add_row(goal.name, f'{math.dist((x, y), (goal.x, goal.y)):.2f} m',
+                          f'{x:.2f}, {y:.2f}, {theta:.2f}', error, f'{sample.t:.0f} s')
+        running = sum(state == 'RUN' for state in self.modules.values())
+        others = ', '.join(f'{n} {s}' for n, s in sorted(self.modules.items()) if s != 'RUN')
+        modules = f'modules: {running} of {len(self.modules)} in RUN' + (f' ({others})' if others else '')
+        return Group(table, modules)
+
+    def until_running(self) -> bool:
+        """Wait for the chain (motion and avoid statuses) and a pose; start its threads."""
+        deadline = time.monotonic() + START_TIMEOUT_S
+        sent = -math.inf
+        while not (self.motion.motion_status is not None and self.motion.goto_status not in (None, -10)
+                   and self.log.samples):
+            if time.monotonic() > deadline or self.manager.run_update(0.05) != RunState.RUN:
+                return False
+            if time.monotonic() - sent > 1.0:
+                self.motion.start_activity()
+                sent = time.monotonic()
+            self.take()
+        return True
+
+
+def _summary_table(mission: Mission) -> Table:
+    s = mission.log.summary()
+    table = Table(title='Mission summary')
+    table.add_column('figure')
+    table.add_column('value', justify='right')
+    rows = [('goals reached', f'{s.reached} of {s.goals}'), ('time', f'{s.seconds:.1f} s'),
+            ('distance (truth)', f'{s.distance:.1f} m'), ('pose RMSE vs truth', f'{s.pose_rmse:.3f} m'),
+            ('largest pose error', f'{s.pose_max:.3f} m'),
+            ('wall contacts', str(s.contacts) if s.contacts >= 0 else 'no truth'),
+            ('least clearance', f'{s.clearance - RADIUS:.2f} m beyond the radius')]
+    for name, value in rows:
+        table.add_row(name, value)
+    for goal in mission.log.goals:
+        took = f'{goal.ended - goal.started:.1f} s' if goal.ended is not None else '-'
+        table.add_row(f'  {goal.name}', f'{goal.result} ({took})')
+    return table
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv if argv is None else argv)
+    manager = CommsManager('mission')
+    manager.set_help_string(HELP)
+    opts = manager.parse_options(argv, 'm:P:O:t:T:').user
+    console = Console()
+    try:
+        world = load_map_data(config_file(manager, opts.get('m'), 'map.xml'))
+    except ConfigError as exc:
+        print(f'mission: {exc}', file=sys.stderr, flush=True)
+        return 2
+    names = [n.strip() for n in opts.get('P', ','.join(DEFAULT_PLACES)).split(',') if n.strip()]
+    for name in names:
+        if name not in world.places:
+            console.print(f'mission: warning: no place "{name}" on map {world.name}; skipped '
+                          f'(places: {", ".join(world.places)})')
+    places = [name for name in names if name in world.places]
+    output = pathlib.Path(opts.get('O') or manager.config.get_data_directory() or '.')
+    timeout = float(opts.get('t', 240.0))
+    mission = Mission(manager, list(world.walls), opts.get('T', 'PlutoBaseTruth'))
+    try:
+        if not mission.until_running():
+            console.print('mission: the movement chain did not come up')
+            return 1
+        console.print(f'mission: the chain runs; visiting {", ".join(places)}')
+        with Live(mission.view(None), console=console, refresh_per_second=4) as live:
+            for name in places:
+                place = world.places[name]
+                goal = Goal(name, place.x, place.y, time.monotonic() - mission.start)
+                mission.log.goals.append(goal)
+                task = mission.motion.go_to(place.x, place.y, timeout=timeout)
+                while not task.is_task_complete():
+                    mission.take()
+                    live.update(mission.view(goal))
+                mission.take()
+                goal.ended = time.monotonic() - mission.start
+                goal.result = 'reached' if task.result() is TaskResult.SUCCEEDED else (task.reason or 'failed')
+                live.console.print(f'mission: {name} ({place.x:g}, {place.y:g}): {goal.result} '
+                                   f'after {goal.ended - goal.started:.1f} s')
+        console.print()
+        console.print(_summary_table(mission))
+        output.mkdir(parents=True, exist_ok=True)
+        plot_mission(mission.log, output / 'mission.png', f'Pluto mission on {world.name}')
+        console.print(f'mission: plot in {output / "mission.png"}')
+        summary = mission.log.summary()
+        return 0 if summary.reached == summary.goals == len(names) and summary.contacts <= 0 else 1
+    finally:
+        manager.clean_up()
+
+
+if __name__ == '__main__':
+    sys.exit(main())
