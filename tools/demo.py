@@ -8,7 +8,8 @@
 2. The ``mission`` client (``pluto_motion``) sends the robot through named places of the map by
    moveto, shows live progress (goal, distance left, pose error against the simulator's truth,
    the modules' states), ends with a summary table and saves ``demo-output/mission.png``.
-3. The MCP is stopped with SIGINT, which quits every module.
+   Meanwhile ``record`` (``wurde_mcp``) writes every topic to ``demo-output/mission.mcap``.
+3. The recorder and the MCP are stopped with SIGINT, which quits every module.
 
 DDS stays on loopback (env.sh sets ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST). Options (for tests):
 ``--config-dir DIR`` another config directory, ``--output DIR`` where the plot goes,
@@ -52,6 +53,8 @@ def main() -> int:
                WURDE_LOG_DIRECTORY=str(output))
     print(f'demo: ROS_DOMAIN_ID={os.environ.get("ROS_DOMAIN_ID")}, discovery on loopback only; '
           f'the MCP brings up the simulated Pluto from {config_dir}', flush=True)
+    record = subprocess.Popen([sys.executable, find_executable('wurde_mcp', 'record'),
+                               '-o', str(output / 'mission.mcap')], env=env, stdout=subprocess.DEVNULL)
     mcp = subprocess.Popen([sys.executable, find_executable('wurde_mcp', 'mcp'),
                             '-c', str(config_dir / 'mcp-config.xml'),
                             '-m', str(config_dir / 'mcp-mappings.xml'), '-a'], env=env)
@@ -65,16 +68,23 @@ def main() -> int:
         print(f'demo: the mission took longer than {MISSION_TIMEOUT_S:.0f} s', flush=True)
         mission_code = 1
     finally:
-        if mcp.poll() is None:
-            mcp.send_signal(signal.SIGINT)
-        try:
-            mcp_code = mcp.wait(timeout=60)
-        except subprocess.TimeoutExpired:
-            mcp.kill()
-            mcp_code = mcp.wait()
-    print(f'demo: mission exit {mission_code}, MCP exit {mcp_code}; plot in {output / "mission.png"}; '
-          f'module logs in {output / "mcp-modules"}', flush=True)
-    return 0 if mission_code == 0 and mcp_code == 0 else 1
+        record_code = _stop(record)
+        mcp_code = _stop(mcp)
+    print(f'demo: mission exit {mission_code}, MCP exit {mcp_code}, record exit {record_code}; plot in '
+          f'{output / "mission.png"}; every topic in {output / "mission.mcap"}; module logs in '
+          f'{output / "mcp-modules"}', flush=True)
+    return 0 if mission_code == 0 and mcp_code == 0 and record_code == 0 else 1
+
+
+def _stop(process: subprocess.Popen) -> int:
+    """SIGINT, then SIGKILL after a minute; the exit code."""
+    if process.poll() is None:
+        process.send_signal(signal.SIGINT)
+    try:
+        return process.wait(timeout=60)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        return process.wait()
 
 
 if __name__ == '__main__':

@@ -23,6 +23,8 @@ setup(
         'turn_off = wurde_mcp.turn_off:turn_off',
         'mcp_controller = wurde_mcp.control:mcp_controller',
         'xml_server = wurde_mcp.xml_server.module:main',
+        'record = wurde_mcp.recording.record:main',
+        'replay = wurde_mcp.recording.replay:main',
         'param_daemon = wurde_mcp.carmen.daemon:main',
         'param_tool = wurde_mcp.carmen.tool:main',
     ]},

@@ -8,6 +8,10 @@ import shutil
 import subprocess
 import sys
 
+from mcap.reader import make_reader
+from mcap_ros2.decoder import DecoderFactory
+from wurde_core import topic
+
 ROOT = pathlib.Path(__file__).resolve().parents[3]
 DEMO = ROOT / 'tools' / 'demo.py'
 PLUTO = ROOT / 'config' / 'pluto'
@@ -29,7 +33,14 @@ def test_demo_visits_places_by_name_and_saves_a_plot(ros_domain: int, tmp_path: 
     assert 'Mission summary' in out and '2 of 2' in out
     contacts = next(line for line in out.splitlines() if 'wall contacts' in line)
     assert contacts.split()[-2] == '0', contacts
-    assert 'MCP exit 0' in out
+    assert 'MCP exit 0' in out and 'record exit 0' in out
+    # The recording: every WURDE stream and the standard topics, decodable by an MCAP reader.
+    with open(output / 'mission.mcap', 'rb') as stream:
+        reader = make_reader(stream, decoder_factories=[DecoderFactory()])
+        topics = {c.topic for c in reader.get_summary().channels.values()}
+        assert {topic('Localization/Pose', 'data'), topic('motion/status', 'data'), '/tf', '/tf_static'} <= topics
+        poses = [m for _, c, _, m in reader.iter_decoded_messages(topics=[topic('Localization/Pose', 'data')])]
+    assert len(poses) > 100 and abs(poses[-1].pose.x - 3.0) < 0.5 and abs(poses[-1].pose.y - 7.5) < 0.5
     plot = output / 'mission.png'
     assert plot.read_bytes()[:8] == b'\x89PNG\r\n\x1a\n' and plot.stat().st_size > 10_000
     for module in ('PlutoBase', 'localModule', 'motionModule'):
