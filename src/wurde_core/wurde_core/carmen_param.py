@@ -30,12 +30,10 @@ clients, so neither can block or starve the other; the price is one more DDS par
 from __future__ import annotations
 
 import atexit
-import enum
-import math
 import re
 import sys
 import time
-from collections.abc import Callable, MutableMapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -48,7 +46,10 @@ from rclpy.parameter_client import AsyncParameterClient
 from rclpy.qos import qos_profile_parameter_events
 from rclpy.signals import SignalHandlerOptions
 
-from .errors import InvalidValueError, WurdeError
+from .carmen_values import (DaemonError, Handler, Param, ParamError, ParamExit, ParamType,
+                            ParamTypeError, Target, as_served, assign, convert, param_table, text_of,
+                            typed_value)
+from .errors import InvalidValueError
 
 __all__ = ['CALL_WAIT_S', 'DAEMON', 'REREAD', 'SERVICE_WAIT_S', 'CarmenParams', 'DaemonError',
            'Param', 'ParamError', 'ParamExit', 'ParamType', 'ParamTypeError', 'convert',
@@ -65,132 +66,6 @@ CALL_WAIT_S = 10.0
 #: Longest wait for the daemon's parameter events to reach a new subscription.
 MATCH_WAIT_S = 10.0
 _EVENTS = '/parameter_events'
-
-_INT = re.compile(r'[+-]?\d+')
-_FLOAT = re.compile(r'[+-]?(\d+\.\d*|\.\d+|\d+)([eE][+-]?\d+)?')
-_ONOFF = {'on': True, 'off': False}
-
-
-class ParamType(enum.Enum):
-    """CARMEN_PARAM_INT, _DOUBLE, _ONOFF, _STRING."""
-
-    INT = 'int'
-    DOUBLE = 'double'
-    ONOFF = 'onoff'
-    STRING = 'string'
-
-
-class ParamError(WurdeError):
-    """Root of this module's errors."""
-
-
-class ParamTypeError(ParamError, ValueError):
-    """A parameter's value cannot be had as the type asked for."""
-
-
-class DaemonError(ParamError):
-    """The daemon did not answer in time, or refused a set (its reason is in the message)."""
-
-
-class ParamExit(SystemExit):
-    """:meth:`CarmenParams.install_params` ends the program: ``-h`` (status 0), or a parameter
-    missing or unusable (status 1); ``str()`` is the message, already printed."""
-
-    def __init__(self, status: int, message: str) -> None:
-        super().__init__(status)
-        self.message = message
-
-    def __str__(self) -> str:
-        return self.message
-
-
-#: Where a value goes: ``(obj, 'attr')`` or ``(mapping, key)``.
-Target = tuple[Any, str]
-#: ``handler(module, variable, value)``, after the target was set.
-Handler = Callable[[str, str, Any], None]
-
-
-@dataclass(frozen=True)
-class Param:
-    """One entry of the parameter factory's list (carmen_param_t, 6.2)."""
-
-    module: str
-    variable: str
-    type: ParamType | str   # a ParamType or its value ('int', 'double', 'onoff', 'string')
-    target: Target | None = None
-    subscribe: bool = False
-    handler: Handler | None = None
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, 'type', ParamType(self.type))
-        target = self.target
-        if target is not None and not (isinstance(target, tuple) and len(target) == 2):
-            raise InvalidValueError(f'{self.name}: target must be (obj, "attr") or (mapping, key)')
-
-    @property
-    def name(self) -> str:
-        return f'{self.module}_{self.variable}'
-
-
-def typed_value(text: str) -> bool | int | float | str:
-    """A carmen.ini value as the daemon serves it: an int, a float, on/off (any case) as a bool,
-    else the text."""
-    text = text.strip()
-    if _INT.fullmatch(text) and abs(int(text)) < 2**63:
-        return int(text)
-    if _FLOAT.fullmatch(text) and math.isfinite(float(text)):
-        return float(text)
-    return _ONOFF.get(text.lower(), text)
-
-
-def text_of(value: Any) -> str:
-    """A value as CARMEN's text: on/off for a bool."""
-    if isinstance(value, bool):
-        return 'on' if value else 'off'
-    return str(value)
-
-
-def convert(value: Any, kind: ParamType, name: str) -> Any:
-    """``value`` (a served value, or text) as ``kind`` — the conversion on demand of section 6:
-    an int is a fine double, anything is a string (its text).
-
-    :raises ParamTypeError: naming the parameter, its value and the type asked for.
-    """
-    kind = ParamType(kind)
-    if kind is ParamType.STRING:
-        return text_of(value)
-    if isinstance(value, str):
-        value = typed_value(value)
-    if kind is ParamType.ONOFF and isinstance(value, bool):
-        return value
-    if not isinstance(value, bool):
-        if kind is ParamType.INT and isinstance(value, int):
-            return value
-        if kind is ParamType.DOUBLE and isinstance(value, (int, float)):
-            return float(value)
-    article = 'an' if kind is ParamType.INT else 'a'
-    raise ParamTypeError(f'{name} is {text_of(value)!r}, not {article} {kind.value}')
-
-
-def param_table(program: str, params: Sequence[Param]) -> str:
-    """The ``-h`` listing of 6.2: each parameter, its type and whether it is subscribed."""
-    width = max([len(p.name) for p in params] + [4])
-    lines = [f'{program}: parameters (from the parameter server; -VARIABLE VALUE overrides one)',
-             f'  {"name":<{width}}  type    subscribed']
-    lines += [f'  {p.name:<{width}}  {p.type.value:<6}  {"yes" if p.subscribe else "no"}'
-              for p in params]
-    return '\n'.join(lines)
-
-
-def _assign(target: Target | None, value: Any) -> None:
-    if target is None:
-        return
-    obj, key = target
-    if isinstance(obj, MutableMapping):
-        obj[key] = value
-    else:
-        setattr(obj, key, value)
-
 
 @dataclass(frozen=True)
 class _Subscription:
@@ -418,7 +293,7 @@ class CarmenParams:
                     print(f'WARNING: subscription ignores a change: {error}', file=sys.stderr,
                           flush=True)
                     continue
-                _assign(sub.target, value)
+                assign(sub.target, value)
                 if sub.handler is not None:
                     sub.handler(module, variable, value)
 
@@ -471,7 +346,7 @@ class CarmenParams:
                                f'for {p.name}, which this program needs')
             except ParamTypeError as error:
                 self._exit(f'{program}: {error}')
-            _assign(p.target, value)
+            assign(p.target, value)
         for p in params:
             if p.subscribe:
                 self._subscribe(p.module, p.variable, p.type, p.target, p.handler)
@@ -516,7 +391,7 @@ class CarmenParams:
         served = self._fetch(candidates)
         ros = next((n for n in candidates if n in served), candidates[0])
         if isinstance(value, str):
-            value = _as_served(value, served.get(ros))
+            value = as_served(value, served.get(ros))
         try:
             self._set(ros, value, name)
         except DaemonError as error:
@@ -539,18 +414,3 @@ class CarmenParams:
         if not result.successful:
             raise DaemonError(f'{label}: {result.reason}')
 
-
-def _as_served(text: str, served: Any) -> Any:
-    """``text`` as the served value's type, where it reads as one; else as the daemon types
-    carmen.ini text (the daemon then refuses a mismatch with its reason)."""
-    if isinstance(served, str):
-        return text
-    kind = {bool: ParamType.ONOFF, int: ParamType.INT, float: ParamType.DOUBLE}.get(type(served))
-    if kind is ParamType.ONOFF and text.lower() in ('true', 'false'):
-        return text.lower() == 'true'
-    if kind is not None:
-        try:
-            return convert(text, kind, '')
-        except ParamTypeError:
-            pass
-    return typed_value(text)

@@ -11,7 +11,7 @@ import threading
 from collections.abc import Iterator
 
 import pytest
-from xml_server_fixture import (DEADLINE, POSE_LINE, RANGES_LINE, Raw, Start, make_pool, running,
+from xml_server_fixture import (DEADLINE, POSE_LINE, RANGES_LINE, Raw, Start, make_pool,
                                 wait_until)
 
 from wurde_mcp.xml_server import Variable

@@ -11,7 +11,7 @@ from collections.abc import Iterator
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from xml_server_fixture import (DEADLINE, POSE_LINE, RANGES_LINE, Raw, Start, make_pool, running,
+from xml_server_fixture import (DEADLINE, POSE_LINE, RANGES_LINE, Raw, Start, make_pool,
                                 wait_until)
 
 from wurde_mcp.xml_server import (Command, CommandError, ServerSettings, Session, VarError,
