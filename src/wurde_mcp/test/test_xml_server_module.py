@@ -10,8 +10,8 @@ import re
 import time
 from collections.abc import Callable
 
-from wurde_core import CommsManager, LockMode, Pose3D
-from wurde_core.interfaces import ActuatorState, LocalizationPose
+from wurde_core import CommsManager, LockMode, Pose3D, ProcessLocale, ProcessType, RunState, StatusMode
+from wurde_core.interfaces import ActuatorState, LocalizationPose, SimpleControl
 from wurde_mcp.xml_server import VarError, XmlClient
 from wurde_testing import ChildProcess, find_executable
 
@@ -28,6 +28,8 @@ class Robot:
         self.pose = LocalizationPose('Localization/Dead-Reckoning')
         self.map_pose = LocalizationPose('Localization/Pose')
         self.drive = ActuatorState('drive/command')
+        self.table = SimpleControl('mcp_control')             # as the MCP publishes its module table
+        self.manager.register_supplier(self.table)
         self.manager.register_supplier(self.pose)
         self.manager.register_supplier(self.map_pose)
         self.manager.register_supplier(self.drive)
@@ -38,6 +40,19 @@ class Robot:
         obj = self.pose if stream == 'dr' else self.map_pose
         obj.data.pose = Pose3D(x, y, 0.0, theta, 0.0, 0.0)
         obj.publish_data()
+
+    def publish_table(self) -> None:
+        d = self.table.data
+        d.module_names = ['PlutoBase', 'localModule']
+        d.module_status = [StatusMode.ACTIVE, StatusMode.ACTIVE]
+        d.module_managed = [ProcessType.CRITICAL, ProcessType.MANAGED]
+        d.module_locale = [ProcessLocale.INTERNAL, ProcessLocale.INTERNAL]
+        d.module_state = [RunState.RUN, RunState.IDLE]
+        d.module_pid = [4242, 4343]
+        d.module_host = ['localhost', 'localhost']
+        d.module_heartbeat_age = [0.1, 0.2]
+        d.module_restarts = [0, 2]
+        self.table.publish_data()
 
     def pump(self) -> None:
         self.manager.step()
@@ -65,6 +80,14 @@ class Robot:
 
 def _get(client: XmlClient, name: str) -> dict[str, str]:
     return client.get(name)
+
+
+def _try_get(client: XmlClient, name: str) -> dict[str, str] | None:
+    """The reply of a get, None while the variable does not exist."""
+    try:
+        return client.get(name)
+    except VarError:
+        return None
 
 
 def _try_set(client: XmlClient, name: str, value: str) -> dict[str, str] | None:
@@ -118,6 +141,14 @@ def test_the_robot_streams_are_variables_and_commands_go_through_the_request_cha
 
                 robot.until(heard, 'a pushed pose', server, every=lambda: robot.publish(4.0, 1.0, 0.0))
                 assert all(p.get('name') == 'odoPose.pose' for p in pushed if p.get('') == 'var')
+
+                # The MCP's module table: mcp.<module>.state|status|pid|restarts.
+                state = robot.until(lambda: _try_get(client, 'mcp.localModule.state'), 'the module table', server,
+                                    every=robot.publish_table)
+                assert (state['typ'], state['value']) == ('s', 'IDLE')
+                assert client.get('mcp.plutobase.pid')['value'] == '4242'
+                assert client.get('mcp.localModule.restarts')['value'] == '2'
+                assert client.get('mcp.PlutoBase.status')['value'] == 'ACTIVE'
             assert server.stop() == 0
     finally:
         robot.close()
