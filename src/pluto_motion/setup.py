@@ -28,6 +28,7 @@ setup(
         'synchro_mover = pluto_motion.synchro_mover:main',
         'laser_avoider = pluto_motion.laser_avoider:main',
         'mission = pluto_motion.mission:main',
+        'navigator = pluto_motion.navigator:main',
         # The guide's program names, so that its configurations run as printed (1.1.5, 10.1.1).
         'synchroMover = pluto_motion.synchro_mover:main',
         'vectorMover = pluto_motion.synchro_mover:main',

@@ -76,11 +76,13 @@ class ChainProxy:
             self.echo = (int(d.cmd_flags), [float(v) for v in d.position], d.timestamp.get_seconds())
 
     def _goal_task(self, flags: int, x: float, y: float, send: Callable[[], object],
-                   outcome: Callable[[], tuple[TaskResult, str]], what: str, timeout: float | None) -> Task:
+                   outcome: Callable[[], tuple[TaskResult, str]], what: str, timeout: float | None,
+                   spin: bool = True) -> Task:
         """The handle of a goal command (goto, moveto) to (x, y): ``send`` it, again every
         :data:`RESEND_S` until the link echoes it (a request sent before discovery matched is
         lost); then only a status stamped after the echo counts, so that the last goal's end is
-        never taken for this one's, and ``outcome()`` judges it."""
+        never taken for this one's, and ``outcome()`` judges it.  ``spin``: each poll runs a turn
+        of the manager's loop (a client's loop); False for a module whose own loop runs it."""
         refused = self.refused
         state: dict[str, float | None] = {'sent': -math.inf, 'echoed': None}
 
@@ -89,7 +91,8 @@ class ChainProxy:
             state['sent'] = time.monotonic()
 
         def poll() -> tuple[TaskResult, str]:
-            self.spin_once(0.05)
+            if spin:
+                self.spin_once(0.05)
             self._exchange()
             self._take_echoes()
             if self.refused > refused:

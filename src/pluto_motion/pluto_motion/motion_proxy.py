@@ -80,12 +80,13 @@ class MotionProxy(ChainProxy):
         """data[2] (ours): commands the motionModule refused so far."""
         return int(self.data[2]) if len(self.data) > 2 else 0
 
-    def go_to(self, x: float, y: float, *, timeout: float | None = None) -> Task:
-        """Start a moveto and return its handle."""
+    def go_to(self, x: float, y: float, *, timeout: float | None = None, spin: bool = True) -> Task:
+        """Start a moveto and return its handle (``spin`` False: polling it does not run the
+        manager's loop, for a module whose own loop does)."""
         def outcome() -> tuple[TaskResult, str]:
             if self.motion_status == THREAD_STOPPED:
                 return TaskResult.FAILED, 'motion thread stopped'
             return {AT_GOAL: (TaskResult.SUCCEEDED, ''),
                     UNREACHABLE: (TaskResult.FAILED, 'unreachable')}.get(self.moveto_status, (TaskResult.UNKNOWN, ''))
 
-        return self._goal_task(42, x, y, lambda: self.moveto(x, y), outcome, 'moveto', timeout)
+        return self._goal_task(42, x, y, lambda: self.moveto(x, y), outcome, 'moveto', timeout, spin)

@@ -19,6 +19,7 @@ from .robot_object import RobotObject
 
 _classes: dict[str, type[RobotObject]] = {}
 _WRAPPERS = {'ObstacleAvoider': 'wurde_core.wrappers', 'VectorMover': 'wurde_core.wrappers',
+             'Navigator': 'wurde_core.wrappers',
              'Logger': 'wurde_core.logger'}
 
 

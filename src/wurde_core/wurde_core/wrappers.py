@@ -1,7 +1,8 @@
 """The guide's special wrappers: verbs over a transport interface (guide 1.1.5, 7.3, 7.7).
 
 ``ObstacleAvoider`` wraps ObstacleAvoiderTransport and ``VectorMover`` wraps VectorMoverTransport:
-a consumer calls a verb, which sets the request members and sends the request.  ``info.brake``
+a consumer calls a verb, which sets the request members and sends the request.  ``Navigator``
+wraps NavigatorTransport with CARMEN's navigator verbs (Programming with CARMEN 4.2.1, 4.3).  ``info.brake``
 tells whether the supplier holds the robot; ``requests.brake.set_value(False)`` releases it, as in
 the guide's BlindTeleop example.
 """
@@ -60,4 +61,35 @@ class VectorMover(RobotObject, interface='VectorMoverTransport'):
         """Stop: a zero vector with the brake on."""
         self.requests.vector.set_value(PVector(0.0, 0.0))
         self.requests.brake.set_value(True)
+        return self.publish_request()
+
+
+#: NavigatorTransport ``stop_reason`` values: CARMEN's autonomous-stopped reasons, and 3 for a goal
+#: that could not be reached (its reason is in the navigator's log).
+STOP_NONE, GOAL_REACHED, USER_STOPPED, STOP_FAILED = 0, 1, 2, 3
+
+
+class Navigator(RobotObject, interface='NavigatorTransport'):
+    """A map-based navigator: ``set_goal(x, y)``, ``set_goal_place(name)``, ``go()``, ``stop()``; its
+    data is the status (robot pose, goal, ``autonomous``, ``stop_reason``)."""
+
+    def set_goal(self, x: float, y: float) -> bool:
+        """The one goal (m, map frame) (carmen_navigator_set_goal)."""
+        self.requests.goal.set_value(Point(float(x), float(y)))
+        return self.publish_request()
+
+    def set_goal_place(self, name: str) -> bool:
+        """The goal at the map's place ``name``; no effect if the map has none
+        (carmen_navigator_set_goal_place)."""
+        self.requests.goal_place.set_value(str(name))
+        return self.publish_request()
+
+    def go(self) -> bool:
+        """Autonomous motion to the goal (carmen_navigator_go)."""
+        self.requests.autonomous.set_value(True)
+        return self.publish_request()
+
+    def stop(self) -> bool:
+        """Leave autonomous motion (carmen_navigator_stop)."""
+        self.requests.autonomous.set_value(False)
         return self.publish_request()

@@ -1,0 +1,192 @@
+"""``navigator``: CARMEN's navigator (Programming with CARMEN 4.2.1, 4.3) on the Pluto chain.
+
+    navigator [-m MAP] [-s STREAM] [-t SECONDS]
+
+Supplies NavigatorTransport on ``STREAM`` (default ``Navigator``); consumers use
+:class:`wurde_core.wrappers.Navigator` (``set_goal``, ``set_goal_place``, ``go``, ``stop``).  One goal
+at a time, in the map frame: a new goal replaces the last (and, while autonomous, is driven to at
+once).  ``set_goal_place(name)`` takes the place of the map (``-m``, default ``map.xml`` of the
+config directory); a name the map does not have has no effect but a warning (4.2.1).  ``go`` drives
+to the goal by the motionModule's moveto (cmdFlags 42 on ``motion/command``); ``stop`` stops the
+robot.  The status (data) says the robot's Localization/Pose, the goal, whether one is set, whether
+the navigator is autonomous and why it last stopped — 4.3's autonomous-stopped reasons: 1 goal
+reached, 2 user stopped (every ``stop``, autonomous or not), and 3 (ours) a goal that could not be
+reached (unreachable, the motion thread stopped, more than ``-t`` seconds; the reason goes to the
+log).  ``go`` while already at the goal is autonomous for one status and then stops with goal
+reached, as 4.3 says.  The status goes out on every change and at least every
+:data:`STATUS_PERIOD_S`; ``plan`` is empty (the motionModule's plan is not on its interface).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+
+from wurde_core import CommsManager, Logger, Point, Pose
+from wurde_core.interfaces import robot_object_class
+from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, set_loop
+from wurde_core.wrappers import GOAL_REACHED, STOP_FAILED, STOP_NONE, USER_STOPPED
+from wurde_idl.errors import ConfigError
+from wurde_idl.mapfile import load_map_data
+
+from pluto_nav.loc_proxy import LocProxy
+from pluto_nav.streams import POSE
+
+from .motion_proxy import MotionProxy
+from .task import Task, TaskResult
+
+__all__ = ['AT_GOAL_M', 'NavigatorModule', 'main']
+
+LOOP_S = 0.05
+STATUS_PERIOD_S = 0.5
+#: A robot this near its goal (m) is at it: ``go`` then ends at once with goal reached (the
+#: motionModule's own reach is 0.25 m).
+AT_GOAL_M = 0.3
+HELP = ('  -m MAP       the map whose places set_goal_place names (default map.xml of the config directory)\n'
+        '  -s STREAM    the NavigatorTransport stream supplied (default Navigator)\n'
+        '  -t SECONDS   longest drive to one goal (default 300)')
+
+
+class NavigatorModule:
+    """The navigator's state and its loop step."""
+
+    def __init__(self, manager: CommsManager, logger: Logger, places: dict, stream: str, timeout: float) -> None:
+        self.manager = manager
+        self.logger = logger
+        self.places = places
+        self.timeout = timeout
+        self.nav = robot_object_class('NavigatorTransport')(stream)
+        self.nav.set_queue_mode(True)       # set_goal_place then go: two requests, neither lost
+        manager.register_supplier(self.nav)
+        self.motion = MotionProxy(manager)
+        self.loc = LocProxy(manager, 1 << POSE)
+        self.goal: tuple[float, float] | None = None
+        self.autonomous = False
+        self.stop_reason = STOP_NONE
+        self.task: Task | None = None
+        self._sent: tuple | None = None
+        self._sent_at = -math.inf
+
+    @property
+    def robot(self) -> tuple[float, float, float] | None:
+        pose = self.loc.get_pose(POSE)
+        return None if pose is None else (pose.pose[0], pose.pose[1], pose.pose[3])
+
+    def _say(self, text: str) -> None:
+        self.logger.notice(f'{self.manager.name}: {text}')
+
+    def _requests(self) -> None:
+        while self.nav.get_next_request():
+            r = self.nav.requests
+            written = set(r.ros_message().set_fields)
+            place = str(r.goal_place.get_value()) if 'goal_place' in written else ''
+            if place:
+                if place in self.places:
+                    p = self.places[place]
+                    self._set_goal(p.x, p.y, f'place {place}')
+                else:
+                    self.logger.warn(f'{self.manager.name}: no place {place!r} on the map; the goal '
+                                     f'is unchanged (places: {", ".join(self.places)})')
+            elif 'goal' in written:
+                g = r.goal.get_value()
+                self._set_goal(g.x(), g.y(), f'({g.x():.2f}, {g.y():.2f})')
+            if 'autonomous' in written:
+                self._go() if bool(r.autonomous.get_value()) else self._stop()
+
+    def _set_goal(self, x: float, y: float, what: str) -> None:
+        if not (math.isfinite(x) and math.isfinite(y)):
+            self.logger.warn(f'{self.manager.name}: goal {what} refused: not finite')
+            return
+        self.goal = (x, y)
+        self._say(f'goal {what}')
+        if self.autonomous:
+            self._drive()
+
+    def _go(self) -> None:
+        if self.goal is None:
+            self.logger.warn(f'{self.manager.name}: go without a goal: nothing to do')
+            return
+        robot = self.robot
+        if robot is not None and math.dist(robot[:2], self.goal) < AT_GOAL_M:
+            self.autonomous, self.stop_reason = True, STOP_NONE     # momentarily autonomous (4.3)
+            self._publish(force=True)
+            self._end(GOAL_REACHED, 'already at the goal')
+            return
+        self.autonomous, self.stop_reason = True, STOP_NONE
+        self._drive()
+
+    def _drive(self) -> None:
+        assert self.goal is not None
+        self.motion.start_activity()            # the chain's threads (nothing happens to running ones)
+        self.task = self.motion.go_to(*self.goal, timeout=self.timeout, spin=False)
+
+    def _stop(self) -> None:
+        if self.task is not None:
+            self.task.cancel()
+            self.task = None
+        self._end(USER_STOPPED, 'stopped by the user')
+
+    def _end(self, reason: int, why: str) -> None:
+        self.autonomous, self.stop_reason, self.task = False, reason, None
+        self._say(f'autonomous stopped: {why}')
+        self._publish(force=True)
+
+    def _publish(self, force: bool = False) -> None:
+        robot = self.robot
+        goal = self.goal or (0.0, 0.0)
+        state = (robot, self.goal, self.autonomous, self.stop_reason)
+        now = time.monotonic()
+        if not force and state == self._sent and now - self._sent_at < STATUS_PERIOD_S:
+            return
+        d = self.nav.data
+        d.robot = Pose(*(robot or (0.0, 0.0, 0.0)))
+        d.goal = Point(*goal)
+        d.goal_set = self.goal is not None
+        d.autonomous = self.autonomous
+        d.stop_reason = self.stop_reason
+        d.plan = []
+        if self.nav.publish_data():
+            self._sent, self._sent_at = state, now
+
+    def step(self) -> None:
+        self.motion.update()
+        self._requests()
+        if self.task is not None and self.task.is_task_complete():
+            result = self.task.result()
+            if result is TaskResult.SUCCEEDED:
+                self._end(GOAL_REACHED, 'goal reached')
+            elif result is TaskResult.FAILED:
+                self.logger.warn(f'{self.manager.name}: goal {self.goal} not reached: {self.task.reason}')
+                self._end(STOP_FAILED, self.task.reason)
+        self._publish()
+
+    def close(self) -> None:
+        """Leave the robot stopped when the navigator goes while driving."""
+        if self.autonomous:
+            self.motion.stop()
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv if argv is None else argv)
+    manager = CommsManager('navigator')
+    manager.set_help_string(HELP)
+    opts = manager.parse_options(argv, 'm:s:t:').user
+    try:
+        world = load_map_data(config_file(manager, opts.get('m'), 'map.xml'))
+        timeout = float(opts.get('t', 300.0))
+    except ConfigError as error:
+        return exit_on_config_error(argv[0], error)
+    except ValueError as error:
+        print(f'navigator: -t: {error}', file=sys.stderr, flush=True)
+        return 2
+    logger = Logger(manager.name)
+    manager.register_supplier(logger)
+    module = NavigatorModule(manager, logger, dict(world.places), opts.get('s', 'Navigator'), timeout)
+    set_loop(manager, LOOP_S)
+    logger.notice(f'{manager.name}: supplying {module.nav.stream}; {len(world.places)} places on {world.name}')
+    return run_loop(manager, module.step, module.close)
+
+
+if __name__ == '__main__':
+    sys.exit(main())
