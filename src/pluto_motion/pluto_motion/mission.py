@@ -4,8 +4,8 @@
 
 The client of ``make demo`` (the main job): for each place of ``-P`` (names from the map's place
 list; an unknown name is skipped with a warning, as CARMEN's navigator ignores an unknown place),
-a moveto (cmdFlags 42) through ``motion/command`` (:class:`~pluto_motion.motion_proxy.MotionProxy`),
-waiting for its end.  The terminal shows live progress (rich): the goal, the distance left, the
+CARMEN's ``set_goal_place(name)`` and ``go`` to the navigator (:mod:`pluto_motion.navigator`,
+which drives by the motionModule's moveto), waiting until it stops autonomous motion and says why.  The terminal shows live progress (rich): the goal, the distance left, the
 Localization/Pose and its error against the simulator's truth (``-T``, default ``PlutoBaseTruth``;
 ``-T ''`` none), and the modules' run states from the MCP's table.  At the end a summary table
 (goals reached, time, distance, pose RMSE, wall contacts) and ``DIR/mission.png``
@@ -18,13 +18,15 @@ import math
 import pathlib
 import sys
 import time
+from collections.abc import Callable
 
 from rich.console import Console, Group
 from rich.live import Live
 from rich.table import Table
 from wurde_core import CommsManager, RunState
-from wurde_core.interfaces import Egomotion, SimpleControl
+from wurde_core.interfaces import Egomotion, Navigator, SimpleControl
 from wurde_core.module_loop import config_file
+from wurde_core.wrappers import GOAL_REACHED, STOP_FAILED, STOP_NONE, USER_STOPPED
 from wurde_idl.errors import ConfigError
 from wurde_idl.mapfile import load_map_data
 
@@ -34,15 +36,17 @@ from pluto_nav.streams import POSE
 from .mission_log import Goal, MissionLog, Sample
 from .mission_plot import plot_mission
 from .motion_proxy import MotionProxy
-from .task import TaskResult
 
-__all__ = ['DEFAULT_PLACES', 'main']
+__all__ = ['DEFAULT_PLACES', 'STOP_REASONS', 'main']
 
 #: The office tour of ``make demo``: two offices, the lab, the kitchen and back.
 DEFAULT_PLACES = ('office2', 'lab', 'kitchen', 'office1', 'start')
 #: The robot's radius (m): a truth nearer a wall is a contact.
 RADIUS = 0.35
 SAMPLE_S = 0.1
+#: How the navigator's stop reasons read in the mission's report.
+STOP_REASONS = {GOAL_REACHED: 'reached', USER_STOPPED: 'stopped by the user',
+                STOP_FAILED: 'not reached (the navigator\'s log says why)'}
 START_TIMEOUT_S = 120.0
 HELP = ('  -m MAP       the map file (default map.xml of the config directory)\n'
         f'  -P PLACES    comma-separated place names (default {",".join(DEFAULT_PLACES)})\n'
@@ -60,7 +64,11 @@ class Mission:
         self.loc = LocProxy(manager, 1 << POSE)
         self.truth = Egomotion(truth) if truth else None
         self.table = SimpleControl('mcp_control')
-        for obj in (self.truth, self.table):
+        self.nav = Navigator('Navigator')
+        self.nav.set_queue_mode(True)
+        #: Every navigator status: (autonomous, stop_reason, goal x, goal y).
+        self.statuses: list[tuple[bool, int, float, float]] = []
+        for obj in (self.truth, self.table, self.nav):
             if obj is not None:
                 manager.register_consumer(obj)
         self.log = MissionLog(walls, RADIUS)
@@ -76,6 +84,9 @@ class Mission:
             while self.truth.get_next_data():
                 loc = self.truth.data.location
                 self.latest_truth = (loc.x(), loc.y(), loc.theta())
+        while self.nav.get_next_data():
+            d = self.nav.data
+            self.statuses.append((bool(d.autonomous), int(d.stop_reason), d.goal.x(), d.goal.y()))
         while self.table.get_next_data():
             d = self.table.data
             self.modules = {n: RunState(s).name for n, s in zip(d.module_names, d.module_state)}
@@ -103,11 +114,12 @@ class Mission:
         return Group(table, modules)
 
     def until_running(self) -> bool:
-        """Wait for the chain (motion and avoid statuses) and a pose; start its threads."""
+        """Wait for the chain (motion and avoid statuses), the navigator and a pose; start the
+        chain's threads."""
         deadline = time.monotonic() + START_TIMEOUT_S
         sent = -math.inf
         while not (self.motion.motion_status is not None and self.motion.goto_status not in (None, -10)
-                   and self.log.samples):
+                   and self.log.samples and self.statuses and self.nav.peers('request') > 0):
             if time.monotonic() > deadline or self.manager.run_update(0.05) != RunState.RUN:
                 return False
             if time.monotonic() - sent > 1.0:
@@ -115,6 +127,31 @@ class Mission:
                 sent = time.monotonic()
             self.take()
         return True
+
+
+    def visit(self, goal: Goal, timeout: float, on_turn: Callable[[], object]) -> str:
+        """Send the navigator to ``goal`` by its place name and go; how it ended: ``reached``, or
+        why not."""
+        mark = len(self.statuses)
+        self.nav.set_goal_place(goal.name)
+        self.nav.go()
+        deadline = time.monotonic() + timeout
+        started = False
+        while True:
+            if self.manager.run_update() != RunState.RUN:
+                return 'the mission was told to quit'
+            self.manager.wait(0.05)
+            self.take()
+            on_turn()
+            for autonomous, reason, x, y in self.statuses[mark:]:
+                mark += 1
+                if autonomous and math.isclose(x, goal.x, abs_tol=1e-3) and math.isclose(y, goal.y, abs_tol=1e-3):
+                    started = True
+                elif started and not autonomous and reason != STOP_NONE:
+                    return STOP_REASONS.get(reason, f'stopped ({reason})')
+            if time.monotonic() > deadline:
+                self.nav.stop()
+                return f'not reached within {timeout:g} s'
 
 
 def _summary_table(mission: Mission) -> Table:
@@ -165,13 +202,8 @@ def main(argv: list[str] | None = None) -> int:
                 place = world.places[name]
                 goal = Goal(name, place.x, place.y, time.monotonic() - mission.start)
                 mission.log.goals.append(goal)
-                task = mission.motion.go_to(place.x, place.y, timeout=timeout)
-                while not task.is_task_complete():
-                    mission.take()
-                    live.update(mission.view(goal))
-                mission.take()
+                goal.result = mission.visit(goal, timeout, lambda: live.update(mission.view(goal)))
                 goal.ended = time.monotonic() - mission.start
-                goal.result = 'reached' if task.result() is TaskResult.SUCCEEDED else (task.reason or 'failed')
                 live.console.print(f'mission: {name} ({place.x:g}, {place.y:g}): {goal.result} '
                                    f'after {goal.ended - goal.started:.1f} s')
         console.print()
