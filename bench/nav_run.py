@@ -35,7 +35,7 @@ PLUTO = ROOT / 'config' / 'pluto'
 POSE_STREAM = 'Localization/Pose'
 DR_STREAM = 'Localization/Dead-Reckoning'
 RECOVERED_M = 0.10
-MOVEMENT_CHAIN = ('driveModule', 'avoidModule', 'motionModule', 'navigator')
+MOVEMENT_CHAIN = ('driveModule', 'avoidModule', 'motionModule', 'navigator', 'map_server')
 
 
 @dataclasses.dataclass

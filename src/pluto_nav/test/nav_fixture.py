@@ -21,7 +21,7 @@ PLUTO = ROOT / 'config' / 'pluto'
 MAPS = ROOT / 'config' / 'maps'
 
 #: config/pluto's movement chain: left out, since these tests drive the base themselves.
-MOVEMENT_CHAIN = ('driveModule', 'avoidModule', 'motionModule', 'navigator')
+MOVEMENT_CHAIN = ('driveModule', 'avoidModule', 'motionModule', 'navigator', 'map_server')
 
 #: Zero noise everywhere: the odometry and the DMU are exact, so dead reckoning must be too.
 EXACT = {'odometry-noise': {'trans': '0', 'rot': '0', 'drift': '0'}, 'laser': {'noise': '0'},

@@ -1,0 +1,100 @@
+"""CARMEN's map server (pluto_nav.map_server): the walls drawn on the grid with no gap, and the real
+module serving the shipped office map — grid, places and off-limits region as the stream's info to
+a consumer that comes later, the data again on request, and nav_msgs/OccupancyGrid on /map."""
+
+from __future__ import annotations
+
+import math
+import os
+import pathlib
+import time
+
+import numpy as np
+import pytest
+import rclpy
+from nav_msgs.msg import OccupancyGrid
+from rclpy.context import Context
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from wurde_core import CommsManager
+from wurde_core.interfaces import MapServer
+from wurde_idl.mapfile import MapData, load_map_data
+from wurde_testing import ChildProcess, find_executable
+
+from pluto_nav.map_server import rasterize
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
+OFFICE = ROOT / 'config' / 'maps' / 'office.xml'
+DEADLINE = 30.0
+
+
+def test_a_slanted_wall_is_drawn_without_gaps_and_free_space_stays_free() -> None:
+    world = MapData('box', walls=[(0.0, 0.0, 4.0, 3.0)], bounds=(0.0, 0.0, 4.0, 3.0))
+    grid = rasterize(world, 0.1)
+    assert (grid.width, grid.height) == (40, 30)
+    for t in np.linspace(0.0, 1.0, 400):                   # every point of the wall is in an occupied cell
+        x, y = 4.0 * t, 3.0 * t
+        assert grid.cells[min(int(y / 0.1), 29), min(int(x / 0.1), 39)] == 1.0
+    assert grid.cells[25, 5] == 0.0 and grid.cells[5, 35] == 0.0
+    with pytest.raises(ValueError):
+        rasterize(world, 0.0)
+
+
+def test_the_module_serves_the_office_map_to_late_consumers_and_on_request(ros_domain: int,
+                                                                          tmp_path: pathlib.Path) -> None:
+    env = dict(os.environ, WURDE_CONFIG_DIR=str(tmp_path), WURDE_LOG_DIRECTORY=str(tmp_path))
+    world = load_map_data(OFFICE)
+    with ChildProcess([find_executable('pluto_nav', 'map_server'), '-m', str(OFFICE), '-R', '0.1'], env=env) as server:
+        manager = CommsManager('MapClient')
+        manager.set_no_sleep()
+        maps = MapServer('MapServer')
+        manager.register_consumer(maps)
+        try:
+            def until(predicate, what: str) -> None:
+                deadline = time.monotonic() + DEADLINE
+                while not predicate():
+                    assert server.process.poll() is None, f'{what}: map_server exited: {server.stderr}'
+                    assert time.monotonic() < deadline, f'{what}: not within {DEADLINE} s'
+                    manager.step()
+                    manager.wait(0.05)
+
+            until(maps.get_next_info, 'the map as info (transient local)')
+            info = maps.info
+            assert info.map_name.get_value() == world.name
+            assert (info.width.get_value(), info.height.get_value()) == (200, 150)    # 20 m x 15 m at 0.1 m
+            cells = np.asarray(info.cells.get_value()).reshape(150, 200)
+            assert cells[0, 100] == 1.0 and cells[75, 30] == 0.0 and cells.mean() < 0.2     # outer wall; the start place
+            places = dict(zip(info.place_names.get_value(), info.places.get_value()))
+            assert set(places) == set(world.places)
+            assert math.isclose(places['office2'].x(), 7.5) and math.isclose(places['office2'].y(), 3.0)
+            assert list(info.offlimits_sizes.get_value()) == [4]
+            assert [(p.x(), p.y()) for p in info.offlimits_corners.get_value()] == list(world.offlimits[0])
+            # A request: the map again as data.
+            until(lambda: maps.peers('request') > 0, 'the request channel matched')
+            maps.requests.map_name.set_value('')
+            assert maps.publish_request()
+            until(maps.get_next_data, 'the map as data after a request')
+            assert maps.data.width == 200
+        finally:
+            manager.clean_up()
+
+        # /map for RViz and Foxglove: transient local, so this late subscriber gets it.
+        context = Context()
+        rclpy.init(context=context)
+        try:
+            node = rclpy.create_node('map_reader', context=context)
+            executor = SingleThreadedExecutor(context=context)
+            executor.add_node(node)
+            got: list[OccupancyGrid] = []
+            qos = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                             durability=DurabilityPolicy.TRANSIENT_LOCAL)
+            node.create_subscription(OccupancyGrid, '/map', got.append, qos)
+            deadline = time.monotonic() + DEADLINE
+            while not got:
+                assert time.monotonic() < deadline, '/map not received'
+                executor.spin_once(timeout_sec=0.1)
+            grid = got[0]
+            assert grid.header.frame_id == 'map' and (grid.info.width, grid.info.height) == (200, 150)
+            assert math.isclose(grid.info.resolution, 0.1, rel_tol=1e-6) and set(grid.data) == {0, 100}
+        finally:
+            rclpy.shutdown(context=context)
