@@ -27,6 +27,7 @@ EXPECTED_INTERFACES = sorted([
     'ObstacleAvoiderTransport', 'Power', 'PTUnit', 'RangeFinder', 'SimpleControl',
     'SoundController', 'SynchroDrive', 'VisionControl', 'WallBuilder', 'VectorMoverTransport',
     'RobotDrive', 'ActuatorState', 'FVectorState', 'LocalizationPose', 'DMUState', 'GPS',
+    'MapServer',                                    # CARMEN 5's map server (issue 13)
 ])
 
 
