@@ -77,13 +77,17 @@ def test_two_robots_share_a_domain_without_cross_talk(ros_domain: int, tmp_path:
             two.until(lambda o: len(o.events['PlutoBaseTruth']) >= seen + 10, 'more truth from robot2')
             assert all(m.location.x == start for _, m in two.events['PlutoBaseTruth'])  # never moved
 
+            # The graph as this process discovers it (each publisher is discovered on its own:
+            # data of one topic says nothing of another's discovery, so wait for them).
+            wanted = {'/robot1/wurde/PlutoBaseTruth/data', '/robot2/wurde/PlutoBaseTruth/data',
+                      '/robot1/PlutoBase/odom', '/robot2/PlutoBase/odom'}
+            one.until(lambda o: wanted <= {name for name, _ in o.manager.node.get_topic_names_and_types()},
+                      'both robots in the graph')
             topics = {name for name, _ in one.manager.node.get_topic_names_and_types()}
-            assert {'/robot1/wurde/PlutoBaseTruth/data', '/robot2/wurde/PlutoBaseTruth/data',
-                    '/robot1/PlutoBase/odom', '/robot2/PlutoBase/odom'} <= topics
             assert '/wurde/PlutoBaseTruth/data' not in topics and '/PlutoBase/odom' not in topics
-            nodes = set(one.manager.node.get_node_names_and_namespaces())
-            assert {('MCP', '/robot1'), ('PlutoBase', '/robot1'), ('MCP', '/robot2'),
-                    ('PlutoBase', '/robot2')} <= nodes
+            nodes_wanted = {('MCP', '/robot1'), ('PlutoBase', '/robot1'), ('MCP', '/robot2'), ('PlutoBase', '/robot2')}
+            one.until(lambda o: nodes_wanted <= set(o.manager.node.get_node_names_and_namespaces()),
+                      "both robots' nodes in the graph")
 
             # the tools reach the MCP of their namespace only
             listed = _tool('mcp_controller', 'status', '--ros-args', '-r', '__ns:=/robot2')

@@ -46,26 +46,39 @@ class Table:
         self.manager = CommsManager('Tester')
         self.manager.set_no_sleep()
         self.control = robot_object_class('SimpleControl')('mcp_control')
+        # Every table, not the newest: a short state (a module Idle while a critical one restarts)
+        # must not be missed by a test process that a loaded machine let fall behind.
+        self.control.set_queue_mode(True)
         self.manager.register_consumer(self.control)
         self.rows: dict[str, dict[str, Any]] = {}
 
-    def refresh(self) -> dict[str, dict[str, Any]]:
+    def take(self) -> list[dict[str, dict[str, Any]]]:
+        """Every table that arrived since the last call, oldest first."""
         self.manager.step()
+        tables = []
         while self.control.get_next_data():
             d = self.control.data
             self.rows = {n: dict(status=StatusMode(s), state=RunState(r), pid=p, restarts=k)
                          for n, s, r, p, k in zip(d.module_names, d.module_status,
                                                   d.module_state, d.module_pid,
                                                   d.module_restarts)}
+            tables.append(self.rows)
+        return tables
+
+    def refresh(self) -> dict[str, dict[str, Any]]:
+        """The newest table."""
+        self.take()
         return self.rows
 
     def until(self, predicate: Callable[[dict[str, dict[str, Any]]], bool], what: str,
               timeout: float = 60.0) -> dict[str, dict[str, Any]]:
+        """The first table (in the order they came) for which ``predicate`` holds."""
         deadline = time.monotonic() + timeout
         while True:
-            rows = self.refresh()
-            if rows and predicate(rows):
-                return rows
+            for rows in self.take():
+                if rows and predicate(rows):
+                    return rows
+            rows = self.rows
             if time.monotonic() > deadline:
                 raise AssertionError(f'{what} not reached within {timeout} s; table: {rows}')
             self.manager.wait(0.05)
