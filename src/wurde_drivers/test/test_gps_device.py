@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import threading
 import time
 from collections.abc import Callable, Iterator
 
@@ -203,6 +204,34 @@ def test_a_vanished_port_is_reopened() -> None:
     finally:
         gps.close()
         first.stop()
+
+
+def test_a_long_read_picks_up_a_device_that_comes_back_meanwhile(tmp_path) -> None:
+    """A read of 20 s on a port that is not there retries every retry_s and returns the device's
+    bytes once it appears (it used to sleep out the whole timeout)."""
+    alias = tmp_path / 'gps0'                       # a udev-style name, not there yet
+    link = SerialLink(str(alias), BAUDRATE, retry_s=0.05)
+    devices: list[GpsEmulator] = []
+
+    def plug_in() -> None:
+        deadline = time.monotonic() + 20.0
+        while link.stats.open_failures < 2 and time.monotonic() < deadline:   # the read is retrying
+            time.sleep(0.01)
+        device = GpsEmulator(walking_north, rate_hz=RATE, quality=2).start()
+        devices.append(device)
+        alias.symlink_to(device.path)
+
+    helper = threading.Thread(target=plug_in)
+    helper.start()
+    try:
+        data = link.read(20.0)
+        helper.join()
+        assert data and link.stats.open_failures >= 2 and link.stats.reconnects == 1
+    finally:
+        helper.join()
+        link.close()
+        for device in devices:
+            device.stop()
 
 
 def test_a_wrong_line_speed_gives_no_fixes_until_corrected() -> None:

@@ -237,14 +237,21 @@ class SerialLink:
     def read(self, timeout: float) -> bytes:
         """Whatever arrives within ``timeout`` seconds (at least one byte, or b'' at the deadline).
 
-        With the device gone this still waits out ``timeout``, so a poll loop does not spin.
+        With the device gone this still waits out ``timeout``, so a poll loop does not spin — but
+        it tries to reopen the device every ``retry_s`` meanwhile and reads from it once it is
+        back (a long read that slept out its whole timeout missed a device that came back at
+        once: a GPS test saw no fix in 20 s).
         """
         deadline = time.monotonic() + timeout
         wait = max(0.0, timeout)
         while True:
             if not self._ensure_open():
-                time.sleep(max(0.0, deadline - time.monotonic()))
-                return b''
+                now = time.monotonic()
+                if now >= deadline:
+                    return b''
+                time.sleep(max(0.0, min(deadline, self._next_try) - now))
+                wait = max(0.0, deadline - time.monotonic())
+                continue
             assert self._port is not None
             try:
                 if self._port.timeout != wait:      # each change is a termios round trip
