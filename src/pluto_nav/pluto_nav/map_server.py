@@ -27,6 +27,8 @@ from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, 
 from wurde_idl.errors import ConfigError
 from wurde_idl.mapfile import MapData, load_map_data
 
+from .streams import write_members
+
 __all__ = ['Grid', 'main', 'rasterize']
 
 LOOP_S = 0.1
@@ -88,12 +90,7 @@ def _fill(target: Any, world: MapData, grid: Grid) -> None:
         'offlimits_sizes': [len(polygon) for polygon in world.offlimits],
         'offlimits_corners': [Point(x, y) for polygon in world.offlimits for x, y in polygon],
     }
-    for name, value in values.items():
-        member = getattr(target, name)
-        if hasattr(member, 'set_value'):
-            member.set_value(value)
-        else:
-            setattr(target, name, value)
+    write_members(target, values)
 
 
 def occupancy_grid(grid: Grid) -> OccupancyGrid:

@@ -31,7 +31,7 @@ from wurde_core import Pose3D, Time
 
 __all__ = ['DEAD_RECKONING', 'LASER_DEAD_RECKONING', 'LASER_POSE', 'NOBODY', 'POSE', 'POSE_SETTER',
            'POST_POSE', 'SLAM_SAVING', 'SLAM_SETTER', 'STREAMS', 'USER_SETTER', 'LocPose', 'read_pose',
-           'write_pose']
+           'write_members', 'write_pose']
 
 STREAMS = ('Localization/Dead-Reckoning', 'Localization/Laser_Dead-Reckoning', 'Localization/Post_Pose',
            'Localization/Pose', 'Localization/Laser_Pose')
@@ -70,18 +70,24 @@ class LocPose:
         return all(math.isfinite(v) for v in values) and bool(np.all(np.isfinite(self.covariance)))
 
 
+def write_members(target: object, values: dict[str, object]) -> None:
+    """Set members of a data struct (plain attributes) or of a request/info (Writable members,
+    whose set_value checks locks) alike."""
+    for name, item in values.items():
+        member = getattr(target, name)
+        if hasattr(member, 'set_value'):
+            member.set_value(item)
+        else:
+            setattr(target, name, item)
+
+
 def write_pose(target: object, value: LocPose) -> None:
     """Fill a LocalizationPose data struct (or a request/info, whose members are Writable)."""
     x, y, z, theta, phi, psi = value.pose
     covariance = [float(c) for c in np.asarray(value.covariance, dtype=float).reshape(-1)]
     fields = {'pose': Pose3D(x, y, z, theta, phi, psi), 'pan': value.pan, 'tilt': value.tilt,
               'covariance': covariance, 'cmd_flags': int(value.setter)}
-    for name, item in fields.items():
-        member = getattr(target, name)
-        if hasattr(member, 'set_value'):
-            member.set_value(item)
-        else:
-            setattr(target, name, item)
+    write_members(target, fields)
     if hasattr(target, 'timestamp'):
         target.timestamp = Time(value.stamp)  # type: ignore[attr-defined]
 
