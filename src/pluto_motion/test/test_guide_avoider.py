@@ -158,8 +158,8 @@ def blind_teleop(directory: pathlib.Path, args: list[str], base: str,
         with ChildProcess([find_executable('wurde_mcp', 'mcp'), *args, '-a'], env=env,
                           cwd=str(directory)) as mcp:
             mcp.expect('MCP ready', timeout=90)
-            until(lambda: avoider.is_connected() and avoider.peers('request') > 0 and path and states,
-                  'the avoider assigned and answering', 120, mcp)
+            until(lambda: avoider.is_connected() and avoider.peers('request') > 0 and path and states
+                  and avoider.received('info') > 0, 'the avoider assigned and answering', 120, mcp)
             assert avoider.info.brake.get_value() is True          # it starts braked
             avoider.move_to_relative_point(Point(*goal))           # brake false, as every verb sends
             until(lambda: states[-1] == REACHED, 'goal reached', 120, mcp)
