@@ -186,3 +186,26 @@ def test_a_module_told_to_quit_is_not_killed_by_a_late_sigint(manager, ros_domai
         leaver.send('exit')
         assert leaver.process.wait(timeout=30) == 0, leaver.stderr[-2000:]
     assert 'KeyboardInterrupt' not in leaver.stderr
+
+
+STUCK = '''
+import time
+from wurde_core import CommsManager
+manager = CommsManager('Stuck')
+manager.run_update()
+print('looping', flush=True)
+while True:                     # a loop that never looks at the run state again
+    time.sleep(0.05)
+'''
+
+
+def test_a_module_stuck_after_sigterm_writes_where_it_is(manager) -> None:
+    """The MCP's SIGTERM comes 1 s before its SIGKILL: a module that has not ended half a second
+    after it dumps every thread's traceback to stderr, so the module log says where it hung."""
+    with Peer(['-c', STUCK]) as stuck:
+        stuck.expect('looping')
+        stuck.process.send_signal(signal.SIGTERM)
+        until(manager, lambda: 'in <module>' in stuck.stderr, what='the traceback dump')
+        assert stuck.process.poll() is None
+        stuck.process.kill()
+    assert 'Timeout' in stuck.stderr and 'File "<string>", line' in stuck.stderr

@@ -31,6 +31,7 @@ returns to Run by itself unless the callback chose another state.
 from __future__ import annotations
 
 import atexit
+import faulthandler
 import os
 import signal
 import sys
@@ -65,6 +66,14 @@ REGISTRATION_WAIT_S = 10.0
 RESTART_TTL_S = 30.0
 #: Bound on waiting for the goodbye heartbeat to be acknowledged at clean-up.
 GOODBYE_WAIT_S = 1.0
+#: A module still running this long after a SIGTERM writes every thread's traceback to stderr
+#: (faulthandler's "Timeout" dump, into the MCP's module log): the MCP sends SIGTERM 1 s before
+#: its SIGKILL, and the log then says where the exit was stuck.  Not on SIGINT: a user's Ctrl-C
+#: may rightly be followed by seconds of work (a mission's summary).
+SLOW_EXIT_DUMP_S = 0.5
+#: The same dump when a quitting module's clean-up (goodbye, node and context shutdown, normally
+#: well under a second) takes this long: a hang inside DDS runs no Python signal handler.
+SLOW_CLEANUP_DUMP_S = 2.0
 
 StateCallback = Callable[[], None]
 
@@ -333,6 +342,8 @@ class CommsManager:
 
     def _on_signal(self, signum: int, _frame: Any) -> None:
         self._signals += 1
+        if signum == signal.SIGTERM:
+            faulthandler.dump_traceback_later(SLOW_EXIT_DUMP_S)
         if self._signals > 1 and signum == signal.SIGINT:
             raise KeyboardInterrupt
         self.state = RunState.QUIT
@@ -552,6 +563,8 @@ class CommsManager:
             return
         self._closed = True
         ending = self.state == RunState.QUIT
+        if ending:
+            faulthandler.dump_traceback_later(SLOW_CLEANUP_DUMP_S)
         if self.node is not None:
             try:
                 if self._heartbeat is not None and goodbye:
@@ -579,6 +592,8 @@ class CommsManager:
             signal.signal(signum, signal.SIG_IGN if ending else handler)
         self._previous_handlers.clear()
         atexit.unregister(self.clean_up)
+        if ending:
+            faulthandler.cancel_dump_traceback_later()
 
     # -- time ----------------------------------------------------------------------------------
     def now(self) -> Time:
