@@ -41,7 +41,7 @@ __all__ = ['AT_GOAL_M', 'NavigatorModule', 'main']
 LOOP_S = 0.05
 STATUS_PERIOD_S = 0.5
 #: A robot this near its goal (m) is at it: ``go`` then ends at once with goal reached (the
-#: motionModule's own reach is 0.25 m).
+#: motionModule's own reach is 0.25 m).  The default of the tunable ``approach_dist``.
 AT_GOAL_M = 0.3
 HELP = ('  -m MAP       the map whose places set_goal_place names (default map.xml of the config directory)\n'
         '  -s STREAM    the NavigatorTransport stream supplied (default Navigator)\n'
@@ -56,6 +56,9 @@ class NavigatorModule:
         self.logger = logger
         self.places = places
         self.timeout = timeout
+        self.approach = manager.tunable(
+            'approach_dist', AT_GOAL_M, 'm: go this near the goal ends at once with goal reached '
+            '(CARMEN 4.3\'s navigator_approach_dist)', 0.01, 5.0)
         self.nav = robot_object_class('NavigatorTransport')(stream)
         self.nav.set_queue_mode(True)       # set_goal_place then go: two requests, neither lost
         manager.register_supplier(self.nav)
@@ -108,7 +111,7 @@ class NavigatorModule:
             self.logger.warn(f'{self.manager.name}: go without a goal: nothing to do')
             return
         robot = self.robot
-        if robot is not None and math.dist(robot[:2], self.goal) < AT_GOAL_M:
+        if robot is not None and math.dist(robot[:2], self.goal) < self.approach.value:
             self.autonomous, self.stop_reason = True, STOP_NONE     # momentarily autonomous (4.3)
             self._publish(force=True)
             self._end(GOAL_REACHED, 'already at the goal')

@@ -14,6 +14,7 @@ from typing import Any
 import pytest
 from drive_fixture import Driver, angle_error, robot, room_config, seconds
 from wurde_testing.parameters import ParameterTool
+from wurde_testing import ChildProcess, find_executable
 
 #: The driveModule's defaults: linear acceleration limit (m/s^2) and timeout (s, Pluto 6.1).
 TV_ACCEL = 0.5
@@ -185,4 +186,61 @@ def test_the_limits_are_tunables_set_while_running_and_from_a_params_file(
                 tool.close()
             assert processes['drive'].process.poll() is None
     finally:
+        driver.close()
+
+
+CARMEN_INI = """\
+# the drive's limits in the robot's parameter file (wurde_core.carmen_tunables)
+[*]
+driveModule_max_tv   0.25
+driveModule_max_rv   99        # beyond the tunable's range: refused, the drive keeps its own
+"""
+FOLLOW_DAEMON = """\
+<?xml version="1.0"?>
+<wurde-config>
+  <module name="driveModule"><option name="param_daemon" value="on"/></module>
+</wurde-config>
+"""
+
+
+def test_the_limits_follow_carmen_s_parameter_daemon(ros_domain: int, tmp_path: pathlib.Path) -> None:
+    """With its role configuration's ``param_daemon`` option the drive takes carmen.ini's
+    ``driveModule_*`` values from a daemon that starts after it, refuses one out of range with the
+    reason, and follows ``param_tool set`` while it runs: the base is held to each new limit."""
+    directory = room_config(tmp_path)
+    (directory / 'carmen.ini').write_text(CARMEN_INI)
+    (directory / 'role-config.xml').write_text(FOLLOW_DAEMON)
+    driver = Driver()
+    d = driver.drive
+    tool: ParameterTool | None = None
+
+    def capped(limit: float) -> None:
+        first = len(driver.statuses)
+        driver.until(lambda: any(len(m.data) == 2 and m.data[0] > limit - 0.01
+                                 for m in driver.statuses[first:]),
+                     f'driving at {limit} m/s', every=lambda: d.velocity(0.5, 0.0))
+        assert max(m.data[0] for m in driver.statuses[first:] if len(m.data) == 2) <= limit + 1e-6
+
+    try:
+        with robot(directory, '-g', str(directory / 'role-config.xml')) as processes:
+            driver.children = processes
+            driver.until(lambda: d.code == 0 and driver.pose is not None, 'status and truth', timeout=60)
+            tool = ParameterTool('/driveModule')
+            assert tool.get('max_tv', 'max_rv') == [1.0, 1.5]           # no daemon yet
+            with ChildProcess([find_executable('wurde_mcp', 'param_daemon')], cwd=directory) as daemon:
+                daemon.expect('param_daemon ready', timeout=60)
+                driver.until(lambda: tool.get('max_tv') == [0.25], 'the daemon\'s max_tv taken')
+                driver.until(lambda: 'driveModule_max_rv = 99.0 refused' in processes['drive'].stderr,
+                             'the out-of-range max_rv reported')
+                assert tool.get('max_rv') == [1.5]
+                capped(0.25)
+                with ChildProcess([find_executable('wurde_mcp', 'param_tool'), 'set',
+                                   'driveModule_max_tv', '0.15']) as setter:
+                    assert setter.process.wait(timeout=60) == 0, setter.stderr
+                driver.until(lambda: tool.get('max_tv') == [0.15], 'the change followed')
+                capped(0.15)
+                d.velocity(0.0, 0.0)
+    finally:
+        if tool is not None:
+            tool.close()
         driver.close()

@@ -117,6 +117,17 @@ class CarmenParams:
             time.sleep(0.05)
         self._ready = True
 
+    def services_ready(self) -> bool:
+        """Whether the daemon's parameter services are there now (no waiting; creates this
+        client's node on the first call).  A module that must not block polls this each turn."""
+        if self._closed:
+            return False
+        if self._node is None:
+            self._create()
+        assert self._client is not None
+        self._ready = self._ready or self._client.services_are_ready()
+        return self._ready
+
     def _create(self) -> None:
         context = Context()
         rclpy.init(args=['carmen_param'], context=context,
@@ -157,6 +168,15 @@ class CarmenParams:
             future.cancel()
             raise DaemonError(f'{self.daemon} did not answer within {CALL_WAIT_S} s')
         return future.result()
+
+    def served(self, module: str, variables: Sequence[str]) -> dict[str, Any]:
+        """The daemon's values of those ``module_variable`` of ``variables`` it has, unconverted,
+        by variable: two calls for any number (a module's whole table at start).
+
+        :raises DaemonError: when the daemon does not answer.
+        """
+        values = self._fetch([f'{module}.{variable}' for variable in variables])
+        return {name.split('.', 1)[1]: value for name, value in values.items()}
 
     def _fetch(self, names: Sequence[str]) -> dict[str, Any]:
         """The served values of those of ``names`` the daemon has (ROS names)."""
@@ -234,15 +254,45 @@ class CarmenParams:
 
     # -- subscribing to changes (6.1) ----------------------------------------------------------
     def _subscribe(self, module: str, variable: str, kind: ParamType, target: Target | None,
-                   handler: Handler | None) -> None:
-        """6.1: set ``target`` to each new value, then call ``handler(module, variable, value)``."""
+                   handler: Handler | None, *, wait: bool = True) -> None:
+        """6.1: set ``target`` to each new value, then call ``handler(module, variable, value)``.
+        Without ``wait``, returns before the daemon's events are matched: the caller polls
+        :meth:`events_matched` and reads the values again once they are."""
         self.open()
         if self._events is None:
             self._events = self._node.create_subscription(ParameterEvent, _EVENTS, self._on_event,
                                                           qos_profile_parameter_events)
-            self._wait_matched()
+            if wait:
+                self._wait_matched()
         self._subscriptions.setdefault(f'{module}.{variable}', []).append(
             _Subscription(ParamType(kind), target, handler))
+
+    def watch(self, module: str, variable: str, kind: ParamType, handler: Handler) -> None:
+        """A subscription (6.1) that does not wait for the daemon's events to be matched: for
+        a loop that must not block (see :meth:`events_matched`)."""
+        self._subscribe(module, variable, kind, None, handler, wait=False)
+
+    def events_matched(self) -> bool:
+        """Whether the daemon's parameter events reach this client's subscription now (no
+        waiting; False before the first subscription)."""
+        if self._events is None:
+            return False
+        writers = self._node.get_publishers_info_by_topic(_EVENTS)
+        return (self._daemon_writer(writers) is not None
+                and self._events.get_publisher_count() >= len(writers))
+
+    def daemon_writer(self) -> bytes | None:
+        """The identity (DDS GID) of the daemon's parameter-event writer now, or None when the
+        daemon is not in the graph: a new identity is a daemon that was started again."""
+        if self._node is None:
+            return None
+        return self._daemon_writer(self._node.get_publishers_info_by_topic(_EVENTS))
+
+    def _daemon_writer(self, writers: Sequence[Any]) -> bytes | None:
+        for writer in writers:
+            if '/' + f'{writer.node_namespace}/{writer.node_name}'.strip('/') == self.daemon:
+                return bytes(writer.endpoint_gid)
+        return None
 
     def _wait_matched(self) -> None:
         """Until the daemon's parameter events reach the subscription (a change made before
@@ -250,10 +300,7 @@ class CarmenParams:
         assert self._executor is not None
         deadline = time.monotonic() + MATCH_WAIT_S
         while time.monotonic() < deadline:
-            writers = self._node.get_publishers_info_by_topic(_EVENTS)
-            daemon = any(('/' + f'{w.node_namespace}/{w.node_name}'.strip('/')) == self.daemon
-                         for w in writers)
-            if daemon and self._events.get_publisher_count() >= len(writers):
+            if self.events_matched():
                 return
             self._executor.spin_once(timeout_sec=0.05)
         print(f'WARNING: the parameter events of {self.daemon} did not arrive within '

@@ -51,6 +51,8 @@ from .mcp_client import McpClient
 from .naming import stream_segment_path
 from .robot_object import CONSUMER, SUPPLIER, RobotObject
 from .role_config import DEFAULT_ROLE_CONFIG, RoleConfiguration, set_global_configuration
+from .carmen_tunables import OPTION as DAEMON_OPTION
+from .carmen_tunables import DaemonTunables, daemon_of
 from .parameters import Check, Tunable, Tunables, declare_configuration
 from .ros_adaptor import NodeEntities, SubscriptionWaiter, open_node
 from .timestamp import Time
@@ -110,6 +112,7 @@ class CommsManager:
         self._started = False
         self._waiters: dict[bool, SubscriptionWaiter] = {}
         self._tunables = Tunables()
+        self._daemon: DaemonTunables | None = None
         self._entities: NodeEntities | None = None
         self._previous_handlers: dict[int, Any] = {}
         self._signals = 0
@@ -362,7 +365,19 @@ class CommsManager:
                   'the MCP', flush=True)
             if self.options.registration:
                 self.state = RunState.QUIT
+        self._follow_daemon()
         self._describe()
+
+    def _follow_daemon(self) -> None:
+        """With the role configuration's ``param_daemon`` option (the module's own, else the
+        global one), the tunables follow CARMEN's parameter daemon (:mod:`.carmen_tunables`)."""
+        if self.config.have_module_option(self.name, DAEMON_OPTION):
+            value = self.config.get_module_option(self.name, DAEMON_OPTION)
+        else:
+            value = self.config.get_option(DAEMON_OPTION)
+        daemon = daemon_of(value)
+        if daemon and self._tunables.items() and self.state != RunState.QUIT:
+            self._daemon = DaemonTunables(self, self._tunables, daemon, self.log_warning)
 
     # -- run states (guide 5.2.1) ----------------------------------------------------------------
     def on_state(self, state: RunState, callback: StateCallback) -> None:
@@ -543,6 +558,8 @@ class CommsManager:
         if self.state == RunState.RUN:
             for obj in self._objects:
                 obj._drain(ready)
+        if self._daemon is not None:
+            self._daemon.poll()
 
     def _beat(self) -> None:
         if self._heartbeat is not None and self._heartbeat_enabled:
@@ -576,6 +593,8 @@ class CommsManager:
                     # period, and every module of an MCP stopping at once must end in seconds.
                     if not self._told_to_quit:
                         self._heartbeat.obj.wait_delivered(GOODBYE_WAIT_S, channel='info')
+                if self._daemon is not None:
+                    self._daemon.close()
                 for obj in self._objects + self._system_objects:
                     obj._disconnect()
                 self.node.destroy_node()

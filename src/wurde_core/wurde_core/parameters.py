@@ -37,6 +37,7 @@ from typing import Any
 
 from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
                                 SetParametersResult)
+from rclpy.parameter import Parameter
 
 from .role_config import RoleConfiguration
 
@@ -157,6 +158,18 @@ class Tunables:
         if self._node is not None:
             self._bind(tunable)
         return tunable
+
+    def items(self) -> list[Tunable]:
+        """Every tunable declared, in order."""
+        return list(self._tunables.values())
+
+    def set(self, name: str, value: Any) -> str | None:
+        """Set tunable ``name`` on the node as ``ros2 param set`` would (its range and the checks
+        apply); returns the reason it was refused, or None."""
+        if self._node is None:
+            return 'the module has no node yet'
+        result = self._node.set_parameters([Parameter(name, value=value)])[0]
+        return None if result.successful else (result.reason or 'refused')
 
     def attach(self, node: Any) -> None:
         """Declare every tunable on ``node`` (a ``--params-file`` value wins over the default)."""

@@ -233,3 +233,32 @@ def test_readme_example_runs_against_a_daemon(ros_domain: int, tmp_path: pathlib
             assert tool('set', 'robot_max_t_vel', '0.4')[0] == 0
             module.expect('robot_max_t_vel is now 0.4', timeout=DEADLINE)
             assert module.stop() == 0
+
+
+def test_a_module_s_tunables_follow_the_daemon_across_its_restart(ros_domain: int,
+                                                                   tmp_path: pathlib.Path) -> None:
+    """wurde_core.carmen_tunables in a module's own loop (the ``param_daemon`` option): a tunable
+    takes carmen.ini's value; after the daemon is killed and started again on another file, the
+    module finds the new one and takes its value.  ``tuned_module_gain`` splits as carmen.ini's
+    names do: module ``tuned``, variable ``module_gain``."""
+    manager = CommsManager('tuned_module')
+    manager.set_no_heartbeat()
+    manager.config.set_option('param_daemon', 'on')
+    gain = manager.tunable('gain', 1.5, 'how hard to steer, rad/s per rad', 0.0, 10.0)
+
+    def turn_until(done: Callable[[], bool], what: str) -> None:
+        deadline = time.monotonic() + DEADLINE
+        while not done():
+            assert time.monotonic() < deadline, f'{what} not within {DEADLINE} s'
+            manager.step()
+            manager.wait(0.05)
+
+    try:
+        with daemon(tmp_path, text='[*]\ntuned_module_gain 2.5\n') as first:
+            turn_until(lambda: gain.value == 2.5, "the first daemon's gain")
+            first.process.kill()
+            assert first.process.wait(timeout=DEADLINE) is not None
+        with daemon(tmp_path, text='[*]\ntuned_module_gain 4.0\n'):
+            turn_until(lambda: gain.value == 4.0, "the restarted daemon's gain")
+    finally:
+        manager.clean_up()
