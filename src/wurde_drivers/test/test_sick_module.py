@@ -11,12 +11,13 @@ import os
 import pathlib
 import re
 import time
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 
 import pytest
 import serial
 from sim_fixture import Observer
 from wurde_testing import ChildProcess, find_executable
+from wurde_testing.parameters import ParameterTool
 
 from wurde_drivers.sick import codec as sick
 from wurde_drivers.sick.config import LaserDevice
@@ -148,6 +149,48 @@ def test_scans_carry_the_emulators_values_on_every_stream_and_are_logged(
         line = nearest(logged, stamp)
         assert line is not None, stamp
         assert_ranges(line, scan.ranges, step=0.002)
+
+
+def test_invert_and_log_are_tunables_taken_at_the_next_scan(observer: Observer,
+                                                           tmp_path: pathlib.Path) -> None:
+    """``ros2 param set /laser invert true`` reverses the beams from the next scan on; ``log``
+    switches LaserLog.txt on and off while the module runs."""
+    data = tmp_path / 'data'
+    want = source(361, 180.0)
+
+    def scans_after(count: int) -> Callable[[Observer], bool]:
+        return lambda o: len(o.events['laser']) >= count
+
+    with SickEmulator(scan_source=source) as emulator:
+        config = write_config(tmp_path, emulator.path, type='LMS')
+        with server(config, WURDE_DATA_DIR=str(data)) as child:
+            observer.until(lambda o: len(o.events['laser']) >= 2, 'scans', timeout=30)
+            assert_ranges(observer.events['laser'][-1][1].ranges, want)
+            tool = ParameterTool('/laser')
+            try:
+                assert tool.get('invert', 'log') == [False, False]
+                assert tool.set('invert', True) == (True, '')
+                changed = time.time()       # a scan centred later was read after the change
+                observer.until(lambda o: sum(t > changed for t in o.stamps('laser')) >= 2,
+                               'scans after the change')
+                for stamp, scan in observer.events['laser']:
+                    if stamp > changed:
+                        assert_ranges(scan.ranges, want[::-1])
+                assert not (data / LOG_NAME).exists()
+                assert tool.set('log', True) == (True, '')
+                observer.until(lambda o: (data / LOG_NAME).exists()
+                               and len((data / LOG_NAME).read_text().splitlines()) >= 3, 'lines logged')
+                assert tool.set('log', False) == (True, '')
+                lines = (data / LOG_NAME).read_text().splitlines()
+                observer.until(scans_after(len(observer.events['laser']) + 3), 'scans after logging ends')
+                assert (data / LOG_NAME).read_text().splitlines() == lines
+            finally:
+                tool.close()
+            assert child.stop() == 0, child.stderr
+        assert emulator.error is None
+    for line in lines:
+        stamp, _, readings = line.partition(' : ')
+        assert_ranges([float(r) for r in readings.split()], want[::-1], step=0.012)  # cm and 3 decimals
 
 
 def test_a_silent_laser_is_logged_and_publishes_nothing_until_it_is_back(

@@ -22,6 +22,10 @@ answer the reset is merely silent and gets nothing published.
 ``log="true"`` appends one line per scan to ``<data directory>/LaserLog.txt`` (guide 7.5:
 ``[timestamp] : [readings]``); the format is :func:`log_line`'s.
 
+Tunables (``ros2 param set``, or carmen.ini through :mod:`wurde_core.carmen_tunables`):
+``invert`` and ``log``, starting from the ``<device>``'s attributes — a laser remounted upside
+down, or logging switched on and off, while the module runs; each takes effect at the next scan.
+
 The line's parity is the ``<device>``'s ``parity`` attribute (:mod:`~wurde_drivers.sick.config`:
 ``none|even``, default even for a PLS, none for an LMS).  A pseudo-terminal cannot carry parity
 (PROTOCOLS.md 6: it refuses PARENB), so a PLS on ``sick_emulator``'s link says ``parity="none"``.
@@ -33,7 +37,7 @@ import pathlib
 import sys
 import threading
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import TextIO
 
 import serial
@@ -96,21 +100,55 @@ def log_line(stamp: float, ranges: Sequence[float]) -> str:
     return f'{stamp:.6f} : ' + ' '.join(f'{r:.3f}' for r in ranges) + '\n'
 
 
+class LaserLog:
+    """``LaserLog.txt`` while ``wanted()`` (the ``log`` tunable): opened by ``opener`` when
+    logging is switched on, closed when it is switched off; a file that cannot be opened is tried
+    again only after the next switch on (its error was logged once)."""
+
+    def __init__(self, wanted: Callable[[], bool], opener: Callable[[], TextIO | None]) -> None:
+        self.wanted = wanted
+        self.opener = opener
+        self._file: TextIO | None = None
+        self._failed = False
+
+    def write(self, stamp: float, ranges: Sequence[float]) -> None:
+        """One scan's line, if logging is on."""
+        if not self.wanted():
+            self.close()
+            self._failed = False
+            return
+        if self._file is None and not self._failed:
+            self._file = self.opener()
+            self._failed = self._file is None
+        if self._file is not None:
+            self._file.write(log_line(stamp, ranges))
+            self._file.flush()
+
+    def close(self) -> None:
+        """Close the file (idempotent)."""
+        file, self._file = self._file, None
+        if file is not None:
+            file.close()
+
+
 class SickRunner:
     """The module's work per loop turn: connect or reset in a worker, poll, publish, watch.
 
     :param device: the configured device.
     :param streams: the module's laser streams (registered, info published).
     :param logger: where state changes are logged (once each).
-    :param log_file: ``LaserLog.txt`` opened for appending, or None.
+    :param log: ``LaserLog.txt``, or None.
+    :param invert: whether the beams are reversed now (the ``invert`` tunable); default the
+        device's attribute.
     """
 
     def __init__(self, device: LaserDevice, streams: LaserStreams, logger: Logger,
-                 log_file: TextIO | None = None) -> None:
+                 log: LaserLog | None = None, invert: Callable[[], bool] | None = None) -> None:
         self.device = device
         self.streams = streams
         self.logger = logger
-        self.log_file = log_file
+        self.log = log
+        self.invert = invert or (lambda: device.invert)
         self.laser: SickLaser | None = None
         self.streaming = False
         self.silent = False
@@ -144,6 +182,7 @@ class SickRunner:
                 self._start_job('recover' if self._ever_connected else 'connect')
             return 0
         assert self.laser is not None
+        self.laser.invert = self.invert()
         scans = self.laser.poll(timeout)
         if not scans:
             self._watch_silence()
@@ -158,9 +197,8 @@ class SickRunner:
     def _publish(self, scan: Scan) -> None:
         self.streams.publish_scan(scan.ranges, centre_stamp=scan.centre_time,
                                   arrival_stamp=scan.arrival_time)
-        if self.log_file is not None:
-            self.log_file.write(log_line(scan.centre_time, scan.ranges))
-            self.log_file.flush()
+        if self.log is not None:
+            self.log.write(scan.centre_time, scan.ranges)
 
     def _watch_silence(self) -> None:
         assert self.laser is not None
@@ -275,15 +313,18 @@ def main(argv: list[str] | None = None) -> int:
     mount = device.mount
     streams.publish_info(count=device.values, max_range=facts.max_range_m(device.type, device.units),
                          mount_x=mount.x, mount_y=mount.y, mount_z=mount.z, scan_time=scan_period(device))
-    log_file = open_log(manager, logger) if device.log else None
-    runner = SickRunner(device, streams, logger, log_file)
+    invert = manager.tunable('invert', device.invert, 'the laser is mounted upside down: its beams '
+                             'are reversed (guide 7.5; CARMEN\'s laser_flipped)')
+    logging = manager.tunable('log', device.log, f'append each scan to <data directory>/{LOG_NAME} '
+                              '(guide 7.5)')
+    log = LaserLog(lambda: bool(logging.value), lambda: open_log(manager, logger))
+    runner = SickRunner(device, streams, logger, log, lambda: bool(invert.value))
     try:
         while manager.run_update() == RunState.RUN:
             runner.step(SLEEP_S)
     finally:
         runner.close()
-        if log_file is not None:
-            log_file.close()
+        log.close()
         manager.clean_up()
     return 0
 
