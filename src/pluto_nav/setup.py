@@ -23,6 +23,5 @@ setup(
         'pose_module = pluto_nav.pose_module:main',
         'pose_i = pluto_nav.pose_i:main',
         'slam_module = pluto_nav.slam_module:main',
-        'map_server = pluto_nav.map_server:main',
     ]},
 )

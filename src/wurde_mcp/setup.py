@@ -27,5 +27,6 @@ setup(
         'replay = wurde_mcp.recording.replay:main',
         'param_daemon = wurde_mcp.carmen.daemon:main',
         'param_tool = wurde_mcp.carmen.tool:main',
+        'map_server = wurde_mcp.carmen.map_server:main',
     ]},
 )

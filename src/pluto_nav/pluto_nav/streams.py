@@ -28,6 +28,7 @@ import math
 import numpy as np
 
 from wurde_core import Pose3D, Time
+from wurde_core.structs import write_members
 
 __all__ = ['DEAD_RECKONING', 'LASER_DEAD_RECKONING', 'LASER_POSE', 'NOBODY', 'POSE', 'POSE_SETTER',
            'POST_POSE', 'SLAM_SAVING', 'SLAM_SETTER', 'STREAMS', 'USER_SETTER', 'LocPose', 'read_pose',
@@ -68,17 +69,6 @@ class LocPose:
     def is_finite(self) -> bool:
         values = [*self.pose, self.pan, self.tilt, self.stamp]
         return all(math.isfinite(v) for v in values) and bool(np.all(np.isfinite(self.covariance)))
-
-
-def write_members(target: object, values: dict[str, object]) -> None:
-    """Set members of a data struct (plain attributes) or of a request/info (Writable members,
-    whose set_value checks locks) alike."""
-    for name, item in values.items():
-        member = getattr(target, name)
-        if hasattr(member, 'set_value'):
-            member.set_value(item)
-        else:
-            setattr(target, name, item)
 
 
 def write_pose(target: object, value: LocPose) -> None:

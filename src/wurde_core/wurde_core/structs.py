@@ -127,3 +127,14 @@ def struct_class(base: type[_Struct], name: str, message_type: type,
                  fields: dict[str, FieldSpec]) -> type[_Struct]:
     """A :class:`DataStruct` or :class:`InfoStruct` subclass for one message type."""
     return type(name, (base,), {'_fields': fields, '_message_type': message_type})
+
+
+def write_members(target: Any, values: dict[str, Any]) -> None:
+    """Set members of a ``data`` struct (plain attributes) or of ``info``/``requests``
+    (Writable members, whose ``set_value`` checks locks) alike, by name."""
+    for name, item in values.items():
+        member = getattr(target, name)
+        if hasattr(member, 'set_value'):
+            member.set_value(item)
+        else:
+            setattr(target, name, item)

@@ -18,6 +18,7 @@ from wurde_testing import ChildProcess, find_executable
 from wurde_testing.parameters import ParameterTool
 
 README = pathlib.Path(__file__).resolve().parents[3] / 'README.md'
+OFFICE = pathlib.Path(__file__).resolve().parents[3] / 'config' / 'maps' / 'office.xml'
 #: Longest wait for a daemon to come up, a tool to finish or a change to arrive (loaded machine).
 DEADLINE = 30.0
 
@@ -217,6 +218,23 @@ def test_install_file_and_robot_choice(ros_domain: int, tmp_path: pathlib.Path) 
         status, out, err = tool('install', str(other))
         assert status == 1 and f'{other}:4: ' in err and '1 refused' in out
         assert (params.get_int('robot_count'), params.get_double('robot_max_t_vel')) == (5, 2.0)
+
+
+@pytest.mark.parametrize(('args', 'reason'), [
+    (['-M', '0', str(OFFICE)], 'param_daemon: -M: '),
+    (['room.xml'], 'room.xml:3: '),
+])
+def test_a_bad_map_or_resolution_is_refused(ros_domain: int, tmp_path: pathlib.Path,
+                                            args: list[str], reason: str) -> None:
+    """The map argument is served, so a broken map or a grid of no size is refused at start."""
+    (tmp_path / 'carmen.ini').write_text(INI)
+    (tmp_path / 'room.xml').write_text('<?xml version="1.0"?>\n<map name="room" version="1.0">\n'
+                                       '  <wal/>\n</map>\n')
+    with ChildProcess([find_executable('wurde_mcp', 'param_daemon'), '-R', 'pluto', *args],
+                      cwd=tmp_path) as child:
+        assert child.process.wait(timeout=DEADLINE * 2) == 2
+        child.stop()
+    assert reason in child.stderr, child.stderr
 
 
 def test_readme_example_runs_against_a_daemon(ros_domain: int, tmp_path: pathlib.Path) -> None:

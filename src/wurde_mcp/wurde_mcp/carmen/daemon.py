@@ -1,6 +1,6 @@
 """``param_daemon``: CARMEN's parameter server as a WURDE module whose node serves carmen.ini.
 
-    ros2 run wurde_mcp param_daemon [-a] [-R ROBOT] [MAP] [INI]
+    ros2 run wurde_mcp param_daemon [-a] [-R ROBOT] [-M RES] [-s STREAM] [MAP] [INI]
 
 Every parameter of the chosen robot (``[*]``, overridden by ``[ROBOT]``) becomes the ROS 2
 parameter ``module.variable`` of the node ``/param_daemon``, typed from its text (int, float,
@@ -13,7 +13,10 @@ by rclpy's own undeclared-parameter error.
 Where CARMEN's daemon differs: its ``-r ROBOT`` is ``-R`` here, because ``-r`` is every WURDE
 module's registration mode; with several robots and none chosen it refuses, listing them,
 instead of asking (a daemon the MCP starts has nobody to ask); an argument ending in ``.ini`` is
-the ini file, another one the map, served as the read-only ``map.file``.  Setting the
+the ini file, another one the map (a WURDE map file), named by the read-only ``map.file`` and
+served as CARMEN's daemon serves its map: the MapServer stream (``-s``, default ``MapServer``) and
+``/map``, exactly as :mod:`map_server <wurde_mcp.carmen.map_server>` serves it, on a grid of
+``-M`` m per cell (default 0.05).  Setting the
 parameter ``reread`` to true re-reads the ini file: a broken file, or one that changes a
 parameter's type, is refused with file:line: reason and the old values stay; otherwise the
 changed values are set (parameter events go out) and new ones declared; parameters no longer
@@ -31,8 +34,10 @@ from wurde_core import CommsManager
 from wurde_core.carmen_param import REREAD, typed_value
 from wurde_core.module_loop import exit_on_config_error, run_loop, set_loop
 from wurde_idl.errors import ConfigError
+from wurde_idl.mapfile import load_map_data
 
 from .ini import Entry, IniFile, choose_robot, find_ini, read_ini
+from .map_server import DEFAULT_RESOLUTION, MapServerModule, rasterize
 
 __all__ = ['MAP_PARAMETER', 'ParamDaemon', 'main', 'ros_name', 'split_arguments']
 
@@ -44,7 +49,10 @@ SERVE_S = 0.1
 HELP = ('  -a          print the loaded parameters (module_variable value, sorted) at start\n'
         '  -R ROBOT    serve [*] and [ROBOT] of the ini file (CARMEN\'s -r: -r is WURDE\'s\n'
         '              registration mode); needed when the file has several robots\n'
-        '  MAP         a map file, served as the read-only parameter map.file\n'
+        '  MAP         a map file: the read-only parameter map.file, and the map served as\n'
+        '              map_server serves it (MapServer stream and /map)\n'
+        '  -M RES      m per cell of the served map\'s grid (default 0.05)\n'
+        '  -s STREAM   the MapServer stream of the served map (default MapServer)\n'
         '  INI         the carmen.ini (an argument ending in .ini); default: the first of\n'
         '              ./carmen.ini, ../carmen.ini, ../src/carmen.ini\n'
         '  set the parameter "reread" to true (param_tool reread) to re-read the ini file')
@@ -181,7 +189,7 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('param_daemon')
     manager.set_help_string(HELP)
-    opts = manager.parse_options(argv, 'aR:')
+    opts = manager.parse_options(argv, 'aR:M:s:')
     try:
         map_path, ini_path = split_arguments(opts.arguments)
     except ValueError as error:
@@ -190,11 +198,21 @@ def main(argv: list[str] | None = None) -> int:
     try:
         ini = read_ini(ini_path or find_ini())
         robot = choose_robot(ini, opts.user.get('R'))
+        world = load_map_data(map_path) if map_path else None
+        grid = rasterize(world, float(opts.user.get('M', DEFAULT_RESOLUTION))) if world else None
     except ConfigError as error:
         return exit_on_config_error(argv[0], error)
+    except ValueError as error:
+        print(f'param_daemon: -M: {error}', file=sys.stderr, flush=True)
+        return 2
     manager.wait(0.0)   # opens the module's node
     daemon = ParamDaemon(manager.node, ini, robot, map_path)
     daemon.declare()
+    maps = (MapServerModule(manager, world, grid, opts.user.get('s', 'MapServer'))
+            if world is not None and grid is not None else None)
+    if maps is not None:
+        print(f'param_daemon serves the map {world.name} ({grid.width} x {grid.height} cells of '
+              f'{grid.resolution} m) on {maps.obj.stream} and /map', flush=True)
     if 'a' in opts.user:
         print('\n'.join(daemon.listing()), flush=True)
     print(f'param_daemon serves {len(daemon.entries)} parameters of '
@@ -204,6 +222,8 @@ def main(argv: list[str] | None = None) -> int:
 
     def step() -> None:
         daemon.apply_pending()
+        if maps is not None:
+            maps.step()
         manager.wait(SERVE_S)
 
     return run_loop(manager, step, lambda: None)

@@ -24,14 +24,15 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from wurde_core import CommsManager, Logger, Point, Pose
 from wurde_core.interfaces import robot_object_class
 from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, set_loop
+from wurde_core.structs import write_members
 from wurde_idl.errors import ConfigError
 from wurde_idl.mapfile import MapData, load_map_data
 
-from .streams import write_members
-
-__all__ = ['Grid', 'main', 'rasterize']
+__all__ = ['DEFAULT_RESOLUTION', 'Grid', 'MapServerModule', 'main', 'rasterize']
 
 LOOP_S = 0.1
+#: m per grid cell unless told (-R).
+DEFAULT_RESOLUTION = 0.05
 #: How near a cell's centre a wall must pass (in cells) for the cell to be occupied: half a
 #: diagonal, so that a wall never slips between two cells.
 _TOUCH = math.sqrt(0.5)
@@ -137,7 +138,7 @@ def main(argv: list[str] | None = None) -> int:
     opts = manager.parse_options(argv, 'm:s:R:').user
     try:
         world = load_map_data(config_file(manager, opts.get('m'), 'map.xml'))
-        grid = rasterize(world, float(opts.get('R', 0.05)))
+        grid = rasterize(world, float(opts.get('R', DEFAULT_RESOLUTION)))
     except ConfigError as error:
         return exit_on_config_error(argv[0], error)
     except ValueError as error:

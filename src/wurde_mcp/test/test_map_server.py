@@ -1,6 +1,7 @@
-"""CARMEN's map server (pluto_nav.map_server): the walls drawn on the grid with no gap, and the real
-module serving the shipped office map — grid, places and off-limits region as the stream's info to
-a consumer that comes later, the data again on request, and nav_msgs/OccupancyGrid on /map."""
+"""CARMEN's map server (wurde_mcp.carmen.map_server): the walls drawn on the grid with no gap, and the
+real module serving the shipped office map — grid, places and off-limits region as the stream's info
+to a consumer that comes later, the data again on request, and nav_msgs/OccupancyGrid on /map — and
+param_daemon given the map, which serves it the same way (CARMEN's daemon served its map)."""
 
 from __future__ import annotations
 
@@ -21,7 +22,7 @@ from wurde_core.interfaces import MapServer
 from wurde_idl.mapfile import MapData, load_map_data
 from wurde_testing import ChildProcess, find_executable
 
-from pluto_nav.map_server import rasterize
+from wurde_mcp.carmen.map_server import rasterize
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
 OFFICE = ROOT / 'config' / 'maps' / 'office.xml'
@@ -40,11 +41,18 @@ def test_a_slanted_wall_is_drawn_without_gaps_and_free_space_stays_free() -> Non
         rasterize(world, 0.0)
 
 
-def test_the_module_serves_the_office_map_to_late_consumers_and_on_request(ros_domain: int,
+SERVERS = {'map_server': ['map_server', '-m', str(OFFICE), '-R', '0.1'],
+           'param_daemon': ['param_daemon', '-R', 'pluto', '-M', '0.1', str(OFFICE),
+                            str(ROOT / 'config' / 'carmen' / 'carmen.ini')]}
+
+
+@pytest.mark.parametrize('program', sorted(SERVERS))
+def test_the_module_serves_the_office_map_to_late_consumers_and_on_request(ros_domain: int, program: str,
                                                                           tmp_path: pathlib.Path) -> None:
     env = dict(os.environ, WURDE_CONFIG_DIR=str(tmp_path), WURDE_LOG_DIRECTORY=str(tmp_path))
     world = load_map_data(OFFICE)
-    with ChildProcess([find_executable('pluto_nav', 'map_server'), '-m', str(OFFICE), '-R', '0.1'], env=env) as server:
+    name, *args = SERVERS[program]
+    with ChildProcess([find_executable('wurde_mcp', name), *args], env=env) as server:
         manager = CommsManager('MapClient')
         manager.set_no_sleep()
         maps = MapServer('MapServer')
@@ -53,7 +61,7 @@ def test_the_module_serves_the_office_map_to_late_consumers_and_on_request(ros_d
             def until(predicate, what: str) -> None:
                 deadline = time.monotonic() + DEADLINE
                 while not predicate():
-                    assert server.process.poll() is None, f'{what}: map_server exited: {server.stderr}'
+                    assert server.process.poll() is None, f'{what}: {program} exited: {server.stderr}'
                     assert time.monotonic() < deadline, f'{what}: not within {DEADLINE} s'
                     manager.step()
                     manager.wait(0.05)
