@@ -25,6 +25,7 @@ setup(
         'xml_server = wurde_mcp.xml_server.module:main',
         'record = wurde_mcp.recording.record:main',
         'replay = wurde_mcp.recording.replay:main',
+        'live_view = wurde_mcp.recording.live_view:main',
         'param_daemon = wurde_mcp.carmen.daemon:main',
         'param_tool = wurde_mcp.carmen.tool:main',
         'map_server = wurde_mcp.carmen.map_server:main',

@@ -25,7 +25,7 @@ from rclpy.duration import Duration
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
-from .record import message_class
+from .tap import message_class
 
 __all__ = ['main']
 
