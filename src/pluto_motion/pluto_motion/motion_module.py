@@ -54,6 +54,7 @@ from wurde_core.parameters import TunedSettings, out_of_range
 from wurde_idl.errors import ConfigError
 
 from .motion_behaviours import AvoidRequest, MotionSettings
+from .plan_topic import PlanPublisher
 from .motion_command import COMMAND, STATUS, THREAD_STOPPED, CommandRefused, MotionCommand, parse_command
 from .motion_control import MotionController
 from .planning_grid import PlanningGrid, grid_from_map_file
@@ -114,6 +115,7 @@ class MotionModule:
         self.refused = 0
         self.sent_status: tuple | None = None
         self.status_at = -math.inf
+        self.plan = PlanPublisher(manager.node)
 
     def _warn(self, text: str) -> None:
         self.logger.warn(f'{self.manager.name}: {text}')
@@ -200,6 +202,7 @@ class MotionModule:
         points = np.vstack(list(self.recent)) if self.recent else np.zeros((0, 2))
         for request in self.control.step(pose, points, goto_state, now):
             self._send(request)
+        self.plan.update(self.control.behaviour, self.manager.node.get_clock().now().to_msg())
         self._publish_status(now)
 
 

@@ -12,6 +12,8 @@ import math
 import pathlib
 
 from motion_fixture import RADIUS, Commander, pluto, pluto_config
+from nav_msgs.msg import Path
+from wurde_testing.topics import latched
 from wurde_testing.parameters import ParameterTool
 
 from pluto_motion.task import TaskResult
@@ -67,6 +69,11 @@ def test_moveto_across_a_door_and_the_status_codes(ros_domain: int, tmp_path: pa
             assert (-1, 3) in codes or (-1, 1) in codes                  # moveto set, following
             assert any(s.element[2] == -2 for s in c.statuses)           # nearing: the simple goto
             assert not any(s.element[0] in (1, 2) for s in c.statuses)   # no bumper
+            # /plan (nav_msgs/Path, transient local): this late reader gets the plan to office2.
+            plan = latched('/plan', Path)
+            assert plan.header.frame_id == 'map' and len(plan.poses) >= 3
+            points = [(p.pose.position.x, p.pose.position.y) for p in plan.poses]
+            assert math.dist(points[-1], (7.5, 3.0)) < 0.05 and math.dist(points[0], c.truths[start][:2]) < 0.5
 
             # Pass-through: a velocity command (cmdFlags 0) reaches the drive.
             c.until(lambda: m.velocities is not None and m.velocities[0] > 0.05, 'driven by a pass-through',

@@ -4,6 +4,7 @@
   tests in parallel packages and parallel CI runs never see each other's DDS traffic.
 - :mod:`wurde_testing.fixtures`: pytest fixtures (load with ``pytest_plugins``) that keep DDS on
   loopback, give each test its own domain, and run rclpy with a fresh context per test.
+- :mod:`wurde_testing.topics`: :func:`~wurde_testing.topics.latched`, a transient-local topic read late.
 - :mod:`wurde_testing.parameters`: ``ros2 param list/get/set/dump`` through rclpy's parameter
   client (ros2cli is not on PyPI).
 """

@@ -12,15 +12,12 @@ import time
 
 import numpy as np
 import pytest
-import rclpy
 from nav_msgs.msg import OccupancyGrid
-from rclpy.context import Context
-from rclpy.executors import SingleThreadedExecutor
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from wurde_core import CommsManager
 from wurde_core.interfaces import MapServer
 from wurde_idl.mapfile import MapData, load_map_data
 from wurde_testing import ChildProcess, find_executable
+from wurde_testing.topics import latched
 
 from wurde_mcp.carmen.map_server import rasterize
 
@@ -87,22 +84,6 @@ def test_the_module_serves_the_office_map_to_late_consumers_and_on_request(ros_d
             manager.clean_up()
 
         # /map for RViz and Foxglove: transient local, so this late subscriber gets it.
-        context = Context()
-        rclpy.init(context=context)
-        try:
-            node = rclpy.create_node('map_reader', context=context)
-            executor = SingleThreadedExecutor(context=context)
-            executor.add_node(node)
-            got: list[OccupancyGrid] = []
-            qos = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
-                             durability=DurabilityPolicy.TRANSIENT_LOCAL)
-            node.create_subscription(OccupancyGrid, '/map', got.append, qos)
-            deadline = time.monotonic() + DEADLINE
-            while not got:
-                assert time.monotonic() < deadline, '/map not received'
-                executor.spin_once(timeout_sec=0.1)
-            grid = got[0]
-            assert grid.header.frame_id == 'map' and (grid.info.width, grid.info.height) == (200, 150)
-            assert math.isclose(grid.info.resolution, 0.1, rel_tol=1e-6) and set(grid.data) == {0, 100}
-        finally:
-            rclpy.shutdown(context=context)
+        grid = latched('/map', OccupancyGrid, DEADLINE)
+        assert grid.header.frame_id == 'map' and (grid.info.width, grid.info.height) == (200, 150)
+        assert math.isclose(grid.info.resolution, 0.1, rel_tol=1e-6) and set(grid.data) == {0, 100}
