@@ -37,7 +37,7 @@ test: build
 	exit $$rc
 
 demo: build
-	ROS_DOMAIN_ID=$(DEMO_DOMAIN_ID) $(IN_ENV) python tools/demo.py
+	ROS_DOMAIN_ID=$(DEMO_DOMAIN_ID) $(IN_ENV) python tools/demo.py $(DEMO_ARGS)
 
 clean:
 	rm -rf build install log

@@ -11,9 +11,12 @@
    Meanwhile ``record`` (``wurde_mcp``) writes every topic to ``demo-output/mission.mcap``.
 3. The recorder and the MCP are stopped with SIGINT, which quits every module.
 
-DDS stays on loopback (env.sh sets ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST). Options (for tests):
-``--config-dir DIR`` another config directory, ``--output DIR`` where the plot goes,
-``--places a,b,c`` other places.
+DDS stays on loopback (env.sh sets ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST). Options (``make demo
+DEMO_ARGS="..."``): ``--time-scale X`` simulated seconds per wall second (the config is copied to
+``<output>/config`` with its sim-config's ``time-scale`` set, and the MCP and its modules take their
+time from the simulator's ``/clock``); ``--live [PORT]`` also serves every topic to Foxglove on
+``ws://127.0.0.1:PORT`` (``live_view``, default 8765) while the mission runs; ``--config-dir DIR``
+another config directory, ``--output DIR`` where the plot goes, ``--places a,b,c`` other places.
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ from __future__ import annotations
 import argparse
 import os
 import pathlib
+import shutil
 import signal
 import subprocess
 import sys
@@ -43,21 +47,33 @@ def main() -> int:
     parser.add_argument('--config-dir', default=str(ROOT / 'config' / 'pluto'))
     parser.add_argument('--output', default=str(ROOT / 'demo-output'))
     parser.add_argument('--places', default='', help='comma-separated place names (default: the mission\'s)')
+    parser.add_argument('--time-scale', type=float, default=None,
+                        help='simulated seconds per wall second (default: the sim-config\'s)')
+    parser.add_argument('--live', type=int, nargs='?', const=8765, default=None, metavar='PORT',
+                        help='also serve every topic to Foxglove on ws://127.0.0.1:PORT (8765)')
     args = parser.parse_args()
     if os.environ.get('ROS_AUTOMATIC_DISCOVERY_RANGE') != 'LOCALHOST':
         raise SystemExit('demo: DDS must stay on loopback; run through `make demo` or env.sh')
     config_dir = pathlib.Path(args.config_dir).resolve()
     output = pathlib.Path(args.output).resolve()
     output.mkdir(parents=True, exist_ok=True)
+    ros_args: list[str] = []
+    if args.time_scale is not None:
+        if not args.time_scale > 0:
+            raise SystemExit(f'demo: --time-scale must be above 0, not {args.time_scale}')
+        config_dir = scaled_config(config_dir, output / 'config', args.time_scale)
+        ros_args = ['--ros-args', '-p', 'use_sim_time:=true']
     env = dict(os.environ, WURDE_CONFIG_DIR=str(config_dir), WURDE_DATA_DIR=str(output),
                WURDE_LOG_DIRECTORY=str(output))
     print(f'demo: ROS_DOMAIN_ID={os.environ.get("ROS_DOMAIN_ID")}, discovery on loopback only; '
           f'the MCP brings up the simulated Pluto from {config_dir}', flush=True)
     record = subprocess.Popen([sys.executable, find_executable('wurde_mcp', 'record'),
                                '-o', str(output / 'mission.mcap')], env=env, stdout=subprocess.DEVNULL)
+    live = (subprocess.Popen([sys.executable, find_executable('wurde_mcp', 'live_view'),
+                              '-p', str(args.live)], env=env) if args.live is not None else None)
     mcp = subprocess.Popen([sys.executable, find_executable('wurde_mcp', 'mcp'),
                             '-c', str(config_dir / 'mcp-config.xml'),
-                            '-m', str(config_dir / 'mcp-mappings.xml'), '-a'], env=env)
+                            '-m', str(config_dir / 'mcp-mappings.xml'), '-a', *ros_args], env=env)
     try:
         places = ['-P', args.places] if args.places else []
         mission = subprocess.run([sys.executable, find_executable('pluto_motion', 'mission'),
@@ -69,11 +85,24 @@ def main() -> int:
         mission_code = 1
     finally:
         record_code = _stop(record)
+        if live is not None:
+            _stop(live)
         mcp_code = _stop(mcp)
     print(f'demo: mission exit {mission_code}, MCP exit {mcp_code}, record exit {record_code}; plot in '
           f'{output / "mission.png"}; every topic in {output / "mission.mcap"}; module logs in '
           f'{output / "mcp-modules"}', flush=True)
     return 0 if mission_code == 0 and mcp_code == 0 and record_code == 0 else 1
+
+
+def scaled_config(source: pathlib.Path, target: pathlib.Path, time_scale: float) -> pathlib.Path:
+    """``source`` copied to ``target`` with its sim-config's ``time-scale`` set."""
+    from lxml import etree
+    shutil.copytree(source, target, dirs_exist_ok=True)
+    path = target / 'sim-config.xml'
+    tree = etree.parse(str(path), etree.XMLParser(resolve_entities=False, no_network=True))
+    tree.getroot().set('time-scale', repr(time_scale))
+    tree.write(str(path), xml_declaration=True, encoding='utf-8')
+    return target
 
 
 def _stop(process: subprocess.Popen) -> int:
