@@ -1,7 +1,8 @@
 """CARMEN's navigator (Programming with CARMEN 4.2.1, 4.3) on config/pluto under the MCP: a client
 with the Navigator wrapper sets a goal by place name and goes (autonomous, then stopped with goal
 reached, the truth at the place); an unknown place has no effect; go at the goal is autonomous
-for a moment and then goal reached; stop while driving stops with user stopped and the robot halts."""
+for a moment and then goal reached; stop while driving stops with user stopped and the robot halts;
+a goal in an off-limits region or on a wall fails (stop reason 3) with the reason in the log."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ from typing import Any
 
 from motion_fixture import RADIUS, Commander
 from wurde_core.interfaces import Navigator
-from wurde_core.wrappers import GOAL_REACHED, USER_STOPPED
+from wurde_core.wrappers import GOAL_REACHED, STOP_FAILED, USER_STOPPED
 from wurde_testing import ChildProcess, find_executable
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
@@ -94,5 +95,16 @@ def test_the_navigator_goes_to_places_by_name_and_stops_when_told(ros_domain: in
                     timeout=30)
             c.until(lambda: abs(c.speeds[-1]) < 0.01, 'the robot halted', timeout=30)
             assert len(c.truths) > truth_mark
+
+            # Goals that cannot be reached — in the lab's off-limits work cell, on a wall — each
+            # end with stop reason 3 (failed) and a log line with the planner's reason.
+            for goal in ((14.0, 3.5), (5.0, 6.3)):
+                mark = len(s.take())
+                assert nav.set_goal(*goal) and nav.go()
+                c.until(lambda: (st := s.since(mark)) and st[-1][:2] == (False, STOP_FAILED), f'{goal} failed',
+                        timeout=60)
+                c.until(lambda: f'goal {goal} not reached' in log.read_text(), 'the reason in the log')
+            assert 'unreachable' in log.read_text()
+            assert mcp.process.poll() is None
     finally:
         c.close()
