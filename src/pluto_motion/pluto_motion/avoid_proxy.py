@@ -82,6 +82,6 @@ class AvoidProxy(ChainProxy):
                     THREAD_STOPPED: (TaskResult.FAILED, 'avoid thread stopped')}.get(
                         self.goto_status, (TaskResult.UNKNOWN, ''))
 
-        return self._goal_task(_flags(Kind.GOTO, sonar, laser), x, y,
+        return self._goal_task(_flags(Kind.GOTO, sonar, laser), (x, y),
                                lambda: self.goto(x, y, max_tv, max_rv, strength=strength, sonar=sonar, laser=laser),
                                outcome, 'goto', timeout)

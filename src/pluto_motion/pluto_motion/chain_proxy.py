@@ -73,12 +73,14 @@ class ChainProxy:
     def _take_echoes(self) -> None:
         while self.command.get_next_data():
             d = self.command.data
-            self.echo = (int(d.cmd_flags), [float(v) for v in d.position], d.timestamp.get_seconds())
+            self.echo = (int(d.cmd_flags), [float(v) for v in [*d.position, *d.velocity]],
+                         d.timestamp.get_seconds())
 
-    def _goal_task(self, flags: int, x: float, y: float, send: Callable[[], object],
+    def _goal_task(self, flags: int, key: Sequence[float], send: Callable[[], object],
                    outcome: Callable[[], tuple[TaskResult, str]], what: str, timeout: float | None,
                    spin: bool = True) -> Task:
-        """The handle of a goal command (goto, moveto) to (x, y): ``send`` it, again every
+        """The handle of a goal command (goto, moveto to x, y; explore of b, h — ``key``, the
+        first numbers of the command's position then velocity): ``send`` it, again every
         :data:`RESEND_S` until the link echoes it (a request sent before discovery matched is
         lost); then only a status stamped after the echo counts, so that the last goal's end is
         never taken for this one's, and ``outcome()`` judges it.  ``spin``: each poll runs a turn
@@ -99,8 +101,8 @@ class ChainProxy:
                 return TaskResult.FAILED, f'{what} refused (see the module log)'
             if state['echoed'] is None:
                 e = self.echo
-                if e is not None and e[0] == flags and len(e[1]) >= 2 and math.isclose(e[1][0], x, abs_tol=1e-4) \
-                        and math.isclose(e[1][1], y, abs_tol=1e-4):
+                if e is not None and e[0] == flags and len(e[1]) >= len(key) and all(
+                        math.isclose(a, b, abs_tol=1e-4) for a, b in zip(e[1], key)):
                     state['echoed'] = e[2]
                 elif time.monotonic() - state['sent'] > RESEND_S:          # type: ignore[operator]
                     resend()

@@ -5,7 +5,12 @@
 The client of ``make demo`` (the main job): for each place of ``-P`` (names from the map's place
 list; an unknown name is skipped with a warning, as CARMEN's navigator ignores an unknown place),
 CARMEN's ``set_goal_place(name)`` and ``go`` to the navigator (:mod:`pluto_motion.navigator`,
-which drives by the motionModule's moveto), waiting until it stops autonomous motion and says why.  The terminal shows live progress (rich): the goal, the distance left, the
+which drives by the motionModule's moveto), waiting until it stops autonomous motion and says why.
+An entry ``explore:NAME`` explores the room of place NAME (:mod:`pluto_motion.room`: its bounds
+on the planner's grid): the navigator takes the robot to the explore's home, the middle of
+one side, it turns to face into the room, and the motionModule's explore (Pluto 6.3, cmdFlags 44)
+covers the room in lanes and comes back home; then the explore's rectangle is removed, so that
+the next goals outside it are not refused.  The terminal shows live progress (rich): the goal, the distance left, the
 Localization/Pose and its error against the simulator's truth (``-T``, default ``PlutoBaseTruth``;
 ``-T ''`` none), and the modules' run states from the MCP's table.  At the end a summary table
 (goals reached, time, distance, pose RMSE, wall contacts) and ``DIR/mission.png``
@@ -35,12 +40,23 @@ from pluto_nav.streams import POSE
 
 from .mission_log import Goal, MissionLog, Sample
 from .mission_plot import plot_mission
+from .motion_behaviours import TURN
 from .motion_proxy import MotionProxy
+from .planning_grid import PlanningGrid, build_grid
+from .room import ExploreArea, explore_area
+from .task import TaskResult
 
-__all__ = ['DEFAULT_PLACES', 'STOP_REASONS', 'main']
+__all__ = ['DEFAULT_PLACES', 'EXPLORE', 'STOP_REASONS', 'main']
 
-#: The office tour of ``make demo``: two offices, the lab, the kitchen and back.
-DEFAULT_PLACES = ('office2', 'lab', 'kitchen', 'office1', 'start')
+#: The office tour of ``make demo``: office2 and its room explored, the lab, the kitchen and back.
+DEFAULT_PLACES = ('office2', 'explore:office2', 'lab', 'kitchen', 'start')
+#: An entry of -P that explores the room of a place.
+EXPLORE = 'explore:'
+#: Explore's rectangle keeps this far inside the room's bounds (m): the robot (radius 0.35 m) stops
+#: short of a goal nearer a wall than its laser protection allows.
+EXPLORE_MARGIN = 1.0
+#: A heading this near the explore's is faced into the room (rad).
+FACING = math.radians(5.0)
 #: The robot's radius (m): a truth nearer a wall is a contact.
 RADIUS = 0.35
 SAMPLE_S = 0.1
@@ -49,7 +65,8 @@ STOP_REASONS = {GOAL_REACHED: 'reached', USER_STOPPED: 'stopped by the user',
                 STOP_FAILED: 'not reached (the navigator\'s log says why)'}
 START_TIMEOUT_S = 120.0
 HELP = ('  -m MAP       the map file (default map.xml of the config directory)\n'
-        f'  -P PLACES    comma-separated place names (default {",".join(DEFAULT_PLACES)})\n'
+        f'  -P PLACES    comma-separated place names, explore:NAME explores the room of place NAME\n'
+        f'               (default {",".join(DEFAULT_PLACES)})\n'
         '  -O DIR       where mission.png goes (default the data directory)\n'
         '  -t SECONDS   longest time per goal (default 240)\n'
         '  -T STREAM    the simulator\'s truth (default PlutoBaseTruth; empty: none)')
@@ -129,20 +146,29 @@ class Mission:
         return True
 
 
-    def visit(self, goal: Goal, timeout: float, on_turn: Callable[[], object]) -> str:
-        """Send the navigator to ``goal`` by its place name and go; how it ended: ``reached``, or
-        why not."""
+    def _turn(self, on_turn: Callable[[], object]) -> bool:
+        """One turn of the client's loop; False when the mission is told to quit."""
+        if self.manager.run_update() != RunState.RUN:
+            return False
+        self.manager.wait(0.05)
+        self.take()
+        on_turn()
+        return True
+
+    def visit(self, goal: Goal, timeout: float, on_turn: Callable[[], object], *, by_place: bool = True) -> str:
+        """Send the navigator to ``goal`` — by its place name, or (``by_place`` False) by its
+        coordinates — and go; how it ended: ``reached``, or why not."""
         mark = len(self.statuses)
-        self.nav.set_goal_place(goal.name)
+        if by_place:
+            self.nav.set_goal_place(goal.name)
+        else:
+            self.nav.set_goal(goal.x, goal.y)
         self.nav.go()
         deadline = time.monotonic() + timeout
         started = False
         while True:
-            if self.manager.run_update() != RunState.RUN:
+            if not self._turn(on_turn):
                 return 'the mission was told to quit'
-            self.manager.wait(0.05)
-            self.take()
-            on_turn()
             for autonomous, reason, x, y in self.statuses[mark:]:
                 mark += 1
                 if autonomous and math.isclose(x, goal.x, abs_tol=1e-3) and math.isclose(y, goal.y, abs_tol=1e-3):
@@ -152,6 +178,37 @@ class Mission:
             if time.monotonic() > deadline:
                 self.nav.stop()
                 return f'not reached within {timeout:g} s'
+
+
+    def explore(self, goal: Goal, area: ExploreArea, timeout: float, on_turn: Callable[[], object]) -> str:
+        """Explore ``area`` (the room ``goal`` names; ``goal`` is its home): to the home by the
+        navigator, face into the room, the motionModule's explore, the rectangle removed after;
+        ``reached`` once home again, or why not."""
+        result = self.visit(goal, timeout, on_turn, by_place=False)
+        if result != 'reached':
+            return f'home not reached: {result}'
+        deadline = time.monotonic() + timeout
+        sent = -math.inf
+        while True:                                 # turn in place (the avoid regulator, speed 0)
+            pose = self.loc.get_pose(POSE)
+            if pose is not None and abs(math.remainder(pose.pose[3] - area.theta, math.tau)) < FACING:
+                break
+            if time.monotonic() > deadline:
+                return 'did not turn into the room'
+            if time.monotonic() - sent > 1.0:
+                self.motion.send(TURN, velocity=[0.0], position=[0.0, area.theta])
+                sent = time.monotonic()
+            if not self._turn(on_turn):
+                return 'the mission was told to quit'
+        task = self.motion.explore_task(area.b, area.h, timeout=timeout, spin=False)
+        try:
+            while not task.is_task_complete():
+                if not self._turn(on_turn):
+                    task.cancel()
+                    return 'the mission was told to quit'
+        finally:
+            self.motion.set_rectangle(0.0, 0.0)     # the explore's rectangle would limit every goal
+        return 'reached' if task.result() is TaskResult.SUCCEEDED else f'explore: {task.reason}'
 
 
 def _summary_table(mission: Mission) -> Table:
@@ -184,11 +241,23 @@ def main(argv: list[str] | None = None) -> int:
         print(f'mission: {exc}', file=sys.stderr, flush=True)
         return 2
     names = [n.strip() for n in opts.get('P', ','.join(DEFAULT_PLACES)).split(',') if n.strip()]
+    steps: list[tuple[str, ExploreArea | None]] = []
+    grid: PlanningGrid | None = None
     for name in names:
-        if name not in world.places:
-            console.print(f'mission: warning: no place "{name}" on map {world.name}; skipped '
+        place = name.removeprefix(EXPLORE)
+        if place not in world.places:
+            console.print(f'mission: warning: no place "{place}" on map {world.name}; skipped '
                           f'(places: {", ".join(world.places)})')
-    places = [name for name in names if name in world.places]
+            continue
+        if place == name:
+            steps.append((name, None))
+            continue
+        try:
+            grid = grid or build_grid(world.walls, world.offlimits, world.bounds)
+            steps.append((name, explore_area(grid, world.places[place].x, world.places[place].y,
+                                             EXPLORE_MARGIN)))
+        except ValueError as error:
+            console.print(f'mission: warning: {name}: {error}; skipped')
     output = pathlib.Path(opts.get('O') or manager.config.get_data_directory() or '.')
     timeout = float(opts.get('t', 240.0))
     mission = Mission(manager, list(world.walls), opts.get('T', 'PlutoBaseTruth'))
@@ -196,13 +265,18 @@ def main(argv: list[str] | None = None) -> int:
         if not mission.until_running():
             console.print('mission: the movement chain did not come up')
             return 1
-        console.print(f'mission: the chain runs; visiting {", ".join(places)}')
+        console.print(f'mission: the chain runs; visiting {", ".join(name for name, _ in steps)}')
         with Live(mission.view(None), console=console, refresh_per_second=4) as live:
-            for name in places:
-                place = world.places[name]
+            for name, area in steps:
+                place = world.places[name] if area is None else area
                 goal = Goal(name, place.x, place.y, time.monotonic() - mission.start)
                 mission.log.goals.append(goal)
-                goal.result = mission.visit(goal, timeout, lambda: live.update(mission.view(goal)))
+                def show(goal: Goal = goal) -> None:
+                    live.update(mission.view(goal))
+                if area is None:
+                    goal.result = mission.visit(goal, timeout, show)
+                else:
+                    goal.result = mission.explore(goal, area, timeout, show)
                 goal.ended = time.monotonic() - mission.start
                 live.console.print(f'mission: {name} ({place.x:g}, {place.y:g}): {goal.result} '
                                    f'after {goal.ended - goal.started:.1f} s')

@@ -66,9 +66,10 @@ class Rectangle:
         c, s = math.cos(self.theta), math.sin(self.theta)
         return c * dx + s * dy, -s * dx + c * dy
 
-    def contains(self, x: ArrayLike, y: ArrayLike) -> NDArray:
+    def contains(self, x: ArrayLike, y: ArrayLike, margin: float = 0.0) -> NDArray:
+        """Whether points are inside (or within ``margin`` of the rectangle)."""
         u, v = self.local(x, y)
-        eps = 1e-9
+        eps = 1e-9 + margin
         return (u >= -eps) & (u <= self.h + eps) & (np.abs(v) <= self.b + eps)
 
     def world(self, u: float, v: float) -> tuple[float, float]:

@@ -70,7 +70,11 @@ class MotionController:
         if self.grid is None:
             return None
         if self._planner is None:
-            inside = None if self.rectangle is None else self.rectangle.contains
+            rectangle, near = self.rectangle, self.grid.resolution
+            # A cell whose centre is within a cell of the rectangle counts as inside: a goal on its
+            # border (explore's home, the middle of its base) lies in a cell whose centre may be
+            # just outside, and would be unreachable.
+            inside = None if rectangle is None else (lambda x, y: rectangle.contains(x, y, near))
             self._planner = Planner(self.grid.restricted(inside))
         return self._planner
 

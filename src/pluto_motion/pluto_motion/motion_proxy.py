@@ -5,7 +5,8 @@ Verbs write ``motion/command`` (Pluto 6.3's cmdFlags: 42 moveto, 43 investigate,
 resume, 46 set the rectangle, -1 release; anything below 40 goes on to the avoidModule) or the
 status request that starts the threads; accessors read ``motion/status``.
 
-``go_to(x, y)`` sends a moveto and returns a :class:`pluto_motion.task.Task`: SUCCEEDED when
+``go_to(x, y)`` sends a moveto (``explore_task(b, h)`` an explore) and returns a
+:class:`pluto_motion.task.Task`: SUCCEEDED when
 element[2] = 1 (at goal), FAILED when it is 3 (unreachable on the map), when the motion thread
 stops, the command is refused or the deadline passes, CANCELED after ``cancel()`` (which stops
 the robot).  Only a status stamped after the motionModule's echo of this very moveto counts.
@@ -89,4 +90,19 @@ class MotionProxy(ChainProxy):
             return {AT_GOAL: (TaskResult.SUCCEEDED, ''),
                     UNREACHABLE: (TaskResult.FAILED, 'unreachable')}.get(self.moveto_status, (TaskResult.UNKNOWN, ''))
 
-        return self._goal_task(42, x, y, lambda: self.moveto(x, y), outcome, 'moveto', timeout, spin)
+        return self._goal_task(42, (x, y), lambda: self.moveto(x, y), outcome, 'moveto', timeout, spin)
+
+    def explore_task(self, b: float, h: float, *, timeout: float | None = None, spin: bool = True) -> Task:
+        """Start an explore of the rectangle b, h whose home is the current pose and return its
+        handle: SUCCEEDED when the robot is home again (element[2] = 1; points a plan finds
+        unreachable are skipped, Pluto 6.3), FAILED when the motion thread stops.  The explore's
+        rectangle stays the limit of later goals until ``set_rectangle(0, 0)`` removes it.  FAILED
+        too when the way home is unreachable (element[2] = 3 at the end)."""
+        def outcome() -> tuple[TaskResult, str]:
+            if self.motion_status == THREAD_STOPPED:
+                return TaskResult.FAILED, 'motion thread stopped'
+            return {AT_GOAL: (TaskResult.SUCCEEDED, ''),
+                    UNREACHABLE: (TaskResult.FAILED, 'home unreachable')}.get(self.moveto_status,
+                                                                               (TaskResult.UNKNOWN, ''))
+
+        return self._goal_task(44, (b, h), lambda: self.explore(b, h), outcome, 'explore', timeout, spin)

@@ -144,14 +144,17 @@ def test_nearing_on_the_last_stretch() -> None:
     assert request.cmd_flags == GOTO and request.position == (8.0, 4.0) and c.element2 == NEARING
 
 
-def test_explore_covers_the_rectangle_and_returns_home() -> None:
-    c, _ = _controller(build_grid(ROOM, bounds=(0, 0, 10, 8)))
-    pose = (5.0, 1.0, math.pi / 2)
+@pytest.mark.parametrize('home', [(5.0, 1.0), (5.02, 1.03)])   # on a cell border, and between
+def test_explore_covers_the_rectangle_and_returns_home(home: tuple[float, float]) -> None:
+    grid = build_grid(ROOM, bounds=(0, 0, 10, 8))
+    c, _ = _controller(grid)
+    pose = (*home, math.pi / 2)
     c.accept(parse_command(44, [], [2.0, 4.0], []), pose)
-    assert c.rectangle == Rectangle(2.0, 4.0, 5.0, 1.0, math.pi / 2)
+    assert c.rectangle == Rectangle(2.0, 4.0, *home, math.pi / 2)
     pose, _, path, _ = drive(c, pose, 0.0, steps=20000)
     visited = [p[:2] for p in path]
+    # Home is on the rectangle's base: its cell (centre maybe just outside) is not blocked.
     assert c.behaviour is None and c.element2 == AT_GOAL and c.element3 == IDLE_RECTANGLE
-    assert math.dist(visited[-1], (5.0, 1.0)) <= MotionSettings().reach
-    assert all(c.rectangle.contains(*p) for p in visited)
+    assert math.dist(visited[-1], home) <= MotionSettings().reach
+    assert all(c.rectangle.contains(*p, grid.resolution) for p in visited)
     assert max(p[1] for p in visited) == pytest.approx(4.0, abs=MotionSettings().reach)   # up to the second lane
