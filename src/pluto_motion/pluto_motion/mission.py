@@ -1,6 +1,6 @@
 """``mission``: send the robot through named places of its map by moveto, and show how it goes.
 
-    mission [-m MAP] [-P place,place,...] [-O DIR] [-t SECONDS] [-T TRUTH]
+    mission [-m MAP] [-P place,place,...] [-O DIR] [-t SECONDS] [-T TRUTH] [-L LASER]
 
 The client of ``make demo`` (the main job): for each place of ``-P`` (names from the map's place
 list; an unknown name is skipped with a warning, as CARMEN's navigator ignores an unknown place),
@@ -29,7 +29,7 @@ from rich.console import Console, Group
 from rich.live import Live
 from rich.table import Table
 from wurde_core import CommsManager, RunState
-from wurde_core.interfaces import Egomotion, Navigator, SimpleControl
+from wurde_core.interfaces import Egomotion, Navigator, RangeFinder, SimpleControl
 from wurde_core.module_loop import config_file
 from wurde_core.wrappers import GOAL_REACHED, STOP_FAILED, STOP_NONE, USER_STOPPED
 from wurde_idl.errors import ConfigError
@@ -43,6 +43,7 @@ from .mission_plot import plot_mission
 from .motion_behaviours import TURN
 from .motion_proxy import MotionProxy
 from .planning_grid import PlanningGrid, build_grid
+from .ray_follow import ScanGeometry, geometry_from_info, scan_points
 from .room import ExploreArea, explore_area
 from .task import TaskResult
 
@@ -69,13 +70,14 @@ HELP = ('  -m MAP       the map file (default map.xml of the config directory)\n
         f'               (default {",".join(DEFAULT_PLACES)})\n'
         '  -O DIR       where mission.png goes (default the data directory)\n'
         '  -t SECONDS   longest time per goal (default 240)\n'
-        '  -T STREAM    the simulator\'s truth (default PlutoBaseTruth; empty: none)')
+        '  -T STREAM    the simulator\'s truth (default PlutoBaseTruth; empty: none)\n'
+        '  -L LASER     the laser whose last scan the plot shows (default PlutoLaser; empty: none)')
 
 
 class Mission:
     """The streams the mission reads and the log it keeps."""
 
-    def __init__(self, manager: CommsManager, walls: list, truth: str) -> None:
+    def __init__(self, manager: CommsManager, walls: list, truth: str, laser: str = 'PlutoLaser') -> None:
         self.manager = manager
         self.motion = MotionProxy(manager)
         self.loc = LocProxy(manager, 1 << POSE)
@@ -83,9 +85,11 @@ class Mission:
         self.table = SimpleControl('mcp_control')
         self.nav = Navigator('Navigator')
         self.nav.set_queue_mode(True)
+        self.laser = RangeFinder(laser) if laser else None
+        self.geometry: ScanGeometry | None = None
         #: Every navigator status: (autonomous, stop_reason, goal x, goal y).
         self.statuses: list[tuple[bool, int, float, float]] = []
-        for obj in (self.truth, self.table, self.nav):
+        for obj in (self.truth, self.table, self.nav, self.laser):
             if obj is not None:
                 manager.register_consumer(obj)
         self.log = MissionLog(walls, RADIUS)
@@ -108,6 +112,12 @@ class Mission:
             d = self.table.data
             self.modules = {n: RunState(s).name for n, s in zip(d.module_names, d.module_state)}
         pose = self.loc.get_pose(POSE)
+        if self.laser is not None:
+            if self.laser.get_next_info():
+                self.geometry = geometry_from_info(self.laser.info)
+            if self.laser.get_next_data() and self.geometry is not None and pose is not None:
+                self.log.last_scan = scan_points(list(self.laser.data.ranges),
+                                                 (pose.pose[0], pose.pose[1], pose.pose[3]), self.geometry)
         now = time.monotonic()
         if pose is not None and now - self._sampled >= SAMPLE_S:
             self._sampled = now
@@ -233,7 +243,7 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('mission')
     manager.set_help_string(HELP)
-    opts = manager.parse_options(argv, 'm:P:O:t:T:').user
+    opts = manager.parse_options(argv, 'm:P:O:t:T:L:').user
     console = Console()
     try:
         world = load_map_data(config_file(manager, opts.get('m'), 'map.xml'))
@@ -260,7 +270,7 @@ def main(argv: list[str] | None = None) -> int:
             console.print(f'mission: warning: {name}: {error}; skipped')
     output = pathlib.Path(opts.get('O') or manager.config.get_data_directory() or '.')
     timeout = float(opts.get('t', 240.0))
-    mission = Mission(manager, list(world.walls), opts.get('T', 'PlutoBaseTruth'))
+    mission = Mission(manager, list(world.walls), opts.get('T', 'PlutoBaseTruth'), opts.get('L', 'PlutoLaser'))
     try:
         if not mission.until_running():
             console.print('mission: the movement chain did not come up')

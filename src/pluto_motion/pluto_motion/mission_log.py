@@ -70,6 +70,8 @@ class MissionLog:
         self.radius = radius
         self.samples: list[Sample] = []
         self.goals: list[Goal] = []
+        #: The last laser scan as world points (N, 2), placed at the Localization/Pose of its time.
+        self.last_scan = np.zeros((0, 2))
         self._touching = False
         self.contacts = 0
         self.clearance = math.inf

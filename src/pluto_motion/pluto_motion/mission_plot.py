@@ -1,5 +1,6 @@
 """The mission's picture (``mission.png``): the map's walls, the true path, the estimated path with
-its 2-sigma covariance ellipses at intervals, and the goals by name."""
+its 2-sigma covariance ellipses at intervals, the goals by name, and the last laser scan placed at
+the estimated pose (on the walls when the robot knows where it is)."""
 
 from __future__ import annotations
 
@@ -54,6 +55,8 @@ def plot_mission(log: MissionLog, path: str | pathlib.Path, title: str = 'Pluto 
             width, height, angle = _ellipse(sample.covariance)
             axes.add_patch(Ellipse(sample.pose[:2], width, height, angle=angle, fill=False,
                                    color='tab:blue', alpha=0.6))
+    if len(log.last_scan):
+        axes.scatter(log.last_scan[:, 0], log.last_scan[:, 1], s=2, color='tab:orange', label='last scan')
     for goal in log.goals:
         marker = 'o' if goal.result == 'reached' else 'x'
         axes.plot(goal.x, goal.y, marker, color='tab:red', markersize=8)

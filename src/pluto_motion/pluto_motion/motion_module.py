@@ -59,7 +59,7 @@ from .motion_command import COMMAND, STATUS, THREAD_STOPPED, CommandRefused, Mot
 from .motion_control import MotionController
 from .planning_grid import PlanningGrid, grid_from_map_file
 from .pose_source import PoseSource
-from .ray_follow import ScanGeometry, scan_points
+from .ray_follow import ScanGeometry, geometry_from_info, scan_points
 
 __all__ = ['AVOID_COMMAND', 'AVOID_STATUS', 'MotionModule', 'main']
 
@@ -123,10 +123,7 @@ class MotionModule:
     # -- inputs ----------------------------------------------------------------------------------
     def _take_laser(self, pose: tuple[float, float, float] | None) -> None:
         if self.laser.get_next_info():
-            info = self.laser.info
-            self.geometry = ScanGeometry(float(info.theta_offset.get_value()), float(info.theta_separation.get_value()),
-                                         float(info.x_offset.get_value()), float(info.y_offset.get_value()),
-                                         float(info.max_range.get_value()))
+            self.geometry = geometry_from_info(self.laser.info)
         if self.laser.get_next_data() and self.geometry is not None and pose is not None:
             self.recent.append(scan_points(list(self.laser.data.ranges), pose, self.geometry))
 

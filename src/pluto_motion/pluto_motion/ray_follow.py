@@ -32,13 +32,14 @@ import dataclasses
 import enum
 import math
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .scan_points import wrap
 
-__all__ = ['Action', 'RayDecision', 'RaySettings', 'ScanGeometry', 'decide', 'scan_points']
+__all__ = ['Action', 'RayDecision', 'RaySettings', 'ScanGeometry', 'decide', 'geometry_from_info', 'scan_points']
 
 #: element[3] codes this module decides (Pluto 6.3).
 SCANNING, FOLLOWING = 1, 3
@@ -94,6 +95,14 @@ class RayDecision:
     ray: float | None
     status: int
     nearing: bool = False
+
+
+def geometry_from_info(info: Any) -> ScanGeometry:
+    """The geometry a RangeFinder's info (``theta_offset``, ``theta_separation``, ``x_offset``,
+    ``y_offset``, ``max_range``: WURDE 7.5's fan) says."""
+    return ScanGeometry(float(info.theta_offset.get_value()), float(info.theta_separation.get_value()),
+                        float(info.x_offset.get_value()), float(info.y_offset.get_value()),
+                        float(info.max_range.get_value()))
 
 
 def scan_points(ranges: ArrayLike, pose: Sequence[float], geometry: ScanGeometry = ScanGeometry()) -> NDArray:

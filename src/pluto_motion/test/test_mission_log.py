@@ -47,5 +47,6 @@ def test_without_a_truth_contacts_are_unknown(tmp_path: pathlib.Path) -> None:
         log.add(Sample(float(i), (1.0 + 0.2 * i, 2.0, 0.0), np.diag([0.04, 0.02, 0.001]), None))
     s = log.summary()
     assert s.contacts == -1 and math.isnan(s.pose_rmse) and s.distance == pytest.approx(5.8)
+    log.last_scan = np.array([[7.0, y] for y in np.linspace(0.5, 3.5, 50)])   # a wall seen at the end
     plot_mission(log, tmp_path / 'm.png')
     assert (tmp_path / 'm.png').read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'
