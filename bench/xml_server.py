@@ -166,7 +166,11 @@ def raw(publisher: Publisher, seconds: float, rate: float) -> list[float]:
         publisher.run(0.5, rate)
     finally:
         child.terminate()
-        child.wait(timeout=10)
+        try:
+            child.wait(timeout=10)
+        except subprocess.TimeoutExpired:   # seen once: still in a write to its pipe
+            child.kill()
+            child.wait()
     values = []
     for line in lines:
         seq, at = line.split()
