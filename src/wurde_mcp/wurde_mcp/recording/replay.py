@@ -1,13 +1,16 @@
 """``replay``: put the messages of an MCAP file back on their topics with the original timing.
 
-    replay FILE [-r RATE] [-t REGEX] [-w SECONDS]
+    replay FILE [-r RATE] [-t REGEX] [-w SECONDS] [-n NODE ...]
 
 Mobotware's replay for this suite: the CDR bytes :mod:`.record` stored are published as they are
 (raw), each topic with the durability it was recorded with, at the recorded pace times ``-r``
 (2: twice as fast; 0: as fast as possible), so that localization can be run again on a recorded run
-with the simulator off.  Before the first message it waits until every topic it will publish has a
-subscriber, at most ``-w`` seconds (default 10): a message published before discovery would reach
-nobody.  Topics matching ``-t`` only (default all).  Prints ``replay: N messages`` at the end.
+with the simulator off.  Before the first message it waits, at most ``-w`` seconds (default 10),
+until every topic it will publish has a subscriber and every subscriber the ROS graph knows of is
+matched, and until each node named by ``-n`` (``/ns/name`` or ``name``) reads one of its topics: a
+message published before discovery would reach nobody, and with two readers of a topic, the first
+one matched is not enough.  Topics matching ``-t`` only (default all).  Prints ``replay: N messages``
+at the end.
 """
 
 from __future__ import annotations
@@ -16,6 +19,7 @@ import argparse
 import re
 import sys
 import time
+from collections.abc import Iterable
 from typing import Any
 
 import rclpy
@@ -23,6 +27,7 @@ from mcap.reader import make_reader
 from rclpy.context import Context
 from rclpy.duration import Duration
 from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node, NodeNameNonExistentError
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from .tap import message_class
@@ -38,6 +43,23 @@ def _qos(metadata: dict[str, str]) -> QoSProfile:
                       else ReliabilityPolicy.RELIABLE)
 
 
+def _readers_ready(node: Node, publishers: Iterable[Any], nodes: list[str]) -> bool:
+    """Every publisher matched to every subscriber the graph shows (and to one at least), and every
+    node of ``nodes`` seen reading one of the topics."""
+    publishers = list(publishers)
+    topics = {p.topic_name for p in publishers}
+    for name in nodes:
+        namespace, _, base = name.rpartition('/')
+        try:
+            read = node.get_subscriber_names_and_types_by_node(base, namespace or '/')
+        except NodeNameNonExistentError:
+            return False
+        if not topics & {topic for topic, _ in read}:
+            return False
+    return all(p.get_subscription_count() >= max(1, node.count_subscribers(p.topic_name))
+               for p in publishers)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog='replay', description=__doc__.splitlines()[0])
     parser.add_argument('file', help='an MCAP file written by record (or rosbag2)')
@@ -45,6 +67,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument('-t', '--topics', default='', help='replay topics matching this regex (default all)')
     parser.add_argument('-w', '--wait', type=float, default=10.0,
                         help='longest wait for every topic to have a subscriber (s)')
+    parser.add_argument('-n', '--node', action='append', default=[],
+                        help='wait until this node reads a replayed topic (repeatable)')
     args = parser.parse_args(sys.argv[1:] if argv is None else argv[1:])
     include = re.compile(args.topics)
     context = Context()
@@ -68,7 +92,7 @@ def main(argv: list[str] | None = None) -> int:
                 publishers[channel_id] = node.create_publisher(message_class(schema.name), channel.topic,
                                                                _qos(dict(channel.metadata)))
             deadline = time.monotonic() + args.wait
-            while any(p.get_subscription_count() == 0 for p in publishers.values()) and time.monotonic() < deadline:
+            while not _readers_ready(node, publishers.values(), args.node) and time.monotonic() < deadline:
                 executor.spin_once(timeout_sec=0.05)
             print(f'replay: {len(publishers)} topics from {args.file}', flush=True)
             start, first = time.monotonic(), None

@@ -62,6 +62,8 @@ class TopicTap:
         self.count = 0
         self._definitions: dict[str, str] = {}
         self._subscriptions: list[Any] = []
+        #: Topics whose first message has come (a subscription is matched some time after it is made).
+        self.flowing: set[str] = set()
 
     def discover(self) -> list[str]:
         """Subscribe to the matching topics not yet taken; the names added."""
@@ -88,7 +90,8 @@ class TopicTap:
                              durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE,
                              reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT)
             self._subscriptions.append(self.node.create_subscription(
-                message_class(type_name), topic, lambda data, c=channel: self._take(c, data), qos, raw=True))
+                message_class(type_name), topic, lambda data, c=channel, t=topic: self._take(c, data, t), qos,
+                raw=True))
             added.append(topic)
         return added
 
@@ -102,9 +105,12 @@ class TopicTap:
                 return None
         return self._definitions[type_name]
 
-    def _take(self, channel: Any, data: bytes) -> None:
+    def _take(self, channel: Any, data: bytes, topic: str) -> None:
         self.write(channel, data)
         self.count += 1
+        if topic not in self.flowing:
+            self.flowing.add(topic)
+            print(f'{self.program}: {topic}: first message', flush=True)
 
 
 @contextlib.contextmanager
