@@ -33,7 +33,7 @@ import atexit
 import re
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -63,6 +63,10 @@ REREAD = 'reread'
 SERVICE_WAIT_S = 30.0
 #: Longest wait for one answer of the daemon.
 CALL_WAIT_S = 10.0
+#: A request not answered within this is sent again (every request here is idempotent): a service
+#: found ready by its client can still drop an answer on a loaded machine, when the daemon's reply
+#: writer has not yet matched this client's reader (discovery runs both ways, not at once).
+RESEND_S = 1.0
 #: Longest wait for the daemon's parameter events to reach a new subscription.
 MATCH_WAIT_S = 10.0
 _EVENTS = '/parameter_events'
@@ -161,13 +165,20 @@ class CarmenParams:
     def __exit__(self, *exc: object) -> None:
         self.close()
 
-    def _call(self, future: Any) -> Any:
+    def _call(self, send: Callable[[], Any]) -> Any:
+        """The answer to the request ``send()`` makes (a future), sent again every
+        :data:`RESEND_S` until answered or :data:`CALL_WAIT_S` have passed."""
         assert self._executor is not None
-        self._executor.spin_until_future_complete(future, timeout_sec=CALL_WAIT_S)
-        if not future.done():
+        deadline = time.monotonic() + CALL_WAIT_S
+        while True:
+            future = send()
+            self._executor.spin_until_future_complete(
+                future, timeout_sec=max(0.0, min(RESEND_S, deadline - time.monotonic())))
+            if future.done():
+                return future.result()
             future.cancel()
-            raise DaemonError(f'{self.daemon} did not answer within {CALL_WAIT_S} s')
-        return future.result()
+            if time.monotonic() >= deadline:
+                raise DaemonError(f'{self.daemon} did not answer within {CALL_WAIT_S} s')
 
     def served(self, module: str, variables: Sequence[str]) -> dict[str, Any]:
         """The daemon's values of those ``module_variable`` of ``variables`` it has, unconverted,
@@ -182,12 +193,13 @@ class CarmenParams:
         """The served values of those of ``names`` the daemon has (ROS names)."""
         self.open()
         assert self._client is not None
-        declared = set(self._call(self._client.list_parameters(
+        client = self._client
+        declared = set(self._call(lambda: client.list_parameters(
             sorted({n.split('.', 1)[0] for n in names}))).result.names)
         present = [n for n in names if n in declared]
         if not present:
             return {}
-        values = self._call(self._client.get_parameters(present)).values
+        values = self._call(lambda: client.get_parameters(present)).values
         return {n: parameter_value_to_python(v) for n, v in zip(present, values)}
 
     # -- getting parameters (6) ------------------------------------------------------------------
@@ -457,7 +469,8 @@ class CarmenParams:
     def _set(self, ros: str, value: Any, label: str) -> None:
         self.open()
         assert self._client is not None
-        result = self._call(self._client.set_parameters([Parameter(ros, value=value)])).results[0]
+        client = self._client
+        result = self._call(lambda: client.set_parameters([Parameter(ros, value=value)])).results[0]
         if not result.successful:
             raise DaemonError(f'{label}: {result.reason}')
 
