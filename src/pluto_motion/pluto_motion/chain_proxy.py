@@ -19,10 +19,17 @@ from .task import Task, TaskResult
 
 #: Seconds between sends of a goal command the link has not echoed yet.
 RESEND_S = 1.0
+#: Most resends of a command not echoed (a command of a kind the link does not echo).
+MAX_RESENDS = 5
 #: Statuses kept for update() when nobody asks (queue mode's cap).
 UNREPORTED_MAX = 1000
 
 __all__ = ['ChainProxy']
+
+
+def _starts(values: Sequence[float], prefix: Sequence[float]) -> bool:
+    """Whether ``values`` begins with ``prefix`` (to 1e-4: the echo went through float32 or not)."""
+    return len(values) >= len(prefix) and all(math.isclose(a, b, abs_tol=1e-4) for a, b in zip(values, prefix))
 
 
 class ChainProxy:
@@ -46,6 +53,13 @@ class ChainProxy:
         self.echo: tuple[int, list[float], float] | None = None
         #: Objects whose request waits for the link's reader to be matched (see :meth:`_request`).
         self._held: list[Any] = []
+        #: The newest command sent and not yet echoed: (cmdFlags, position + velocity, when it
+        #: went, refusals then); see :meth:`_resend_unechoed`.
+        self._unechoed: tuple[int, list[float], list[float], float, int] | None = None
+        #: Resends of it so far (at most :data:`MAX_RESENDS`: a link that never echoes a command).
+        self._resends = 0
+        #: The newest echo's (cmdFlags, position, velocity).
+        self._echoed: tuple[int, list[float], list[float]] | None = None
         #: Statuses taken in and not yet returned by update() (the newest 1000, as a queue).
         self._unreported: collections.deque[Any] = collections.deque(maxlen=UNREPORTED_MAX)
 
@@ -68,13 +82,36 @@ class ChainProxy:
         req.velocity.set_value(list(velocity))
         req.position.set_value(list(position))
         req.force.set_value(list(force))
+        self._unechoed = (flags, list(position), list(velocity), time.monotonic(), self.refused)
+        self._resends = 0
         return self._request(self.command)
+
+    def _resend_unechoed(self) -> None:
+        """Send the newest command again every :data:`RESEND_S` until the link echoes it or says it
+        refused one: a writer matched to the link's reader is not yet a reader matched to the
+        writer (discovery runs both ways, not at once), and a request published in between is lost
+        (seen on a loaded machine: an arrow key's command never reached the motionModule).  The
+        goal tasks' handshake, for every command."""
+        pending = self._unechoed
+        if pending is None:
+            return
+        flags, position, velocity, sent, refused = pending
+        echo = self._echoed
+        if echo is not None and echo[0] == flags and _starts(echo[1], position) and _starts(echo[2], velocity):
+            self._unechoed = None
+        elif self.refused > refused or self._resends >= MAX_RESENDS:
+            self._unechoed = None
+        elif time.monotonic() - sent > RESEND_S and self.command not in self._held:
+            self.command.publish_request()
+            self._resends += 1
+            self._unechoed = (flags, position, velocity, time.monotonic(), refused)
 
     def _take_echoes(self) -> None:
         while self.command.get_next_data():
             d = self.command.data
             self.echo = (int(d.cmd_flags), [float(v) for v in [*d.position, *d.velocity]],
                          d.timestamp.get_seconds())
+            self._echoed = (int(d.cmd_flags), [float(v) for v in d.position], [float(v) for v in d.velocity])
 
     def _goal_task(self, flags: int, key: Sequence[float], send: Callable[[], object],
                    outcome: Callable[[], tuple[TaskResult, str]], what: str, timeout: float | None,
@@ -153,6 +190,8 @@ class ChainProxy:
             self.data, self.element = list(self.status.data.data), list(self.status.data.element)
             self.stamp = self.status.data.timestamp.get_seconds()
             self._unreported.append(self.status.data.ros_message())
+        self._take_echoes()
+        self._resend_unechoed()
 
     @property
     def velocities(self) -> tuple[float, float] | None:
