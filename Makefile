@@ -87,3 +87,11 @@ bench-motion: build
 .PHONY: bench-xml
 bench-xml: build
 	$(IN_ENV) python bench/xml_server.py
+
+# Fuzz campaigns (issue 16; not part of `make test`, which replays the kept corpus): atheris over every
+# codec, XML reader, carmen.ini and the xmlServer's parser, FUZZ_SECONDS each (23 targets).
+FUZZ_SECONDS ?= 30
+.PHONY: fuzz
+fuzz: build
+	$(IN_ENV) pip install --quiet -r fuzz/requirements.txt
+	$(IN_ENV) python fuzz/run.py --seconds $(FUZZ_SECONDS)

@@ -22,6 +22,7 @@ from wurde_core.interfaces import LocalizationPose
 from wurde_mcp.recording import message_definition
 from wurde_mcp.recording.tap import message_class
 from wurde_testing import ChildProcess, find_executable
+from wurde_testing.sockets import LOOPBACK, listening_addresses
 
 STREAM = 'Localization/Live'
 DEADLINE = 30.0
@@ -29,19 +30,6 @@ DEADLINE = 30.0
 #: subscription (then the subscription id, u32, and the log time, u64, little-endian).
 SUBPROTOCOL = 'foxglove.sdk.v1'
 MESSAGE_DATA = 0x01
-
-
-def _listening(port: int) -> list[str]:
-    """Local addresses (hex, as /proc/net/tcp writes them) listening on ``port``."""
-    found = []
-    for table in ('/proc/net/tcp', '/proc/net/tcp6'):
-        lines = pathlib.Path(table).read_text().splitlines()[1:]
-        for line in lines:
-            local, state = line.split()[1], line.split()[3]
-            address, _, hex_port = local.partition(':')
-            if int(hex_port, 16) == port and state == '0A':      # TCP_LISTEN
-                found.append(address)
-    return found
 
 
 def test_a_foxglove_client_sees_the_streams_as_ros_sends_them(ros_domain: int) -> None:
@@ -56,7 +44,7 @@ def test_a_foxglove_client_sees_the_streams_as_ros_sends_them(ros_domain: int) -
         with ChildProcess([find_executable('wurde_mcp', 'live_view'), '-p', '0', '-t', '^/wurde/']) as view:
             ready = view.expect('live_view ready on', timeout=60)
             port = int(re.search(r'ws://127\.0\.0\.1:(\d+)', ready).group(1))
-            assert _listening(port) == ['0100007F'], 'not 127.0.0.1 alone'
+            assert listening_addresses(port) == [LOOPBACK], 'not 127.0.0.1 alone'
             with connect(f'ws://127.0.0.1:{port}', subprotocols=[SUBPROTOCOL],
                          open_timeout=DEADLINE) as client:
                 channels: dict[str, dict[str, Any]] = {}

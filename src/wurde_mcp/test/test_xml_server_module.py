@@ -14,6 +14,7 @@ from wurde_core import CommsManager, LockMode, Pose3D, ProcessLocale, ProcessTyp
 from wurde_core.interfaces import ActuatorState, LocalizationPose, SimpleControl
 from wurde_mcp.xml_server import VarError, XmlClient
 from wurde_testing import ChildProcess, find_executable
+from wurde_testing.sockets import LOOPBACK, listening_addresses
 
 DEADLINE = 30.0
 README = pathlib.Path(__file__).resolve().parents[3] / 'README.md'
@@ -103,6 +104,7 @@ def test_the_robot_streams_are_variables_and_commands_go_through_the_request_cha
     try:
         with ChildProcess([find_executable('wurde_mcp', 'xml_server'), '-p', '0']) as server:
             port = _port(server)
+            assert listening_addresses(port) == [LOOPBACK], 'xml_server must bind 127.0.0.1 alone'
             with XmlClient(port=port, timeout=10.0) as client:
                 assert client.server_name == 'xmlServer'
                 # The pose as published, the stamp its fourth number (Mobotware's pose: x y th time).
