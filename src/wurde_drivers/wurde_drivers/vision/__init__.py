@@ -1,0 +1,10 @@
+"""The VisionModule (WURDE guide 7.2): cameras, operators and the ``vision_module`` program.
+
+- :mod:`.camera_config`, :mod:`.vision_config`: the two XML files (guide 7.2.1, 7.2.2);
+- :mod:`.camera`: the camera base class (retry on a vanished device) and :class:`.Frame`;
+  backends :mod:`.playback`, :mod:`.capture` (``firewire``: an OpenCV capture device) and the
+  simulator's ``sim`` camera (``wurde_drivers.sim.dummies.camera``), found by :mod:`.registry`;
+- :mod:`.operator`: the operator base class; :mod:`.operators` the shipped ones (guide 7.2.3);
+- :mod:`.formats`: pure pixel conversions (gray, rgb, yuv24, yuv422);
+- :mod:`.module`: the program.
+"""
