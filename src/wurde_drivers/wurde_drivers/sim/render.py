@@ -62,7 +62,7 @@ def render(world: World, x: float, y: float, theta: float, view: View) -> tuple[
     rows = np.arange(view.height)[:, None] + 0.5
     image = np.empty((view.height, view.width, 3), np.uint8)
     image[:] = CEILING
-    image[rows >= horizon] = FLOOR
+    image[rows[:, 0] >= horizon] = FLOOR
     wall = (rows >= top[None, :]) & (rows < bottom[None, :])
     shade = np.clip(1.0 - np.nan_to_num(distance, posinf=view.max_range) / (1.5 * view.max_range), 0.2, 1.0)
     colours = (WALL[None, :] * shade[:, None]).astype(np.uint8)      # one colour per column
