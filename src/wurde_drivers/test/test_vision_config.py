@@ -38,7 +38,8 @@ def test_shipped_vision_config_is_accepted() -> None:
     left = vision.module('LeftVisionModule')
     assert left.comment == 'Module for the left camera only' and left.cameras == ('leftCamera',)
     # The camera as an attribute (LeftWriter) and as a child entity (DesktopWriter).
-    assert [(o.name, o.type, o.cameras) for o in left.operators] == [('LeftWriter', 'ImageWriter', ('leftCamera',))]
+    assert [(o.name, o.type, o.cameras) for o in left.operators] == \
+        [('LeftWriter', 'ImageWriter', ('leftCamera',))]
     desk = vision.module('DesktopVisionModule').operators[0]
     assert (desk.name, desk.type, desk.cameras) == ('DesktopWriter', 'ImageWriter', ('DesktopPlayback',))
     assert [p.path for p in vision.plugins] == [str(SHIPPED / 'lib' / f'lib{n}.so') for n in
@@ -140,7 +141,8 @@ def test_operator_types_and_options_are_checked_with_the_line(tmp_path: pathlib.
     path = _vision(tmp_path, '<operator name="o" type="ImagePublisher" camera="c">'
                              '<option name="format" value="bgr"/></operator>')
     spec = load_vision_config(path).module('m').operators[0]
-    with pytest.raises(ConfigError, match=r':5: operator "o": format "bgr" is not one of gray, rgb, yuv24, yuv422'):
+    with pytest.raises(ConfigError,
+                       match=r':5: operator "o": format "bgr" is not one of gray, rgb, yuv24, yuv422'):
         operator_class(spec, {})(spec)
     with pytest.raises(ConfigError, match=r'no <module name="x"> \(modules: m\); use -n'):
         load_vision_config(path).module('x')

@@ -158,3 +158,66 @@ def test_bad_config_exits_with_file_and_line(ros_domain: int, tmp_path: pathlib.
                             capture_output=True, text=True, timeout=60, check=False)
     assert result.returncode == 2
     assert f'{camera}:3: camera "c" needs option(s) id' in result.stderr
+
+
+def test_stereo_data_collector_logs_matching_sets(observer: Observer, tmp_path: pathlib.Path) -> None:
+    """Two cameras, a RangeFinder and an Egomotion supplied from the test: each set of files
+    shares one frame index and keeps each source's timestamp (guide 7.2.3's naming)."""
+    from wurde_core import Pose, Time
+    from wurde_core.interfaces import Egomotion, RangeFinder
+
+    made = images(tmp_path / 'images')
+    for index, pixels in made.items():       # the same scenes as the stereo camera's, mirrored
+        cv2.imwrite(str(tmp_path / 'images' / image_name('set', index, 'stereo', 80.0 + index, '.png')),
+                    pixels[:, ::-1])
+    out = tmp_path / 'out'
+    camera = tmp_path / 'camera-config.xml'
+    camera.write_text('<?xml version="1.0"?>\n<camera-config>\n' + ''.join(
+        f'<camera name="{name}" type="playback"><option name="imageDirectory" value="images"/>'
+        f'<option name="imagePrefix" value="set"/><option name="imageDevice" value="{device}"/>'
+        '<option name="imageSuffix" value=".png"/><option name="frameRate" value="10"/>'
+        '<option name="loop" value="true"/></camera>\n'
+        for name, device in (('Left', 'main'), ('Right', 'stereo'))) + '</camera-config>\n')
+    vision = tmp_path / 'vision-config.xml'
+    vision.write_text(f"""<?xml version="1.0"?>
+<vision-config><module name="Collect"><camera name="Left"/><camera name="Right"/>
+  <operator name="Stereo" type="StereoDataCollector">
+    <camera name="Left"/><camera name="Right"/>
+    <option name="imageDir" value="{out}"/><option name="imagePrefix" value="run"/>
+    <option name="laser" value="TestLaser"/><option name="odometry" value="TestOdo"/>
+  </operator>
+</module></vision-config>
+""")
+    laser, odometry = RangeFinder('TestLaser'), Egomotion('TestOdo')
+    for stream in (laser, odometry):
+        stream.set_auto_timestamp(False)
+        observer.manager.register_supplier(stream)
+    laser.data.ranges = [1.5, 2.25, 8.0]
+    laser.data.timestamp = Time(77.5)
+    odometry.data.location = Pose(1.0, -2.0, 0.5)
+    odometry.data.tv, odometry.data.rv = 0.25, -0.125
+    odometry.data.timestamp = Time(78.25)
+
+    def feed_and_check(_: Observer) -> bool:
+        laser.publish_data()
+        odometry.publish_data()
+        return any(out.glob('run-*-laser-*.txt')) and any(out.glob('run-*-odometry-*.txt'))
+
+    program = find_executable('wurde_drivers', 'vision_module')
+    with ChildProcess([program, '-c', str(camera), '-v', str(vision), '-n', 'Collect']) as child:
+        observer.until(feed_and_check, 'a set with laser and odometry')
+        assert child.stop() == 0
+    laser_file = sorted(out.glob('run-*-laser-*.txt'))[0]
+    index = int(laser_file.name.split('-')[1])
+    assert laser_file.name == f'run-{index}-laser-77.500000.txt'
+    assert laser_file.read_text() == '1.5 2.25 8.0\n'
+    assert (out / f'run-{index}-odometry-78.250000.txt').read_text() == '1.0 -2.0 0.5 0.25 -0.125\n'
+    main = sorted(out.glob(f'run-{index}-main-*.ppm'))
+    stereo = sorted(out.glob(f'run-{index}-stereo-*.ppm'))
+    assert len(main) == len(stereo) == 1
+    def scene(path: pathlib.Path, first_stamp: float) -> int:
+        """The scene a file shows, from its own stamp (the playback file's)."""
+        return round(float(path.name.split('-')[3][:-4]) - first_stamp)
+
+    assert np.array_equal(cv2.imread(str(main[0])), made[scene(main[0], 50.0)])
+    assert np.array_equal(cv2.imread(str(stereo[0]))[:, ::-1], made[scene(stereo[0], 80.0)])

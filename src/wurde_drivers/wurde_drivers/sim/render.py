@@ -49,7 +49,8 @@ def column_angles(view: View) -> NDArray[np.float64]:
     return np.arctan2(offsets, view.focal)
 
 
-def render(world: World, x: float, y: float, theta: float, view: View) -> tuple[NDArray[np.uint8], NDArray[np.float64]]:
+def render(world: World, x: float, y: float, theta: float,
+           view: View) -> tuple[NDArray[np.uint8], NDArray[np.float64]]:
     """The BGR image seen from ``(x, y)`` looking along ``theta``, and each column's distance
     to its wall (``inf``: none within range)."""
     offsets = column_angles(view)
