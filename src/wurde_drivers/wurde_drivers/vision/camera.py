@@ -14,6 +14,7 @@ Life cycle (STYLE 5): construct (no I/O) → :meth:`attach` (a backend that cons
 from __future__ import annotations
 
 import dataclasses
+import math
 import time
 from collections.abc import Callable
 from typing import Any, ClassVar
@@ -75,6 +76,7 @@ class Camera:
         self._next_try = 0.0
         self._next_frame = 0.0
         self._reported = False
+        self._starved = False    # the last read found no frame ready (unpaced cameras)
 
     # -- what backends implement ---------------------------------------------------------------
     def _open(self) -> None:
@@ -95,6 +97,11 @@ class Camera:
 
     def read(self) -> Frame | None:
         """The next frame if one is due and ready, else None. Never raises for a device fault."""
+        frame = self._read()
+        self._starved = frame is None
+        return frame
+
+    def _read(self) -> Frame | None:
         now = time.monotonic()
         if not self.up:
             if now < self._next_try:
@@ -131,10 +138,14 @@ class Camera:
         return frame
 
     def wait_s(self) -> float:
-        """How long until the next frame is due (0: now or unpaced), for the module's sleep."""
+        """How long until the next frame is due, for the module's sleep: 0 for an unpaced
+        camera that just gave one, ``inf`` (no idea: the loop's own sleep) for one that had
+        none ready."""
         if not self.up:
             return max(0.0, self._next_try - time.monotonic())
-        return max(0.0, self._next_frame - time.monotonic()) if self.period else 0.0
+        if self.period:
+            return max(0.0, self._next_frame - time.monotonic())
+        return math.inf if self._starved else 0.0
 
     def _outage(self, what: str) -> None:
         self._next_try = time.monotonic() + RETRY_S

@@ -78,7 +78,10 @@ class CaptureCamera(Camera):
                               'give a device index, a /dev/video path or a video file)')
         if isinstance(device, str) and '://' not in device and not os.path.exists(device):
             raise DeviceError(f'{device}: no such device or file')
-        capture = cv2.VideoCapture(device)
+        try:
+            capture = cv2.VideoCapture(device)
+        except cv2.error as error:
+            raise DeviceError(f'OpenCV cannot open {device}: {error}') from error
         if not capture.isOpened():
             capture.release()
             raise DeviceError(f'OpenCV cannot open {device}')
@@ -92,7 +95,10 @@ class CaptureCamera(Camera):
 
     def _grab(self) -> tuple[NDArray[np.uint8], float, int | None] | None:
         assert self._capture is not None
-        ok, image = self._capture.read()
+        try:
+            ok, image = self._capture.read()
+        except cv2.error as error:
+            raise DeviceError(f'{self.device}: {error}') from error
         if not ok or image is None:
             raise DeviceError(f'{self.device} gave no frame (unplugged, or the end of a file)')
         if image.ndim == 2:

@@ -101,7 +101,10 @@ class PlaybackCamera(Camera):
                 self._next = 0
             index, stamp, path = self._files[self._next]
             self._next += 1
-            image = cv2.imread(path, cv2.IMREAD_COLOR)
+            try:
+                image = cv2.imread(path, cv2.IMREAD_COLOR)
+            except cv2.error:
+                image = None      # OpenCV refused it loudly rather than returning nothing
             if image is not None:
                 return image, stamp if stamp > 0 else time.time(), index
             self.skipped += 1

@@ -9,6 +9,7 @@ cameras. An operator that raises is stopped and reported, not the module.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable
 from typing import Any
@@ -98,7 +99,7 @@ class VisionRunner:
 
     def wait_s(self) -> float:
         """Until the next frame of any camera is due."""
-        return min((camera.wait_s() for camera in self.cameras), default=0.0)
+        return min((camera.wait_s() for camera in self.cameras), default=math.inf)
 
     def close(self) -> None:
         """Shut the operators down and close the cameras; idempotent."""

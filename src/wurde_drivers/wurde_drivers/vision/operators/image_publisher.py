@@ -58,6 +58,7 @@ class ImagePublisher(Operator):
         self.format = 'gray'
         self.stream: ImageTransport | None = None
         self._image_pub = None
+        self._stream_name = ''
         self._size = (0, 0)
         self._first_stamp = 0.0
         self.published = 0
@@ -68,6 +69,9 @@ class ImagePublisher(Operator):
             raise ConfigError(self.spec.path, self.spec.line,
                               f'operator "{self.name}": format "{self.options["format"]}" is not one '
                               f'of {", ".join(FORMATS)}')
+        if self.stream is not None and self.stream_name != self._stream_name:
+            raise ConfigError(self.spec.path, self.spec.line, f'operator "{self.name}": the stream '
+                              'cannot change while the module runs; restart it')
         if self.options['format'] != self.format:
             self.format = self.options['format']
             self._size = (0, 0)   # the info says the new format at the next frame
@@ -78,6 +82,7 @@ class ImagePublisher(Operator):
 
     def setup(self, context: OperatorContext) -> None:
         super().setup(context)
+        self._stream_name = self.stream_name
         self.stream = ImageTransport(self.stream_name)
         self.stream.set_auto_timestamp(False)   # stamped with the frame's time
         context.manager.register_supplier(self.stream)
