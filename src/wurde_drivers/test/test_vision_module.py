@@ -1,7 +1,8 @@
 """vision_module end to end (guide 7.2): a real process with a playback camera of real image
 files, an ImagePublisher and an ImageWriter; a wurde_core consumer in the test receives the
 exact frames on ImageTransport and on ``sensor_msgs/Image``, the writer's files hold them, and
-VisionControl reports and stops an operator. A bad config ends the program with file:line."""
+VisionControl reports, stops an operator and sets an option. A bad config ends the program with
+file:line."""
 
 from __future__ import annotations
 
@@ -144,6 +145,13 @@ def test_playback_frames_reach_consumers_and_disk_exactly(observer: Observer, tm
         observer.request('VisControl', command=2, operator_name='Writer')
         observer.until(lambda o: list(o.events['VisControl'][-1][1].operator_running) == [True, False],
                        'Writer stopped')
+        # Set option: the publisher turns to gray; the info says so and the pixels follow.
+        observer.request('VisControl', command=3, operator_name='Pub', option_name='format',
+                         option_value='gray')
+        observer.until(lambda o: o.events['Pub'][-1][1].encoding == 'mono8'
+                       and o.infos['Pub'].format == 'gray', 'gray frames')
+        gray = observer.events['Pub'][-1][1]
+        assert bytes(gray.data) == cv2.cvtColor(made[gray.frame_index], cv2.COLOR_BGR2GRAY).tobytes()
         assert child.stop() == 0
     assert 'skipped' in child.stderr and f'set-{FRAMES}-main' in child.stderr   # the corrupt file
 

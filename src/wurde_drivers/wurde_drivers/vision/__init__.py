@@ -8,3 +8,11 @@
 - :mod:`.formats`: pure pixel conversions (gray, rgb, yuv24, yuv422);
 - :mod:`.module`: the program.
 """
+
+from .camera import Camera, Frame
+from .camera_config import CameraSpec, load_camera_config
+from .operator import Operator, OperatorContext
+from .vision_config import OperatorSpec, load_vision_config
+
+__all__ = ['Camera', 'CameraSpec', 'Frame', 'Operator', 'OperatorContext', 'OperatorSpec',
+           'load_camera_config', 'load_vision_config']

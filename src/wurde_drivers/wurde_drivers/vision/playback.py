@@ -73,7 +73,8 @@ class PlaybackCamera(Camera):
         self.prefix, self.device = spec.text('imagePrefix'), spec.text('imageDevice')
         self.suffix = spec.text('imageSuffix')
         self.loop = spec.flag('loop')
-        self.skipped = 0        # unreadable files
+        self.skipped = 0        # unreadable files (each time one is met)
+        self._named: set[str] = set()   # unreadable files already reported
         self.finished = False   # every image played (and not looping)
         self._files: list[tuple[int, float, str]] = []
         self._next = 0
@@ -109,6 +110,8 @@ class PlaybackCamera(Camera):
                 return image, stamp if stamp > 0 else time.time(), index
             self.skipped += 1
             bad += 1
-            self.report(f'camera {self.name}: skipped {path}: not an image OpenCV can read')
+            if path not in self._named:       # once per file, not once per pass of a loop
+                self._named.add(path)
+                self.report(f'camera {self.name}: skipped {path}: not an image OpenCV can read')
             if bad >= len(self._files):
                 raise DeviceError(f'no readable image in {self.directory}')
