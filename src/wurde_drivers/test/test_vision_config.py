@@ -61,6 +61,10 @@ def test_shipped_layouts_build() -> None:
         _, cameras, _ = load_layout(str(SHIPPED / 'camera-config.xml'),
                                     str(SHIPPED / 'vision-config.xml'), name, lambda _: None)
         assert cameras[0].type_name == 'firewire'
+    for name, operator in (('SimVision', 'ImageWriter'), ('SimCollector', 'StereoDataCollector')):
+        _, cameras, operators = load_layout(str(SHIPPED / 'sim-camera-config.xml'),
+                                            str(SHIPPED / 'sim-vision-config.xml'), name, lambda _: None)
+        assert cameras[0].type_name == 'sim' and type(operators[-1]).__name__ == operator
 
 
 CAMERA_CASES = [

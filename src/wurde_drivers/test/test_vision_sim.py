@@ -84,3 +84,23 @@ def test_sim_camera_sees_the_map_from_the_true_pose(observer: Observer, tmp_path
     written = sorted((tmp_path / 'data').glob('eyes-*-main-*.ppm'))
     assert written, 'the ImageWriter wrote nothing'
 
+
+
+def test_shipped_sim_eyes_run_under_the_mcp(observer: Observer, tmp_path: pathlib.Path) -> None:
+    """config/vision/sim-mcp-config.xml as shipped: the MCP starts the dummies and vision_module
+    (its -r registration pass included); frames of the office arrive; every module exits 0."""
+    root = CONFIG.parents[1]
+    env = dict(os.environ, WURDE_CONFIG_DIR=str(root / 'config' / 'sim'), WURDE_DATA_DIR=str(tmp_path),
+               WURDE_LOG_DIRECTORY=str(tmp_path))
+    with ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', str(CONFIG / 'sim-mcp-config.xml'),
+                       '-m', str(CONFIG / 'sim-mcp-mappings.xml'), '-a'], env=env, cwd=tmp_path) as mcp:
+        mcp.expect('MCP ready', timeout=60)
+        observer.until(lambda o: len(o.events['SimEyesImage']) >= 2, 'sim camera frames under the MCP')
+        mcp.stop(timeout=30)
+    message = observer.events['SimEyesImage'][-1][1]
+    _, world, start = load_sim(str(root / 'config' / 'sim' / 'sim-config.xml'))
+    expected, _ = render(world, *start, View(320, 240, math.radians(60)))
+    assert bytes(message.data) == expected[:, :, ::-1].tobytes()
+    for module in ('PlutoBase', 'PlutoLaser', 'SimVision'):
+        log = (tmp_path / 'mcp-modules' / f'{module}.log').read_text()
+        assert log.rstrip().endswith('--- exit code 0'), f'{log[-3000:]}\nMCP: {(mcp.stdout + mcp.stderr)[-3000:]}'
