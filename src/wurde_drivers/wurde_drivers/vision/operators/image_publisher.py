@@ -31,6 +31,7 @@ from ...ros_std_frames import frame_of
 from ..camera import Frame
 from ..formats import FORMATS, Encoded, encode
 from ..operator import Operator, OperatorContext
+from ..vision_config import OperatorSpec
 
 __all__ = ['INFO_EVERY', 'ImagePublisher', 'image_message']
 
@@ -53,8 +54,8 @@ def image_message(encoded: Encoded, stamp: float, frame_id: str) -> Image:
 class ImagePublisher(Operator):
     OPTIONS = {'format': 'gray', 'stream': ''}
 
-    def __init__(self, *args: object, **kwargs: object) -> None:
-        super().__init__(*args, **kwargs)  # type: ignore[arg-type]
+    def __init__(self, spec: OperatorSpec) -> None:
+        super().__init__(spec)
         self.format = 'gray'
         self.stream: ImageTransport | None = None
         self._image_pub = None

@@ -18,6 +18,7 @@ import cv2
 
 from ..camera import Frame
 from ..operator import Operator, OperatorContext
+from ..vision_config import OperatorSpec
 from ..playback import image_name
 from .files import output_place
 
@@ -27,8 +28,8 @@ __all__ = ['ImageWriter']
 class ImageWriter(Operator):
     OPTIONS = {'imageDir': '', 'imagePrefix': '', 'imageDevice': 'main', 'imageSuffix': '.ppm'}
 
-    def __init__(self, *args: object, **kwargs: object) -> None:
-        super().__init__(*args, **kwargs)  # type: ignore[arg-type]
+    def __init__(self, spec: OperatorSpec) -> None:
+        super().__init__(spec)
         self.directory = ''
         self.prefix = ''
         self.written = 0

@@ -29,6 +29,7 @@ from wurde_core.interfaces import Egomotion, RangeFinder
 
 from ..camera import Frame
 from ..operator import Operator, OperatorContext
+from ..vision_config import OperatorSpec
 from ..playback import image_name
 from .files import output_place
 
@@ -49,8 +50,8 @@ class StereoDataCollector(Operator):
     OPTIONS = {'imageDir': '', 'imagePrefix': '', 'laser': '', 'odometry': ''}
     CAMERAS = (1, 2)
 
-    def __init__(self, *args: object, **kwargs: object) -> None:
-        super().__init__(*args, **kwargs)  # type: ignore[arg-type]
+    def __init__(self, spec: OperatorSpec) -> None:
+        super().__init__(spec)
         self.directory = ''
         self.prefix = ''
         self.sets = 0
