@@ -77,6 +77,12 @@ CAMERA_CASES = [
     ('<camera name="a" type="playback"><option name="imageDirectory" value="x"/></camera>\n'
      '<camera name="a" type="sim"/>', 4, 'duplicate camera name "a"'),
     ('<camera name="a" type="sim" colour="red"/>', 3, 'unknown attribute(s) colour'),
+    ('<camera name="a" type="firewire">\n<option name="id" value="0"/>\n'
+     '<option name="gain" value="high"/>\n</camera>', 5, 'option gain="high" of camera "a" is not an integer'),
+    ('<camera name="a" type="firewire">\n<option name="id" value="0"/>\n'
+     '<option name="autoiris" value="maybe"/>\n</camera>', 5, 'is not true or false'),
+    ('<camera name="a" type="sim">\n<option name="maxRange" value="inf"/>\n</camera>', 4,
+     'option maxRange="inf" of camera "a" is not finite'),
     ('<lens name="a"/>', 3, 'unknown element <lens>'),
     ('', 2, 'holds no <camera>'),
 ]

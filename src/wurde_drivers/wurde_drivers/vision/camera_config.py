@@ -19,6 +19,7 @@ Pure Python (lxml).
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 from collections.abc import Mapping
 
@@ -34,10 +35,12 @@ ROOT_TAG = 'camera-config'
 
 @dataclasses.dataclass(frozen=True)
 class OptionSet:
-    """The options a camera type takes: ``required`` ones and ``optional`` ones with defaults."""
+    """The options a camera type takes: ``required`` ones and ``optional`` ones with defaults,
+    and the kind of value of those that are not text (``int``, ``number``, ``bool``)."""
 
     required: tuple[str, ...] = ()
     optional: Mapping[str, str] = dataclasses.field(default_factory=dict)
+    kinds: Mapping[str, str] = dataclasses.field(default_factory=dict)
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -52,13 +55,31 @@ FIREWIRE_CONTROLS = ('brightness', 'exposure', 'sharpness', 'hue', 'saturation',
 #: ``loop``, the sim camera's), with defaults ('' = not set).
 CAMERA_OPTIONS: dict[str, OptionSet] = {
     'firewire': OptionSet(('id',), {**{name: '' for name in FIREWIRE_CONTROLS}, 'autoiris': '',
-                                    'width': '', 'height': '', 'frameRate': ''}),
+                                    'width': '', 'height': '', 'frameRate': ''},
+                          {**{name: 'int' for name in FIREWIRE_CONTROLS}, 'autoiris': 'bool',
+                           'width': 'int', 'height': 'int', 'frameRate': 'number'}),
     'playback': OptionSet(('imageDirectory',), {'imageSuffix': '.ppm', 'imagePrefix': '',
-                                                'imageDevice': '', 'frameRate': '10', 'loop': 'false'}),
+                                                'imageDevice': '', 'frameRate': '10', 'loop': 'false'},
+                          {'frameRate': 'number', 'loop': 'bool'}),
     'sim': OptionSet((), {'simConfig': 'sim-config.xml', 'truth': '', 'width': '320',
                           'height': '240', 'frameRate': '10', 'fieldOfView': '60',
-                          'wallHeight': '2.0', 'cameraHeight': '1.0', 'maxRange': '20'}),
+                          'wallHeight': '2.0', 'cameraHeight': '1.0', 'maxRange': '20'},
+                     {'width': 'int', 'height': 'int', 'frameRate': 'number', 'fieldOfView': 'number',
+                      'wallHeight': 'number', 'cameraHeight': 'number', 'maxRange': 'number'}),
 }
+_BOOLEANS = ('true', 'false', 'yes', 'no', '1', '0', 'on', 'off')
+
+
+def _kind_error(kind: str, value: str) -> str | None:
+    """Why ``value`` is not of ``kind``, or None when it is."""
+    text = value.strip()
+    if kind == 'bool':
+        return None if text.lower() in _BOOLEANS else 'is not true or false'
+    try:
+        number = int(text, 0) if kind == 'int' else float(text)
+    except ValueError:
+        return f'is not {"an integer" if kind == "int" else "a number"}'
+    return None if math.isfinite(number) else 'is not finite'
 
 
 @dataclasses.dataclass(frozen=True)
@@ -115,6 +136,9 @@ def _options(path: str, node: etree._Element, allowed: OptionSet, camera: str) -
                               f'{", ".join(allowed.names)}')
         if name in found:
             raise attrs.error(f'option "{name}" given twice (first on line {found[name][1]})')
+        problem = _kind_error(allowed.kinds[name], value) if name in allowed.kinds else None
+        if problem:
+            raise attrs.error(f'option {name}="{value}" of camera "{camera}" {problem}')
         found[name] = (value, attrs.line)
     missing = [name for name in allowed.required if name not in found]
     if missing:
