@@ -149,3 +149,13 @@ def test_capture_ids_that_name_no_device() -> None:
     assert 'names no capture device' in reports[0]
     missing = CaptureCamera(spec('firewire', id='/nonexistent/video0'), reports.append)
     assert missing.read() is None and 'no such device' in reports[-1]
+
+
+def test_a_camera_with_nothing_ready_does_not_ask_for_a_busy_loop(tmp_path: pathlib.Path) -> None:
+    cv2.imwrite(str(tmp_path / image_name('', 0, '', 1.0, '.ppm')), image(0))
+    camera = PlaybackCamera(spec('playback', imageDirectory=str(tmp_path), imagePrefix='',
+                                 imageDevice='', imageSuffix='.ppm', frameRate='50', loop='false'))
+    read_until(camera, lambda f: len(f) == 1, 'the one frame')
+    assert 0.0 < camera.wait_s() <= 0.02                    # paced: the next frame's time
+    read_until(camera, lambda _: camera.finished, 'the end')
+    assert camera.wait_s() == float('inf')                   # finished: the loop's own sleep

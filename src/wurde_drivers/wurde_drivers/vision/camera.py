@@ -133,18 +133,22 @@ class Camera:
         frame = Frame(self.name, self.index, stamp, image)
         self.index += 1
         self.frames += 1
-        if self.period:
-            self._next_frame = max(self._next_frame + self.period, now)
+        if self.period:   # keep the schedule; one that fell a period behind starts again
+            self._next_frame += self.period
+            if self._next_frame < now:
+                self._next_frame = now + self.period
         return frame
 
     def wait_s(self) -> float:
-        """How long until the next frame is due, for the module's sleep: 0 for an unpaced
-        camera that just gave one, ``inf`` (no idea: the loop's own sleep) for one that had
-        none ready."""
+        """How long until the next frame is due, for the module's sleep: until the next
+        attempt to open it, or its paced frame; 0 for an unpaced camera that just gave one;
+        ``inf`` (no idea: the loop's own sleep) when a frame was due and none was ready (a
+        finished playback, a sim camera before its first pose), so nothing spins."""
+        now = time.monotonic()
         if not self.up:
-            return max(0.0, self._next_try - time.monotonic())
-        if self.period:
-            return max(0.0, self._next_frame - time.monotonic())
+            return max(0.0, self._next_try - now)
+        if self.period and now < self._next_frame:
+            return self._next_frame - now
         return math.inf if self._starved else 0.0
 
     def _outage(self, what: str) -> None:
