@@ -130,18 +130,23 @@ def test_playback_frames_reach_consumers_and_disk_exactly(observer: Observer, tm
             assert bytes(message.data) == cv2.cvtColor(made[index], cv2.COLOR_BGR2RGB).tobytes()
         info = observer.infos['Pub']
         assert (info.camera, info.format, info.width, info.height) == ('Play', 'rgb', WIDTH, HEIGHT)
-        # The writer's files: the frames, named as the playback camera reads them.
+        # The writer's files: the frames, named as the playback camera reads them (the writer
+        # runs after the publisher in a turn, so its last file may still be on its way).
+        paths = {index: out / image_name('copy', index, 'main', 50.0 + index, '.ppm') for index in made}
+        observer.until(lambda _: all(path.exists() for path in paths.values()), 'the written frames')
         for index, pixels in made.items():
-            path = out / image_name('copy', index, 'main', 50.0 + index, '.ppm')
+            path = paths[index]
             written = cv2.imread(str(path))
             assert written is not None and np.array_equal(written, pixels), path
         # VisionControl: the layout, and a stop command.
-        observer.until(lambda o: bool(o.events['VisControl']), 'VisionControl status')
+        # The status comes once a second: wait for one sent after every frame was taken.
+        observer.until(lambda o: bool(o.events['VisControl'])
+                       and o.events['VisControl'][-1][1].frame_count >= FRAMES, 'VisionControl status')
         status = observer.events['VisControl'][-1][1]
         assert (status.layout, list(status.cameras), list(status.camera_types)) == ('Vis', ['Play'], ['playback'])
         assert list(status.operator_names) == ['Pub', 'Writer']
         assert list(status.operator_types) == ['ImagePublisher', 'ImageWriter']
-        assert list(status.operator_running) == [True, True] and status.frame_count >= FRAMES
+        assert list(status.operator_running) == [True, True]
         observer.request('VisControl', command=2, operator_name='Writer')
         observer.until(lambda o: list(o.events['VisControl'][-1][1].operator_running) == [True, False],
                        'Writer stopped')
@@ -206,19 +211,23 @@ def test_stereo_data_collector_logs_matching_sets(observer: Observer, tmp_path: 
     odometry.data.tv, odometry.data.rv = 0.25, -0.125
     odometry.data.timestamp = Time(78.25)
 
+    def complete_sets() -> list[int]:
+        """Set indices with main, stereo, laser and odometry files (the odometry is written last)."""
+        indices = [int(path.name.split('-')[1]) for path in out.glob('run-*-odometry-*.txt')]
+        return sorted(i for i in indices if all(any(out.glob(f'run-{i}-{device}-*'))
+                                                for device in ('main', 'stereo', 'laser')))
+
     def feed_and_check(_: Observer) -> bool:
         laser.publish_data()
         odometry.publish_data()
-        return any(out.glob('run-*-laser-*.txt')) and any(out.glob('run-*-odometry-*.txt'))
+        return bool(complete_sets())
 
     program = find_executable('wurde_drivers', 'vision_module')
     with ChildProcess([program, '-c', str(camera), '-v', str(vision), '-n', 'Collect']) as child:
         observer.until(feed_and_check, 'a set with laser and odometry')
         assert child.stop() == 0
-    laser_file = sorted(out.glob('run-*-laser-*.txt'))[0]
-    index = int(laser_file.name.split('-')[1])
-    assert laser_file.name == f'run-{index}-laser-77.500000.txt'
-    assert laser_file.read_text() == '1.5 2.25 8.0\n'
+    index = complete_sets()[0]
+    assert (out / f'run-{index}-laser-77.500000.txt').read_text() == '1.5 2.25 8.0\n'
     assert (out / f'run-{index}-odometry-78.250000.txt').read_text() == '1.0 -2.0 0.5 0.25 -0.125\n'
     main = sorted(out.glob(f'run-{index}-main-*.ppm'))
     stereo = sorted(out.glob(f'run-{index}-stereo-*.ppm'))

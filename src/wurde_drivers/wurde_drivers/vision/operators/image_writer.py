@@ -6,7 +6,9 @@ the guide's; any type OpenCV writes). Each frame goes to
 ``imagePrefix-[frame index]-imageDevice-[timestamp].imageSuffix``, the name the playback camera
 reads, so a written set plays back as it was taken. Any resolution (the guide's was 320x240
 only); the guide's 25 fps at 320x240 colour is kept with room to spare (``bench/vision.py``).
-A frame that cannot be written (disk full, directory removed) is counted and reported once.
+Each file appears whole (written under a hidden name, then renamed), so a playback camera
+or a viewer reading the directory never sees half a frame. A frame that cannot be written (disk
+full, directory removed) is counted and reported once.
 """
 
 from __future__ import annotations
@@ -14,13 +16,11 @@ from __future__ import annotations
 import os
 from collections.abc import Mapping
 
-import cv2
-
 from ..camera import Frame
 from ..operator import Operator, OperatorContext
 from ..vision_config import OperatorSpec
 from ..playback import image_name
-from .files import output_place
+from .files import output_place, write_image
 
 __all__ = ['ImageWriter']
 
@@ -50,11 +50,7 @@ class ImageWriter(Operator):
     def process(self, frames: Mapping[str, Frame]) -> None:
         frame = self.main(frames)
         path = self.path_of(frame)
-        try:
-            ok = cv2.imwrite(path, frame.image)
-        except cv2.error:
-            ok = False
-        if ok:
+        if write_image(path, frame.image):
             self.written += 1
             return
         self.failed += 1

@@ -12,7 +12,8 @@ own timestamp, as the guide names them:
   (no header, just data);
 - ``odometry``: ``.txt``, ``x y theta tv rv`` (m, rad, m/s, rad/s; no commas).
 
-A source that has sent nothing yet is left out of the set. Options: ``imageDir`` (default the
+A source that has sent nothing yet is left out of the set; each file appears whole (written
+under a hidden name, then renamed), the odometry last. Options: ``imageDir`` (default the
 WURDE data directory), ``imagePrefix`` (default the operator's name), and ours: ``laser`` and
 ``odometry``, the stream names of the sources (empty: asked of the MCP, ``ConnectionStrategy.AUTO``).
 The set can be played back by ``playback`` cameras with ``imageDevice`` main and stereo.
@@ -23,7 +24,6 @@ from __future__ import annotations
 import os
 from collections.abc import Mapping, Sequence
 
-import cv2
 from wurde_core import ConnectionStrategy
 from wurde_core.interfaces import Egomotion, RangeFinder
 
@@ -31,7 +31,7 @@ from ..camera import Frame
 from ..operator import Operator, OperatorContext
 from ..vision_config import OperatorSpec
 from ..playback import image_name
-from .files import output_place
+from .files import output_place, write_image, write_text
 
 __all__ = ['StereoDataCollector', 'laser_text', 'odometry_text']
 
@@ -55,6 +55,7 @@ class StereoDataCollector(Operator):
         self.directory = ''
         self.prefix = ''
         self.sets = 0
+        self.failed = 0      # files that could not be written
         self.laser: RangeFinder | None = None
         self.odometry: Egomotion | None = None
         self._laser: tuple[float, list[float]] | None = None
@@ -92,11 +93,17 @@ class StereoDataCollector(Operator):
         for device, camera in zip(('main', 'stereo'), self.cameras):
             frame = frames.get(camera)
             if frame is not None:
-                cv2.imwrite(self._path(device, frame.stamp, '.ppm'), frame.image)
+                ok = write_image(self._path(device, frame.stamp, '.ppm'), frame.image)
+                self._count(ok)
         if self._laser is not None:
-            with open(self._path('laser', self._laser[0], '.txt'), 'w') as out:
-                out.write(laser_text(self._laser[1]))
+            self._count(write_text(self._path('laser', self._laser[0], '.txt'), laser_text(self._laser[1])))
         if self._odometry is not None:
-            with open(self._path('odometry', self._odometry[0], '.txt'), 'w') as out:
-                out.write(self._odometry[1])
+            self._count(write_text(self._path('odometry', self._odometry[0], '.txt'), self._odometry[1]))
         self.sets += 1
+
+    def _count(self, ok: bool) -> None:
+        if not ok:
+            self.failed += 1
+            if self.failed == 1:
+                self.context.logger.warn(f'{self.name}: cannot write to {self.directory}; '
+                                         'sets are incomplete until it can')
