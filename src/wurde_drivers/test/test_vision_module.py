@@ -1,7 +1,7 @@
 """vision_module end to end (guide 7.2): a real process with a playback camera of real image
 files, an ImagePublisher and an ImageWriter; a wurde_core consumer in the test receives the
 exact frames on ImageTransport and on ``sensor_msgs/Image``, the writer's files hold them, and
-VisionControl reports, stops an operator and sets an option. A bad config ends the program with
+VisionControl reports, stops an operator, sets an option and reloads the file. A bad config ends the program with
 file:line."""
 
 from __future__ import annotations
@@ -157,6 +157,12 @@ def test_playback_frames_reach_consumers_and_disk_exactly(observer: Observer, tm
                        and o.infos['Pub'].format == 'gray', 'gray frames')
         gray = observer.events['Pub'][-1][1]
         assert bytes(gray.data) == cv2.cvtColor(made[gray.frame_index], cv2.COLOR_BGR2GRAY).tobytes()
+        # Reload: the file now says yuv422; the running publisher takes it.
+        vision.write_text(vision.read_text().replace('value="rgb"', 'value="yuv422"'))
+        observer.request('VisControl', command=4)
+        observer.until(lambda o: o.events['Pub'][-1][1].encoding == 'yuv422', 'yuv422 frames after reload')
+        uyvy = observer.events['Pub'][-1][1]
+        assert bytes(uyvy.data) == cv2.cvtColor(made[uyvy.frame_index], cv2.COLOR_BGR2YUV_UYVY).tobytes()
         assert child.stop() == 0
     assert 'skipped' in child.stderr and f'set-{FRAMES}-main' in child.stderr   # the corrupt file
 

@@ -6,7 +6,8 @@
   simulator's ``sim`` camera (``wurde_drivers.sim.dummies.camera``), found by :mod:`.registry`;
 - :mod:`.operator`: the operator base class; :mod:`.operators` the shipped ones (guide 7.2.3);
 - :mod:`.formats`: pure pixel conversions (gray, rgb, yuv24, yuv422);
-- :mod:`.module`: the program.
+- :mod:`.runner`: one loop turn of a layout's cameras and operators; :mod:`.control`: the
+  VisionControl stream; :mod:`.module`: the program.
 """
 
 from .camera import Camera, Frame
