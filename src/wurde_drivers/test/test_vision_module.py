@@ -1,8 +1,8 @@
 """vision_module end to end (guide 7.2): a real process with a playback camera of real image
 files, an ImagePublisher and an ImageWriter; a wurde_core consumer in the test receives the
 exact frames on ImageTransport and on ``sensor_msgs/Image``, the writer's files hold them, and
-VisionControl reports, stops an operator, sets an option and reloads the file. A bad config ends the program with
-file:line."""
+VisionControl reports, stops an operator, sets an option and reloads the file. A bad config
+ends the program with file:line."""
 
 from __future__ import annotations
 
@@ -143,7 +143,8 @@ def test_playback_frames_reach_consumers_and_disk_exactly(observer: Observer, tm
         observer.until(lambda o: bool(o.events['VisControl'])
                        and o.events['VisControl'][-1][1].frame_count >= FRAMES, 'VisionControl status')
         status = observer.events['VisControl'][-1][1]
-        assert (status.layout, list(status.cameras), list(status.camera_types)) == ('Vis', ['Play'], ['playback'])
+        assert (status.layout, list(status.cameras), list(status.camera_types)) == \
+            ('Vis', ['Play'], ['playback'])
         assert list(status.operator_names) == ['Pub', 'Writer']
         assert list(status.operator_types) == ['ImagePublisher', 'ImageWriter']
         assert list(status.operator_running) == [True, True]

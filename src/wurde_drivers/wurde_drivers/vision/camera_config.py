@@ -105,7 +105,8 @@ class CameraSpec:
         try:
             value: float = int(raw, 0) if integer else float(raw)
         except ValueError as error:
-            raise self.error(f'option {name}="{raw}" is not {"an integer" if integer else "a number"}') from error
+            kind = 'an integer' if integer else 'a number'
+            raise self.error(f'option {name}="{raw}" is not {kind}') from error
         if minimum is not None and not value >= minimum:
             raise self.error(f'option {name}={raw} is below {minimum:g}')
         return value
