@@ -88,6 +88,12 @@ bench-motion: build
 bench-xml: build
 	$(IN_ENV) python bench/xml_server.py
 
+# The VisionModule's operators (issue 14): ImageWriter and ImagePublisher frames per second at 320x240
+# and 640x480 beside a raw cv2.imwrite loop and a raw rclpy sensor_msgs/Image publisher (about 30 s).
+.PHONY: bench-vision
+bench-vision: build
+	$(IN_ENV) python bench/vision.py
+
 # Fuzz campaigns (issue 16; not part of `make test`, which replays the kept corpus): atheris over every
 # codec, XML reader, carmen.ini and the xmlServer's parser, FUZZ_SECONDS each (23 targets).
 FUZZ_SECONDS ?= 30

@@ -21,6 +21,14 @@ EXECUTABLES = {
     'dmu_module': 'dmu.module',
     'dmu_emulator': 'dmu.emulator_module',
     'wrist_module': 'wrist.module',
+    'vision_module': 'vision.module',
+}
+
+#: The shipped vision operators (WURDE guide 7.2.3), found by type name (wurde_drivers.vision.registry).
+VISION_OPERATORS = {
+    'ImageWriter': 'vision.operators.image_writer:ImageWriter',
+    'ImagePublisher': 'vision.operators.image_publisher:ImagePublisher',
+    'StereoDataCollector': 'vision.operators.stereo_collector:StereoDataCollector',
 }
 
 setup(
@@ -39,6 +47,9 @@ setup(
     description="Device drivers that speak the real protocols (SICK, rFLEX, PTU, CAN wrist, GPS, DMU), their device emulators, and the simulated Pluto robot (issues: drivers, simulated robot).",
     license='BSD-3-Clause',
     tests_require=['pytest'],
-    entry_points={'console_scripts': [
-        f'{name} = {PACKAGE}.{module}:main' for name, module in EXECUTABLES.items()]},
+    entry_points={
+        'console_scripts': [f'{name} = {PACKAGE}.{module}:main' for name, module in EXECUTABLES.items()],
+        'wurde.vision_operators': [f'{name} = {PACKAGE}.{target}'
+                                   for name, target in VISION_OPERATORS.items()],
+    },
 )
