@@ -21,6 +21,7 @@ EXECUTABLES = {
     'dmu_module': 'dmu.module',
     'dmu_emulator': 'dmu.emulator_module',
     'wrist_module': 'wrist.module',
+    'eye': 'eye.module',
 }
 
 setup(
