@@ -51,8 +51,8 @@ def xvfb(directory: pathlib.Path, size: tuple[int, int] = (800, 600),
             ready, _, _ = select.select([read], [], [], max(0.0, left))
             chunk = os.read(read, 16) if ready else b''
             if not chunk:
-                raise AssertionError(f'Xvfb gave no display number within {timeout} s: '
-                                     f'{process.stderr.read().decode() if process.poll() is not None else "still running"}')
+                said = process.stderr.read().decode() if process.poll() is not None else 'running'
+                raise AssertionError(f'Xvfb gave no display number within {timeout} s: {said}')
             number += chunk
         yield f':{int(number)}', directory / 'Xvfb_screen0'
     finally:
@@ -75,8 +75,9 @@ def read_xwd(path: pathlib.Path) -> np.ndarray:
     ncolors = int(header[19])
     assert version == 7 and format_ == 2 and bits_per_pixel == 32, 'not a 32-bit ZPixmap XWD'
     start = header_size + 12 * ncolors
-    rows = np.frombuffer(raw, dtype='<u4' if byte_order == 0 else '>u4', count=height * bytes_per_line // 4,
-                         offset=start).reshape(height, bytes_per_line // 4)[:, :width]
+    words = bytes_per_line // 4
+    rows = np.frombuffer(raw, dtype='<u4' if byte_order == 0 else '>u4', count=height * words,
+                         offset=start).reshape(height, words)[:, :width]
     channels = []
     for mask in masks:
         shift = (mask & -mask).bit_length() - 1

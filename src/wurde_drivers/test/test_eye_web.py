@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import pathlib
 import re
+import socket
 import urllib.request
 
 from eye_fixture import eye, pattern_camera, status
@@ -55,3 +56,23 @@ def test_page_shows_the_published_frames(ros_domain: int, tmp_path: pathlib.Path
     finally:
         observer.close()
     assert child.process.returncode == 0, child.stderr[-3000:]
+
+
+def test_a_display_that_cannot_open_ends_the_eye_or_gives_way(ros_domain: int) -> None:
+    """A taken port or ``-d window`` without a display: exit status 2 and why; ``auto`` with a
+    DISPLAY that no X server answers falls back to the page."""
+    with socket.socket() as taken:
+        taken.bind(('127.0.0.1', 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        with eye(['-i', 'Camera', '-d', 'web', '-p', str(port)], display=None) as busy, \
+                eye(['-i', 'Camera', '-d', 'window'], display=None) as windowless, \
+                eye(['-i', 'Camera', '-p', '0'], display=':987') as fallback:
+            fallback.expect('shows Camera on http://127.0.0.1:', timeout=30)
+            assert busy.process.wait(timeout=30) == 2
+            assert windowless.process.wait(timeout=30) == 2
+    assert f'eye: cannot serve on 127.0.0.1:{port}' in busy.stderr, busy.stderr
+    assert 'eye: no window on display None' in windowless.stderr, windowless.stderr
+    assert "no window on display ':987'" in fallback.stderr
+    assert 'showing the web page instead' in fallback.stderr
+    assert fallback.process.returncode == 0, fallback.stderr[-3000:]

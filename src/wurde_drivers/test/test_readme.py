@@ -40,13 +40,15 @@ def test_readme_eye_camera_example(ros_domain: int, tmp_path: pathlib.Path) -> N
     camera = tmp_path / 'camera.py'
     camera.write_text(block)
     assert 'eye -i Camera' in text[start:text.index('## Navigation', start)]
-    with ChildProcess([str(camera)]) as supplier, eye(['-i', 'Camera', '-p', '0'], display=None) as child:
+    with ChildProcess([str(camera)]) as supplier, \
+            eye(['-i', 'Camera', '-p', '0'], display=None) as child:
         url = re.search(r'http://127\.0\.0\.1:\d+/', child.expect('shows Camera on http://', 30))
         assert url, child.stdout
-        with urllib.request.urlopen(url.group(0) + 'frame.png?after=0', timeout=30) as answer:  # noqa: S310
+        with urllib.request.urlopen(url.group(0) + 'frame.png?after=0',  # noqa: S310 - loopback
+                                    timeout=30) as answer:
             k = int(answer.headers['X-Source-Frame'])
-            shown = cv2.cvtColor(cv2.imdecode(np.frombuffer(answer.read(), np.uint8), cv2.IMREAD_COLOR),
-                                 cv2.COLOR_BGR2RGB)
+            png = np.frombuffer(answer.read(), np.uint8)
+    shown = cv2.cvtColor(cv2.imdecode(png, cv2.IMREAD_COLOR), cv2.COLOR_BGR2RGB)
     x, y = np.meshgrid(np.arange(320), np.arange(240))
     expected = np.dstack(((x + 4 * k) % 256, y, np.full_like(x, 128)))
     assert k >= 1 and (shown == expected).all()

@@ -41,7 +41,7 @@ from .status import DisplayStatus
 from .web import DEFAULT_ADDRESS, DEFAULT_PORT, WebDisplay
 from .window import TkWindow, WindowError, display_available
 
-__all__ = ['ALIAS', 'Eye', 'main']
+__all__ = ['ALIAS', 'Display', 'Eye', 'default_title', 'main', 'open_display']
 
 #: The consumer's alias in MCP mappings (the guide's appendix: ``EyeImageClient``).
 ALIAS = 'EyeImageClient'
@@ -53,6 +53,11 @@ HELP = ('  -i STREAM    the ImageTransport stream to show (default: assigned to 
         f'  -b ADDRESS   the web page\'s address (default {DEFAULT_ADDRESS}: this machine only)\n'
         '  -t TITLE     window title (default: Eye: STREAM)\n'
         '  -s SCALE     display scale factor (default 1)')
+
+
+def default_title(stream: str) -> str:
+    """The window's title unless ``-t`` or a request sets one."""
+    return f'Eye: {stream}'
 
 
 class Display(Protocol):
@@ -82,11 +87,12 @@ class Eye:
     """The module's work: images in, decoded, composed, shown; settings and status on ImageDisplay."""
 
     def __init__(self, manager: CommsManager, logger: Logger, source: ImageSource,
-                 control: ImageDisplay, store: FrameStore, status: DisplayStatus) -> None:
+                 control: ImageDisplay, store: FrameStore, status: DisplayStatus,
+                 display: Display) -> None:
+        """Registered objects in; publishes the first info at once."""
         self.manager, self.logger = manager, logger
         self.source, self.control = source, control
-        self.store, self.status = store, status
-        self.display: Display = _NoDisplay()
+        self.store, self.status, self.display = store, status, display
         self.decoded = 0
         self.bad_images = 0
         self._fault = ''
@@ -162,10 +168,13 @@ class Eye:
             self._status_at = now
 
     def _follow_assignment(self) -> None:
-        """Name the stream in the info once the MCP assigned one (STRAT_ASSIGNED)."""
-        stream = self.source.stream
-        if stream and stream != self.store.settings.stream:
-            self.store.set_settings(dataclasses.replace(self.store.settings, stream=stream))
+        """Name the stream in the info (and the default title) once the MCP assigned one
+        (STRAT_ASSIGNED)."""
+        stream, settings = self.source.stream, self.store.settings
+        if stream and stream != settings.stream:
+            title = default_title(stream) if settings.title == default_title(settings.stream) \
+                else settings.title
+            self.store.set_settings(dataclasses.replace(settings, stream=stream, title=title))
             self._publish_info()
 
     def step(self) -> None:
@@ -181,31 +190,33 @@ class Eye:
         self.store.close()
 
 
-def _open_display(eye: Eye, mode: str, address: str, port: int) -> Display:
-    """The display ``mode`` asks for; ``auto`` falls back to the page when no window opens.
+def open_display(manager: CommsManager, store: FrameStore, status: DisplayStatus, mode: str, *,
+                 address: str = DEFAULT_ADDRESS, port: int = DEFAULT_PORT) -> Display:
+    """The display ``mode`` asks for (``window``, ``web``); ``auto`` is the window where
+    ``DISPLAY`` is set and Tk opens it, else the page. Opened before the module registers
+    anything, so a display that cannot open ends the program before it joins the ROS graph.
 
-    :raises SystemExit: (status 2) when the asked display cannot open.
+    :raises SystemExit: (status 2, the reason on stderr) when the asked display cannot open.
     """
-    name = eye.manager.name
-    if mode in ('window', 'auto') and (mode == 'window' or display_available()):
-        window = TkWindow(eye.store, eye.status,
-                          on_close=lambda: eye.manager.set_state(RunState.QUIT))
+    name, stream = manager.name, store.settings.stream
+    if mode == 'window' or (mode == 'auto' and display_available()):
+        window = TkWindow(store, status, on_close=lambda: manager.set_state(RunState.QUIT))
         try:
             window.open()
-            print(f'eye: {name} shows {eye.store.settings.stream} in a window', flush=True)
+            print(f'eye: {name} shows {stream} in a window', flush=True)
             return window
         except WindowError as error:
             if mode == 'window':
                 print(f'eye: {error}', file=sys.stderr, flush=True)
                 raise SystemExit(2) from None
-            eye.logger.warn(f'{name}: {error}; showing the web page instead')
-    web = WebDisplay(eye.store, eye.status, address=address, port=port)
+            print(f'eye: {error}; showing the web page instead', file=sys.stderr, flush=True)
+    web = WebDisplay(store, status, address=address, port=port)
     try:
         web.open()
     except OSError as error:
         print(f'eye: cannot serve on {address}:{port}: {error}', file=sys.stderr, flush=True)
         raise SystemExit(2) from None
-    print(f'eye: {name} shows {eye.store.settings.stream} on {web.url}', flush=True)
+    print(f'eye: {name} shows {stream} on {web.url}', flush=True)
     return web
 
 
@@ -235,7 +246,10 @@ def main(argv: list[str] | None = None) -> int:
     stream = user.get('i')
     source = ImageSource(stream) if stream else ImageSource(ConnectionStrategy.ASSIGNED, ALIAS)
     shown = stream or ALIAS
-    settings = DisplaySettings(title=user.get('t', f'Eye: {shown}'), stream=shown, scale=scale)
+    settings = DisplaySettings(title=user.get('t', default_title(shown)), stream=shown, scale=scale)
+    store, status = FrameStore(settings), DisplayStatus()
+    display = _NoDisplay() if opts.registration else open_display(
+        manager, store, status, mode, address=user.get('b', DEFAULT_ADDRESS), port=port)
     control = ImageDisplay(manager.name)
     control.info.stream.lock(LockMode.SUPPLIERS)
     logger = Logger(manager.name)
@@ -243,9 +257,7 @@ def main(argv: list[str] | None = None) -> int:
     manager.register_supplier(control)
     manager.register_supplier(logger)
     set_loop(manager, LOOP_S)
-    eye = Eye(manager, logger, source, control, FrameStore(settings), DisplayStatus())
-    if not opts.registration:
-        eye.display = _open_display(eye, mode, user.get('b', DEFAULT_ADDRESS), port)
+    eye = Eye(manager, logger, source, control, store, status, display)
     return run_loop(manager, eye.step, eye.close)
 
 

@@ -50,7 +50,8 @@ class TkWindow:
         try:
             root = tkinter.Tk(className='Eye')
         except tkinter.TclError as error:
-            raise WindowError(f'no window on display {os.environ.get("DISPLAY")!r}: {error}') from error
+            display = os.environ.get('DISPLAY')
+            raise WindowError(f'no window on display {display!r}: {error}') from error
         root.geometry('+0+0')
         root.configure(background='black', borderwidth=0, highlightthickness=0)
         root.protocol('WM_DELETE_WINDOW', self.on_close)
