@@ -20,9 +20,9 @@ DEMO_DOMAIN_ID    ?= 57
 
 build: $(BUILD_STAMP)
 
-# Debian packages the tests need beyond the venv (xvfb, chromium: the Eye's window and page are
-# tested on real screens). No stamp: the check is a dpkg-query (a few ms) and installs only what is
-# missing, so a package removed since is put back. The demo and `make build` need none of them.
+# Debian packages the tests need beyond the venv (xvfb, libxtst6, chromium: the Eye's window and
+# page are tested on real screens). No stamp: the check is a dpkg-query (a few ms) and installs only
+# what is missing, so a package removed since is put back. The demo and `make build` need none.
 system:
 	tools/setup_system.sh
 

@@ -2,13 +2,14 @@
 # Install the Debian packages the tests need beyond the venv, if any is missing:
 #   xvfb      a virtual X display: the Eye's window is tested under it (its -fbdir framebuffer file
 #             is the screenshot)
-#   chromium  headless Chromium: the Eye's web page is tested in it (--screenshot)
+#   libxtst6  X's XTest client library: the window test clicks and types through it (ctypes)
+#   chromium  headless Chromium: the Eye's web page is tested in it (DevTools on a pipe)
 # A quick no-op (dpkg-query only) when all are installed; `apt-get update` runs only when one is
 # missing. Needs root (or password-less sudo) and apt-get; says so clearly when they are not there.
 # Called by `make test` (the demo needs none of these).
 set -euo pipefail
 
-packages=(xvfb chromium)
+packages=(xvfb libxtst6 chromium)
 
 missing=()
 for package in "${packages[@]}"; do

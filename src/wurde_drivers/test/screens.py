@@ -1,6 +1,6 @@
-"""Real screens for the Eye's tests: an Xvfb display whose framebuffer is the screenshot, and
-headless Chromium's screenshot of a page. Both come from Debian (``tools/setup_system.sh``
-installs xvfb and chromium); a test fails, not skips, when they are missing.
+"""A real screen for the Eye's tests: an Xvfb display whose framebuffer file is the screenshot.
+Xvfb comes from Debian (``tools/setup_system.sh`` installs it, and Chromium for :mod:`cdp`); a
+test fails, not skips, when it is missing.
 """
 
 from __future__ import annotations
@@ -14,18 +14,13 @@ import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-import cv2
 import numpy as np
 
 XVFB = '/usr/bin/Xvfb'
-CHROMIUM = '/usr/bin/chromium'
-#: Chromium's flags for a closed network and a fresh profile (no first-run, no updates, no GPU).
-CHROMIUM_FLAGS = ('--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-                  '--disable-background-networking', '--disable-component-update', '--disable-sync',
-                  '--hide-scrollbars', '--force-device-scale-factor=1')
 
 
-def _need(path: str, package: str) -> str:
+def need(path: str, package: str) -> str:
+    """``path``, or the program of that name on PATH; fails naming the Debian package."""
     if not (os.path.exists(path) or shutil.which(os.path.basename(path))):
         raise AssertionError(f'{path} is missing: run tools/setup_system.sh (Debian package {package})')
     return path if os.path.exists(path) else str(shutil.which(os.path.basename(path)))
@@ -39,7 +34,7 @@ def xvfb(directory: pathlib.Path, size: tuple[int, int] = (800, 600),
     ``(DISPLAY, framebuffer file)``. Stopped (and reaped) on leaving."""
     read, write = os.pipe()
     process = subprocess.Popen(
-        [_need(XVFB, 'xvfb'), '-displayfd', str(write), '-screen', '0', f'{size[0]}x{size[1]}x24',
+        [need(XVFB, 'xvfb'), '-displayfd', str(write), '-screen', '0', f'{size[0]}x{size[1]}x24',
          '-fbdir', str(directory), '-br', '-nolisten', 'tcp', '-noreset'],
         pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     os.close(write)
@@ -83,20 +78,3 @@ def read_xwd(path: pathlib.Path) -> np.ndarray:
         shift = (mask & -mask).bit_length() - 1
         channels.append(((rows & mask) >> shift).astype(np.uint8))
     return np.stack(channels, axis=-1)
-
-
-def chromium_screenshot(url: str, directory: pathlib.Path, size: tuple[int, int],
-                        timeout: float = 60.0) -> np.ndarray:
-    """RGB pixels of headless Chromium's screenshot of ``url`` in a ``size`` window, taken once
-    the page has loaded (its images included). Fresh profile in ``directory``."""
-    shot = directory / 'screenshot.png'
-    profile = directory / 'chromium-profile'
-    result = subprocess.run(
-        [_need(CHROMIUM, 'chromium'), *CHROMIUM_FLAGS, f'--user-data-dir={profile}',
-         f'--screenshot={shot}', f'--window-size={size[0]},{size[1]}', url],
-        capture_output=True, text=True, timeout=timeout, check=False,
-        env=dict(os.environ, HOME=str(directory)))
-    assert shot.exists(), f'no screenshot (exit {result.returncode}): {result.stderr[-2000:]}'
-    image = cv2.imread(str(shot), cv2.IMREAD_COLOR)
-    assert image is not None, f'{shot} is not an image'
-    return cv2.cvtColor(image, cv2.COLOR_BGR2RGB)

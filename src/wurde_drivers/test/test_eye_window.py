@@ -14,6 +14,7 @@ from pattern_supplier import PLACES, pattern, which_frame
 from screens import read_xwd, xvfb
 from sim_fixture import Observer
 from wurde_core import LockedError
+from xinput import FakeInput
 
 #: yuv422 carries the pattern within rounding (its edges fall on pixel pairs).
 MEAN_TOLERANCE, MAX_TOLERANCE = 1.0, 4.0
@@ -53,6 +54,13 @@ def test_window_shows_the_published_frames(ros_domain: int, tmp_path: pathlib.Pa
             screen_until(framebuffer, lambda s: published(s) and which_frame(s)[0] != first,
                          'a later frame')
             observer.until(lambda o: status(o).display_rate > 1.0, 'the display rate')
+            # A person clicks into the image and presses 'a' (X keysym 0x61).
+            person = FakeInput(display)
+            person.click(100, 50)
+            person.key(0x61)
+            observer.until(lambda o: status(o).click_count == 1 and status(o).key == 0x61,
+                           'the click and the key in the status')
+            assert (status(observer).click_x, status(observer).click_y) == (100, 50)
 
             # Requests: scale 2 with an overlay; the stream is the Eye's to choose (locked).
             with pytest.raises(LockedError):
@@ -75,6 +83,11 @@ def test_window_shows_the_published_frames(ros_domain: int, tmp_path: pathlib.Pa
             # The overlay darkens a band in the top-left corner and writes white text in it.
             band = screen[:20, :100].astype(int)
             assert band.max() >= 200 and np.median(band) < 100
+            # A click at twice the place is the same image pixel.
+            person.click(200, 100)
+            observer.until(lambda o: status(o).click_count == 2, 'the second click')
+            assert (status(observer).click_x, status(observer).click_y) == (100, 50)
+            person.close()
     finally:
         observer.close()
     assert child.process.returncode == 0, child.stderr[-3000:]
