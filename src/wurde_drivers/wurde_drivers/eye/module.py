@@ -98,6 +98,7 @@ class Eye:
         self._fault = ''
         self._status_version = -1
         self._status_at = -math.inf
+        self._info_pending = True
         self._publish_info()
 
     # -- settings ----------------------------------------------------------------------------------
@@ -108,7 +109,8 @@ class Eye:
         info.visible.set_value(settings.visible)
         info.scale.set_value(settings.scale)
         info.overlay.set_value(settings.overlay)
-        self.control.publish_info()
+        # Not sent while the module is not running: sent again next turn.
+        self._info_pending = not self.control.publish_info()
 
     def _requests(self) -> None:
         changed = False
@@ -180,6 +182,8 @@ class Eye:
     def step(self) -> None:
         """One loop turn: requests, the newest image, the display's events, the status."""
         self._follow_assignment()
+        if self._info_pending:
+            self._publish_info()
         self._requests()
         self._take_image()
         self.display.pump()
