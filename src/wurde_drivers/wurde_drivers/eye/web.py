@@ -28,6 +28,7 @@ import dataclasses
 import html
 import http.server
 import json
+import socket
 import threading
 import urllib.parse
 from typing import Any
@@ -106,7 +107,8 @@ class WebDisplay:
 
     def open(self) -> None:
         handler = type('Handler', (_Handler,), {'display': self})
-        self._server = http.server.ThreadingHTTPServer((self.address, self.port), handler)
+        server_class = _Server6 if ':' in self.address else http.server.ThreadingHTTPServer
+        self._server = server_class((self.address, self.port), handler)
         self._server.daemon_threads = True
         self.port = int(self._server.server_address[1])
         self._thread = threading.Thread(target=self._server.serve_forever, name='eye-web',
@@ -128,6 +130,12 @@ class WebDisplay:
         server.server_close()
         if self._thread is not None:
             self._thread.join(timeout=2.0)
+
+
+class _Server6(http.server.ThreadingHTTPServer):
+    """The server on an IPv6 address (``-b ::1``)."""
+
+    address_family = socket.AF_INET6
 
 
 class _Handler(http.server.BaseHTTPRequestHandler):
