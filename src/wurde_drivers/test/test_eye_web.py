@@ -63,7 +63,8 @@ def test_page_shows_the_published_frames(ros_domain: int, tmp_path: pathlib.Path
             observer.request('Eye', visible=False)
             page_until(browser, "document.getElementById('frame').style.visibility",
                        lambda v: v == 'hidden', 'the image hidden')
-            observer.until(lambda o: o.infos['Eye'].visible is False, 'visible false in the info')
+            observer.until(lambda o: 'Eye' in o.infos and o.infos['Eye'].visible is False,
+                           'visible false in the info')
     finally:
         observer.close()
     assert child.process.returncode == 0, child.stderr[-3000:]

@@ -40,8 +40,8 @@ def test_window_shows_the_published_frames(ros_domain: int, tmp_path: pathlib.Pa
         with xvfb(tmp_path) as (display, framebuffer), pattern_camera('Camera', 'yuv422'), \
                 eye(['-i', 'Camera', '-d', 'window'], display=display) as child:
             child.expect('shows Camera in a window', timeout=30)
-            observer.until(lambda o: (s := status(o)) is not None and s.frames_shown >= 2,
-                           'two frames shown', timeout=30)
+            observer.until(lambda o: (s := status(o)) is not None and s.frames_shown >= 2
+                           and 'Eye' in o.infos, 'two frames shown, and the info', timeout=30)
             info = observer.infos['Eye']
             assert (info.stream, info.visible, info.scale, info.title) == ('Camera', True, 1.0,
                                                                           'Eye: Camera')
@@ -87,6 +87,9 @@ def test_window_shows_the_published_frames(ros_domain: int, tmp_path: pathlib.Pa
             person.click(200, 100)
             observer.until(lambda o: status(o).click_count == 2, 'the second click')
             assert (status(observer).click_x, status(observer).click_y) == (100, 50)
+            # Closing the window ends the Eye, cleanly.
+            assert person.close_windows() >= 1
+            assert child.process.wait(timeout=20) == 0, child.stderr[-3000:]
             person.close()
     finally:
         observer.close()
