@@ -22,6 +22,7 @@ EXECUTABLES = {
     'dmu_emulator': 'dmu.emulator_module',
     'wrist_module': 'wrist.module',
     'vision_module': 'vision.module',
+    'eye': 'eye.module',
 }
 
 #: The shipped vision operators (WURDE guide 7.2.3), found by type name (wurde_drivers.vision.registry).

@@ -2,9 +2,10 @@
 
 Classes are made on first use from the descriptions that ``wurde_interfaces`` (and any package
 that calls ``wurde_generate_interfaces``) installs, so a user-defined interface is imported the
-same way as a built-in one.  The guide's special wrappers (ObstacleAvoider, VectorMover) and the
-Logger are importable from here too.  A name that no installed package defines is not an
-attribute of this module (``hasattr`` answers False; the error lists what is installed).
+same way as a built-in one.  The guide's special wrappers (ObstacleAvoider, VectorMover,
+Navigator, ImageSource) and the Logger are importable from here too.  A name that no installed
+package defines is not an attribute of this module (``hasattr`` answers False; the error lists
+what is installed).
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from .robot_object import RobotObject
 
 _classes: dict[str, type[RobotObject]] = {}
 _WRAPPERS = {'ObstacleAvoider': 'wurde_core.wrappers', 'VectorMover': 'wurde_core.wrappers',
-             'Navigator': 'wurde_core.wrappers',
+             'Navigator': 'wurde_core.wrappers', 'ImageSource': 'wurde_core.image_source',
              'Logger': 'wurde_core.logger'}
 
 

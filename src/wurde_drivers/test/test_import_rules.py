@@ -124,3 +124,12 @@ def test_relative_imports_resolve() -> None:
     missing = [f'{module}: {name}' for module in sorted(MODULES) for name in direct_imports(module)
                if name.startswith(PACKAGE + '.') and _resolve(name) is None]
     assert missing == []
+
+
+def test_image_codec_and_the_eyes_displays_import_no_ros() -> None:
+    """The encodings are pure functions over bytes; the Eye's frame store, status, window and page
+    know no ROS either (only its module does)."""
+    pure = [f'{PACKAGE}.image_codec'] + [f'{PACKAGE}.eye.{part}'
+                                         for part in ('frames', 'status', 'window', 'web')]
+    assert all(module in MODULES for module in pure)
+    assert offending(pure, ROS) == []
