@@ -21,6 +21,10 @@ EXECUTABLES = {
     'dmu_module': 'dmu.module',
     'dmu_emulator': 'dmu.emulator_module',
     'wrist_module': 'wrist.module',
+    'joystick_emulator': 'joystick.emulator_module',
+    'blind_teleop': 'blind_teleop.program',
+    # The guide's program name, so that its configurations run as printed (1.1.5).
+    'blindTeleop': 'blind_teleop.program',
 }
 
 setup(

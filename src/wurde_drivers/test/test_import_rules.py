@@ -124,3 +124,12 @@ def test_relative_imports_resolve() -> None:
     missing = [f'{module}: {name}' for module in sorted(MODULES) for name in direct_imports(module)
                if name.startswith(PACKAGE + '.') and _resolve(name) is None]
     assert missing == []
+
+
+def test_the_joystick_library_imports_neither_rclpy_nor_wurde_core() -> None:
+    """The joystick has no server module of its own (BlindTeleop reads it, guide 7.9): everything
+    but its two programs is pure, so any program may read a joystick."""
+    pure = [f'{PACKAGE}.joystick.{part}' for part in
+            ('codec', 'config', 'device', 'controller', 'emulator', 'script')]
+    assert all(module in MODULES for module in pure)
+    assert offending([*pure, f'{PACKAGE}.blind_teleop.drive'], ROS) == []

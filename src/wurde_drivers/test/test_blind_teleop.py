@@ -1,0 +1,97 @@
+"""blind_teleop under the MCP with config/blind-teleop (guide 1.1.5): the joystick emulator's
+translate axis drives the simulated ATRV Jr forward (the simulator's truth), the stop button
+stops it, the quit button ends blind_teleop with status 0.
+
+A copy of the shipped configuration (so that logs stay out of the tree) with the joystick FIFO and
+the map at the test's own paths; the test plays the user at the joystick through the
+``joystick_emulator`` program's stdin and watches ``HollowayRFlexTruth``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import pathlib
+import time
+from collections.abc import Callable
+
+from wurde_core import CommsManager
+from wurde_core.interfaces import Egomotion
+from wurde_testing import ChildProcess, find_executable
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
+SHIPPED = ROOT / 'config' / 'blind-teleop'
+FILES = ('mcp-config.xml', 'mcp-mappings.xml', 'sim-config.xml', 'joystick-config.xml')
+
+
+def shipped_copy(directory: pathlib.Path) -> str:
+    """config/blind-teleop in ``directory``, its joystick FIFO there too; returns the FIFO's path."""
+    fifo = str(directory / 'js0')
+    for name in FILES:
+        text = (SHIPPED / name).read_text()
+        if name == 'mcp-config.xml':
+            assert '-j /tmp/wurde-joystick' in text
+        text = text.replace('/tmp/wurde-joystick', fifo)
+        (directory / name).write_text(text.replace('../maps/', f'{ROOT}/config/maps/'))
+    return fifo
+
+
+def last_run(log: pathlib.Path) -> str:
+    """A module's log from its last start (the MCP's registration pass ran it once before)."""
+    return log.read_text().rsplit(' start: ', 1)[-1] if log.exists() else ''
+
+
+def test_the_joystick_drives_stops_and_quits_blind_teleop(ros_domain: int,
+                                                          tmp_path: pathlib.Path) -> None:
+    fifo = shipped_copy(tmp_path)
+    env = dict(os.environ, WURDE_CONFIG_DIR=str(tmp_path), WURDE_LOG_DIRECTORY=str(tmp_path))
+    manager = CommsManager('TeleopWatcher')
+    manager.set_no_sleep()
+    truth = Egomotion('HollowayRFlexTruth')
+    truth.set_queue_mode(True)
+    manager.register_consumer(truth)
+    path: list[tuple[float, float, float]] = []    # monotonic time, x, y
+    log = tmp_path / 'mcp-modules' / 'BlindTeleop.log'
+
+    def until(predicate: Callable[[], bool], what: str, timeout: float) -> None:
+        deadline = time.monotonic() + timeout
+        while not predicate():
+            assert mcp.process.poll() is None, f'{what}: the MCP exited: {mcp.stderr[-3000:]}'
+            assert time.monotonic() < deadline, (f'{what}: not within {timeout} s; last truth '
+                                                 f'{path[-1:]}; BlindTeleop log: '
+                                                 f'{log.read_text()[-2000:] if log.exists() else ""}')
+            manager.step()
+            while truth.get_next_data():
+                path.append((time.monotonic(), truth.data.location.x(), truth.data.location.y()))
+            manager.wait(0.05)
+
+    def still_for(seconds: float) -> bool:
+        """The truth moved less than 1 cm over the last ``seconds``."""
+        if not path or path[-1][0] - path[0][0] < seconds:
+            return False
+        recent = [p for p in path if p[0] >= path[-1][0] - seconds]
+        return math.dist(recent[0][1:], recent[-1][1:]) < 0.01
+
+    try:
+        with ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', 'mcp-config.xml', '-m',
+                           'mcp-mappings.xml', '-a'], env=env, cwd=str(tmp_path)) as mcp, \
+             ChildProcess([find_executable('wurde_drivers', 'joystick_emulator'), '-p', fifo],
+                          env=env, cwd=str(tmp_path)) as stick:
+            stick.expect('joystick "Saitek P990 Dual Analog Pad"', timeout=60)
+            stick.expect('reader 1 opened the joystick', timeout=90)    # blind_teleop is reading
+            until(lambda: bool(path), 'the simulator running', 60)
+            start = path[-1][1:]
+            stick.send('axis translate -16000')          # half forward: a point ~1 m ahead
+            until(lambda: path[-1][1] - start[0] > 0.5, 'the robot driven forward', 90)
+            assert abs(path[-1][2] - start[1]) < 0.1, 'it went sideways'
+            stick.send('press stop')                     # stick still forward: stop wins
+            until(lambda: still_for(1.0), 'the robot stopped by the stop button', 30)
+            stopped = path[-1][1:]
+            stick.send('press quit')
+            until(lambda: '--- exit code' in last_run(log), 'blind_teleop ended', 30)
+            assert last_run(log).rstrip().endswith('--- exit code 0'), last_run(log)[-2000:]
+            assert 'quit button' in last_run(log)
+            stick.expect('reader 1 closed it', timeout=10)
+            assert math.dist(path[-1][1:], stopped) < 0.05    # and it stays stopped
+    finally:
+        manager.clean_up()
