@@ -1,10 +1,12 @@
 """blind_teleop under the MCP with config/blind-teleop (guide 1.1.5): the joystick emulator's
-translate axis drives the simulated ATRV Jr forward (the simulator's truth), the stop button
-stops it, the quit button ends blind_teleop with status 0.
+translate axis drives the simulated ATRV Jr forward (the simulator's truth), the quickpan and
+quicktilt axes reach the PTU, the stop button stops the robot, a joystick that vanishes stops it
+too, and the quit button (on the joystick come back) ends blind_teleop with status 0.
 
 A copy of the shipped configuration (so that logs stay out of the tree) with the joystick FIFO and
 the map at the test's own paths; the test plays the user at the joystick through the
-``joystick_emulator`` program's stdin and watches ``HollowayRFlexTruth``.
+``joystick_emulator`` program's stdin, plays the set-up's external SafePTUServer (a PTUnit
+supplier that records the requests) and watches ``HollowayRFlexTruth``.
 """
 
 from __future__ import annotations
@@ -15,8 +17,9 @@ import pathlib
 import time
 from collections.abc import Callable
 
+import pytest
 from wurde_core import CommsManager
-from wurde_core.interfaces import Egomotion
+from wurde_core.interfaces import Egomotion, PTUnit
 from wurde_testing import ChildProcess, find_executable
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
@@ -41,7 +44,7 @@ def last_run(log: pathlib.Path) -> str:
     return log.read_text().rsplit(' start: ', 1)[-1] if log.exists() else ''
 
 
-def test_the_joystick_drives_stops_and_quits_blind_teleop(ros_domain: int,
+def test_the_joystick_drives_points_stops_and_quits_blind_teleop(ros_domain: int,
                                                           tmp_path: pathlib.Path) -> None:
     fifo = shipped_copy(tmp_path)
     env = dict(os.environ, WURDE_CONFIG_DIR=str(tmp_path), WURDE_LOG_DIRECTORY=str(tmp_path))
@@ -50,19 +53,25 @@ def test_the_joystick_drives_stops_and_quits_blind_teleop(ros_domain: int,
     truth = Egomotion('HollowayRFlexTruth')
     truth.set_queue_mode(True)
     manager.register_consumer(truth)
+    ptu = PTUnit('SafePTUServer')
+    manager.register_supplier(ptu)
     path: list[tuple[float, float, float]] = []    # monotonic time, x, y
+    pan_tilt: list[tuple[float, float]] = []      # the PTU requests
     log = tmp_path / 'mcp-modules' / 'BlindTeleop.log'
+    emulator = [find_executable('wurde_drivers', 'joystick_emulator'), '-p', fifo]
 
     def until(predicate: Callable[[], bool], what: str, timeout: float) -> None:
         deadline = time.monotonic() + timeout
         while not predicate():
             assert mcp.process.poll() is None, f'{what}: the MCP exited: {mcp.stderr[-3000:]}'
             assert time.monotonic() < deadline, (f'{what}: not within {timeout} s; last truth '
-                                                 f'{path[-1:]}; BlindTeleop log: '
-                                                 f'{log.read_text()[-2000:] if log.exists() else ""}')
+                                                 f'{path[-1:]}; PTU {pan_tilt[-1:]}; BlindTeleop '
+                                                 f'log: {last_run(log)[-2000:]}')
             manager.step()
             while truth.get_next_data():
                 path.append((time.monotonic(), truth.data.location.x(), truth.data.location.y()))
+            while ptu.get_next_request():
+                pan_tilt.append((ptu.requests.pan.get_value(), ptu.requests.tilt.get_value()))
             manager.wait(0.05)
 
     def still_for(seconds: float) -> bool:
@@ -72,26 +81,42 @@ def test_the_joystick_drives_stops_and_quits_blind_teleop(ros_domain: int,
         recent = [p for p in path if p[0] >= path[-1][0] - seconds]
         return math.dist(recent[0][1:], recent[-1][1:]) < 0.01
 
+    def moved_from(where: tuple[float, float]) -> float:
+        return math.dist(path[-1][1:], where)
+
     try:
         with ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', 'mcp-config.xml', '-m',
-                           'mcp-mappings.xml', '-a'], env=env, cwd=str(tmp_path)) as mcp, \
-             ChildProcess([find_executable('wurde_drivers', 'joystick_emulator'), '-p', fifo],
-                          env=env, cwd=str(tmp_path)) as stick:
-            stick.expect('joystick "Saitek P990 Dual Analog Pad"', timeout=60)
-            stick.expect('reader 1 opened the joystick', timeout=90)    # blind_teleop is reading
-            until(lambda: bool(path), 'the simulator running', 60)
-            start = path[-1][1:]
-            stick.send('axis translate -16000')          # half forward: a point ~1 m ahead
-            until(lambda: path[-1][1] - start[0] > 0.5, 'the robot driven forward', 90)
-            assert abs(path[-1][2] - start[1]) < 0.1, 'it went sideways'
-            stick.send('press stop')                     # stick still forward: stop wins
-            until(lambda: still_for(1.0), 'the robot stopped by the stop button', 30)
+                           'mcp-mappings.xml', '-a'], env=env, cwd=str(tmp_path)) as mcp:
+            with ChildProcess(emulator, env=env, cwd=str(tmp_path)) as stick:
+                stick.expect('joystick "Saitek P990 Dual Analog Pad"', timeout=60)
+                stick.expect('reader 1 opened the joystick', timeout=90)   # blind_teleop reads it
+                until(lambda: bool(path), 'the simulator running', 60)
+                start = path[-1][1:]
+                stick.send('axis translate -16000')        # half forward: a point ~1 m ahead
+                until(lambda: path[-1][1] - start[0] > 0.5, 'the robot driven forward', 90)
+                assert abs(path[-1][2] - start[1]) < 0.1, 'it went sideways'
+                stick.send('axis quickpan 32767')          # a quarter turn clockwise
+                stick.send('axis quicktilt 16384')
+                until(lambda: bool(pan_tilt) and pan_tilt[-1][0] == pytest.approx(-math.pi / 4)
+                      and pan_tilt[-1][1] == pytest.approx(0.1, abs=1e-4), 'the PTU requests', 30)
+                stick.send('press stop')                   # stick still forward: stop wins
+                until(lambda: still_for(1.0), 'the robot stopped by the stop button', 30)
+                stopped = path[-1][1:]
+                stick.send('release stop')
+                until(lambda: moved_from(stopped) > 0.3, 'the robot going again', 30)
+            # The emulator ended: its FIFO closed and removed, the joystick vanished.
+            gone = path[-1][1:]
+            until(lambda: still_for(1.0), 'the robot stopped when the joystick vanished', 30)
+            assert moved_from(gone) < 0.5, 'it went on to its last goal'
+            assert 'the joystick stopped: avoider told to stop' in last_run(log)
             stopped = path[-1][1:]
-            stick.send('press quit')
-            until(lambda: '--- exit code' in last_run(log), 'blind_teleop ended', 30)
-            assert last_run(log).rstrip().endswith('--- exit code 0'), last_run(log)[-2000:]
-            assert 'quit button' in last_run(log)
-            stick.expect('reader 1 closed it', timeout=10)
-            assert math.dist(path[-1][1:], stopped) < 0.05    # and it stays stopped
+            with ChildProcess(emulator, env=env, cwd=str(tmp_path)) as stick:
+                stick.expect('reader 1 opened the joystick', timeout=30)   # reopened, retried
+                stick.send('press quit')
+                until(lambda: '--- exit code' in last_run(log), 'blind_teleop ended', 30)
+                assert last_run(log).rstrip().endswith('--- exit code 0'), last_run(log)[-2000:]
+                assert 'quit button' in last_run(log)
+                stick.expect('reader 1 closed it', timeout=10)
+            assert moved_from(stopped) < 0.02                # nothing stale moved it
     finally:
         manager.clean_up()

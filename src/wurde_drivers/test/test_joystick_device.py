@@ -8,7 +8,7 @@ import os
 import pathlib
 import struct
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 
 import pytest
 from wurde_drivers.errors import DriverError
@@ -31,20 +31,26 @@ def until(predicate: Callable[[], bool], poll: Callable[[], object], what: str,
         time.sleep(0.005)
 
 
+class RecordingController(GameController):
+    """A GameController that keeps what it reports."""
+
+    def __init__(self) -> None:
+        self.reports: list[str] = []
+        super().__init__(report=self.reports.append)
+
+
 @pytest.fixture
-def controller() -> GameController:
-    joystick = GameController(report=lambda message: reports.append(message))
-    reports: list[str] = []
-    joystick.reports = reports   # type: ignore[attr-defined]
+def controller() -> Iterator[RecordingController]:
+    joystick = RecordingController()
     joystick.configure(LAYOUT)
     yield joystick
     joystick.close()
 
 
 def test_absent_then_live_then_vanished_then_back(tmp_path: pathlib.Path,
-                                                  controller: GameController) -> None:
+                                                  controller: RecordingController) -> None:
     path = str(tmp_path / 'js0')
-    reports: list[str] = controller.reports   # type: ignore[attr-defined]
+    reports = controller.reports
     controller.open(path, retry_s=0.02)
     controller.update()
     assert controller.device is not None and controller.device.state == DeviceState.ABSENT
