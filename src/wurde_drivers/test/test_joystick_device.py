@@ -8,6 +8,7 @@ import os
 import pathlib
 import struct
 import time
+import tty
 from collections.abc import Callable, Iterator
 
 import pytest
@@ -140,3 +141,30 @@ def test_the_emulator_refuses_a_path_that_is_not_a_fifo(tmp_path: pathlib.Path) 
             stick.set_axis(0, 40000)
         with pytest.raises(ValueError):
             stick.set_button(2, True)
+
+
+def test_a_pseudo_terminal_carries_the_records_and_its_hang_up_is_a_vanished_device() -> None:
+    """A pty in raw mode (as the serial emulators make them) is read like the kernel's device;
+    when its master closes the reader sees the device gone."""
+    master, slave = os.openpty()
+    tty.setraw(slave)                      # raw: the line discipline must not touch the bytes
+    path = os.ttyname(slave)
+    os.close(slave)
+    device = JoystickDevice(path, retry_s=0.02)
+    try:
+        # bytes a cooked terminal would change: CR, LF, ^D, ^C, ^S
+        sent = [JsEvent(JS_EVENT_AXIS, 10, 0x0d04, 0x0a0d0313, init=True),
+                JsEvent(JS_EVENT_BUTTON, 4, 1, 0x13)]
+        device.poll()
+        assert device.state == DeviceState.WAITING
+        data = b''.join(encode_event(event) for event in sent)
+        os.write(master, data[:5])
+        os.write(master, data[5:])
+        got: list[JsEvent] = []
+        until(lambda: len(got) >= 2, lambda: got.extend(device.poll()), 'the pty records')
+        assert got == sent
+    finally:
+        os.close(master)
+    until(lambda: device.state == DeviceState.ABSENT, device.poll, 'the hang-up')
+    assert device.vanished == 1
+    device.close()
