@@ -120,3 +120,23 @@ def test_the_joystick_drives_points_stops_and_quits_blind_teleop(ros_domain: int
             assert moved_from(stopped) < 0.02                # nothing stale moved it
     finally:
         manager.clean_up()
+
+
+def test_bad_joystick_configs_and_scripts_end_the_programs_with_file_and_line(
+        ros_domain: int, tmp_path: pathlib.Path) -> None:
+    bad = tmp_path / 'joystick-config.xml'
+    bad.write_text('<joystick-config>\n<joystick name="J">\n<axis id="b5" name="tilt"/>\n'
+                   '</joystick>\n</joystick-config>\n')
+    script = tmp_path / 'drive.txt'
+    script.write_text('axis 1 -16000\nwait 1\naxis rudder 5\n')
+    env = dict(os.environ, WURDE_CONFIG_DIR=str(tmp_path))
+    for argv, where in (([find_executable('wurde_drivers', 'blind_teleop'), '-j', str(tmp_path / 'js')],
+                         f'{bad}:3: attribute id="b5" of <axis> is not an integer'),
+                        ([find_executable('wurde_drivers', 'joystick_emulator'), '-p',
+                          str(tmp_path / 'js'), '-c', str(ROOT / 'config' / 'blind-teleop' /
+                                                          'joystick-config.xml'), '-f', str(script)],
+                         f'{script}:3: no axis named "rudder"')):
+        with ChildProcess(argv, env=env) as program:
+            assert program.process.wait(timeout=60) == 2
+        assert where in program.stderr, program.stderr
+    assert not (tmp_path / 'js').exists()
