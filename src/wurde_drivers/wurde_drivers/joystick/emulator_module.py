@@ -28,6 +28,7 @@ from wurde_core import CommsManager, Logger, RunState
 from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, set_loop
 from wurde_idl.errors import ConfigError
 
+from ..errors import DriverError
 from .config import JoystickLayout, layout_named, load_joystick_config
 from .emulator import JoystickEmulator
 from .script import Command, ScriptError, parse_command
@@ -78,6 +79,56 @@ class _Source:
             self._buffer += data
 
 
+class _Player:
+    """One turn of the program's loop: tell who opened or closed the joystick, then carry out
+    commands until one waits (or there are none for now)."""
+
+    def __init__(self, manager: CommsManager, emulator: JoystickEmulator, source: _Source) -> None:
+        self.manager = manager
+        self.emulator = emulator
+        self.source = source
+        self.seen = (0, 0)              # readers greeted, readers gone
+        self.until = 0.0                # a ``wait`` ends then (monotonic)
+        self.for_reader = False         # a ``wait-reader`` is on
+
+    def step(self) -> None:
+        emulator, name = self.emulator, self.manager.name
+        if emulator.error is not None:
+            raise SystemExit(f'joystick_emulator: the emulator failed: {emulator.error!r}')
+        if emulator.connections > self.seen[0]:
+            print(f'{name}: reader {emulator.connections} opened the joystick', flush=True)
+        if emulator.disconnects > self.seen[1]:
+            print(f'{name}: reader {emulator.disconnects} closed it', flush=True)
+        self.seen = (emulator.connections, emulator.disconnects)
+        while time.monotonic() >= self.until and not (self.for_reader and not emulator.connected):
+            self.for_reader = False
+            command = self.source.next()
+            if command is None or not self._do(command):
+                return
+
+    def _do(self, command: Command) -> bool:
+        """Carry out ``command``; False when the loop must stop taking commands."""
+        try:
+            if command.verb == 'axis':
+                self.emulator.set_axis(command.number, int(command.value))
+            elif command.verb == 'button':
+                self.emulator.set_button(command.number, bool(command.value))
+        except ValueError as error:       # a number beyond the joystick's axes or buttons
+            print(f'joystick_emulator: {error}', file=sys.stderr, flush=True)
+        if command.verb == 'wait':
+            self.until = time.monotonic() + command.value
+        elif command.verb == 'wait-reader':
+            self.for_reader = True
+        elif command.verb == 'quit':
+            self.manager.set_state(RunState.QUIT)
+            return False
+        return True
+
+    def close(self) -> None:
+        self.emulator.wait_sent(1.0)
+        self.emulator.stop()
+
+
 def _load_script(path: str, layout: JoystickLayout) -> list[Command]:
     commands: list[Command] = []
     for number, line in enumerate(pathlib.Path(path).read_text().splitlines(), start=1):
@@ -126,50 +177,14 @@ def main(argv: list[str] | None = None) -> int:
     emulator = JoystickEmulator(user.get('p', '/tmp/wurde-joystick'), axes=axes, buttons=buttons)
     try:
         emulator.start()
-    except (OSError, ValueError) as error:
+    except (OSError, DriverError) as error:     # a path that is there and is not a FIFO
         print(f'joystick_emulator: {error}', file=sys.stderr, flush=True)
         manager.clean_up()
         return 1
     print(f'{manager.name}: joystick "{layout.name}" ({axes} axes, {buttons} buttons) on '
           f'{emulator.path}', flush=True)
-    source = _Source(layout, script)
-    seen = [0, 0]
-    until = [0.0, False]     # a wait: the time it ends, and whether it waits for a reader
-
-    def step() -> None:
-        if emulator.error is not None:
-            raise SystemExit(f'joystick_emulator: the emulator failed: {emulator.error!r}')
-        if (emulator.connections, emulator.disconnects) != tuple(seen):
-            if emulator.connections > seen[0]:
-                print(f'{manager.name}: reader {emulator.connections} opened the joystick', flush=True)
-            if emulator.disconnects > seen[1]:
-                print(f'{manager.name}: reader {emulator.disconnects} closed it', flush=True)
-            seen[:] = [emulator.connections, emulator.disconnects]
-        while time.monotonic() >= until[0] and not (until[1] and not emulator.connected):
-            until[1] = False
-            command = source.next()
-            if command is None:
-                return
-            try:
-                if command.verb == 'axis':
-                    emulator.set_axis(command.number, int(command.value))
-                elif command.verb == 'button':
-                    emulator.set_button(command.number, bool(command.value))
-            except ValueError as error:       # a number beyond the joystick's axes or buttons
-                print(f'joystick_emulator: {error}', file=sys.stderr, flush=True)
-            if command.verb == 'wait':
-                until[0] = time.monotonic() + command.value
-            elif command.verb == 'wait-reader':
-                until[1] = True
-            elif command.verb == 'quit':
-                manager.set_state(RunState.QUIT)
-                return
-
-    def close() -> None:
-        emulator.wait_sent(1.0)
-        emulator.stop()
-
-    return run_loop(manager, step, close)
+    player = _Player(manager, emulator, _Source(layout, script))
+    return run_loop(manager, player.step, player.close)
 
 
 if __name__ == '__main__':
