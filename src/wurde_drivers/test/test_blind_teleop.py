@@ -1,7 +1,9 @@
 """blind_teleop under the MCP with config/blind-teleop (guide 1.1.5): the joystick emulator's
 translate axis drives the simulated ATRV Jr forward (the simulator's truth), the quickpan and
-quicktilt axes reach the PTU, the stop button stops the robot, a joystick that vanishes stops it
-too, and the quit button (on the joystick come back) ends blind_teleop with status 0.
+quicktilt axes reach the PTU, the stop button stops the robot; stopped by the MCP while it
+drives, blind_teleop stops the robot as it goes; started again, it reads the stick's state from
+the init events and drives on; a joystick that vanishes stops the robot too, and the quit button
+(on the joystick come back) ends blind_teleop with status 0.
 
 A copy of the shipped configuration (so that logs stay out of the tree) with the joystick FIFO and
 the map at the test's own paths; the test plays the user at the joystick through the
@@ -19,11 +21,13 @@ from collections.abc import Callable
 
 import pytest
 from wurde_core import CommsManager
-from wurde_core.interfaces import Egomotion, PTUnit
+from wurde_core.interfaces import Egomotion, ObstacleAvoider, PTUnit
 from wurde_testing import ChildProcess, find_executable
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
 SHIPPED = ROOT / 'config' / 'blind-teleop'
+#: The laserAvoider's states (ObstacleAvoiderTransport data): stopped, and goal reached.
+IDLE, REACHED = 0, 3
 FILES = ('mcp-config.xml', 'mcp-mappings.xml', 'sim-config.xml', 'joystick-config.xml')
 
 
@@ -55,6 +59,10 @@ def test_the_joystick_drives_points_stops_and_quits_blind_teleop(ros_domain: int
     manager.register_consumer(truth)
     ptu = PTUnit('SafePTUServer')
     manager.register_supplier(ptu)
+    avoider = ObstacleAvoider('SimpleAvoider')        # to watch its state, never to command it
+    avoider.set_queue_mode(True)
+    manager.register_consumer(avoider)
+    states: list[tuple[float, int]] = []           # monotonic time, the avoider's state
     path: list[tuple[float, float, float]] = []    # monotonic time, x, y
     pan_tilt: list[tuple[float, float]] = []      # the PTU requests
     log = tmp_path / 'mcp-modules' / 'BlindTeleop.log'
@@ -70,6 +78,8 @@ def test_the_joystick_drives_points_stops_and_quits_blind_teleop(ros_domain: int
             manager.step()
             while truth.get_next_data():
                 path.append((time.monotonic(), truth.data.location.x(), truth.data.location.y()))
+            while avoider.get_next_data():
+                states.append((time.monotonic(), int(avoider.data.state)))
             while ptu.get_next_request():
                 pan_tilt.append((ptu.requests.pan.get_value(), ptu.requests.tilt.get_value()))
             manager.wait(0.05)
@@ -81,8 +91,23 @@ def test_the_joystick_drives_points_stops_and_quits_blind_teleop(ros_domain: int
         recent = [p for p in path if p[0] >= path[-1][0] - seconds]
         return math.dist(recent[0][1:], recent[-1][1:]) < 0.01
 
+    def stopped_not_arrived(since: float) -> bool:
+        """Since ``since`` the avoider was told to stop: it went to IDLE and never reached the goal
+        it was driving to (it would have, ~1 m ahead, had nobody told it)."""
+        after = [state for at, state in states if at >= since]
+        return bool(after) and after[-1] == IDLE and REACHED not in after
+
+    def changes(since: float) -> list[int]:
+        """The avoider's states since ``since``, each change once (for failure messages)."""
+        seen = [state for at, state in states if at >= since]
+        return [state for i, state in enumerate(seen) if i == 0 or seen[i - 1] != state]
+
     def moved_from(where: tuple[float, float]) -> float:
         return math.dist(path[-1][1:], where)
+
+    def controller(*args: str) -> None:
+        with ChildProcess([find_executable('wurde_mcp', 'mcp_controller'), *args], env=env) as tool:
+            tool.expect('mcp_controller: sent', timeout=30)
 
     try:
         with ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', 'mcp-config.xml', '-m',
@@ -104,11 +129,25 @@ def test_the_joystick_drives_points_stops_and_quits_blind_teleop(ros_domain: int
                 stopped = path[-1][1:]
                 stick.send('release stop')
                 until(lambda: moved_from(stopped) > 0.3, 'the robot going again', 30)
+                # The MCP stops BlindTeleop while it drives: its last word stops the robot.
+                since = time.monotonic()
+                controller('stop', 'BlindTeleop')
+                until(lambda: '--- exit code' in last_run(log), 'blind_teleop stopped', 30)
+                assert last_run(log).rstrip().endswith('--- exit code 0'), last_run(log)[-2000:]
+                until(lambda: still_for(1.0), 'the robot stopped with blind_teleop', 30)
+                assert stopped_not_arrived(since), changes(since)
+                assert 'quitting: avoider told to stop\n' in last_run(log)
+                stick.expect('reader 1 closed it', timeout=10)
+                controller('start', 'BlindTeleop')
+                stick.expect('reader 2 opened the joystick', timeout=60)
+                stopped = path[-1][1:]                      # the stick is still forward, and the
+                until(lambda: moved_from(stopped) > 0.3,   # init events tell the new reader so
+                      'the robot driven by the restarted blind_teleop', 60)
+                since = time.monotonic()
             # The emulator ended: its FIFO closed and removed, the joystick vanished.
-            gone = path[-1][1:]
             until(lambda: still_for(1.0), 'the robot stopped when the joystick vanished', 30)
-            assert moved_from(gone) < 0.5, 'it went on to its last goal'
             assert 'the joystick stopped: avoider told to stop' in last_run(log)
+            assert stopped_not_arrived(since), changes(since)
             stopped = path[-1][1:]
             with ChildProcess(emulator, env=env, cwd=str(tmp_path)) as stick:
                 stick.expect('reader 1 opened the joystick', timeout=30)   # reopened, retried

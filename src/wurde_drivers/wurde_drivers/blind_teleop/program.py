@@ -14,7 +14,8 @@ js_event records, such as the ``joystick_emulator``'s FIFO), ``-c FILE`` its con
 Beyond the printed program: a joystick that is absent is reported and retried, and nothing is
 commanded until it has told its state; when it vanishes the avoider is told to stop once and
 nothing more is commanded until it is back.  Quit (the button) stops the avoider, waits up to a
-second for the stop to be delivered, and ends the program with status 0.
+second for the stop to be delivered, and ends the program with status 0; ended otherwise (the
+MCP's Quit, SIGINT) it stops the avoider the same way if it was driving.
 """
 
 from __future__ import annotations
@@ -116,8 +117,18 @@ class BlindTeleop:
             print(line, end='', flush=True)
 
     def close(self) -> None:
-        self.joystick.close()
-        print(flush=True)        # end the status line
+        """Leave the robot stopped if this program was driving it, however the program ends
+        (quit button, the MCP's Quit, SIGINT): the stop is the module's last word, sent although
+        the module is quitting (``set_mcp_traffic``), and waited for up to a second."""
+        try:
+            if self._driving:
+                self.avoider.set_mcp_traffic(True)
+                sent = self.avoider.stop() and self.avoider.wait_delivered(STOP_DELIVERY_S)
+                self.logger.notice(f'{self.manager.name}: quitting: avoider told to stop'
+                                   f'{"" if sent else " (not acknowledged)"}')
+        finally:
+            self.joystick.close()
+            print(flush=True)        # end the status line
 
 
 def main(argv: list[str] | None = None) -> int:
