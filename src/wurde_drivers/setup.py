@@ -23,6 +23,10 @@ EXECUTABLES = {
     'wrist_module': 'wrist.module',
     'vision_module': 'vision.module',
     'eye': 'eye.module',
+    'joystick_emulator': 'joystick.emulator_module',
+    'blind_teleop': 'blind_teleop.program',
+    # The guide's program name, so that its configurations run as printed (1.1.5).
+    'blindTeleop': 'blind_teleop.program',
 }
 
 #: The shipped vision operators (WURDE guide 7.2.3), found by type name (wurde_drivers.vision.registry).

@@ -133,3 +133,12 @@ def test_image_codec_and_the_eyes_displays_import_no_ros() -> None:
                                          for part in ('frames', 'status', 'window', 'web')]
     assert all(module in MODULES for module in pure)
     assert offending(pure, ROS) == []
+
+
+def test_the_joystick_library_imports_neither_rclpy_nor_wurde_core() -> None:
+    """The joystick has no server module of its own (BlindTeleop reads it, guide 7.9): everything
+    but its two programs is pure, so any program may read a joystick."""
+    pure = [f'{PACKAGE}.joystick.{part}' for part in
+            ('codec', 'config', 'device', 'controller', 'emulator', 'script')]
+    assert all(module in MODULES for module in pure)
+    assert offending([*pure, f'{PACKAGE}.blind_teleop.drive'], ROS) == []

@@ -115,3 +115,31 @@ def test_readme_eye_camera_example(ros_domain: int, tmp_path: pathlib.Path) -> N
     assert k >= 1 and (shown == expected).all()
     assert supplier.process.returncode == 0, supplier.stderr[-3000:]
     assert child.process.returncode == 0, child.stderr[-3000:]
+
+
+def test_readme_teleop_example(ros_domain: int, tmp_path: pathlib.Path) -> None:
+    """The Teleoperation example, on a copy of config/blind-teleop with the joystick FIFO in the
+    test's directory (tests run side by side): the stick's input reaches blind_teleop, whose
+    status line shows the relative goal it asked for and the robot's odometry going forward, and the
+    quit button ends it with status 0."""
+    text = (ROOT / 'README.md').read_text()
+    start = text.index('<!-- example: teleop -->')
+    block = re.compile(r'```bash\n(.*?)```', re.S).search(text, start).group(1)
+    assert block.startswith('source env.sh')
+    config, fifo = tmp_path / 'config', str(tmp_path / 'js0')
+    config.mkdir()
+    for source in (ROOT / 'config' / 'blind-teleop').glob('*.xml'):
+        (config / source.name).write_text(source.read_text().replace('/tmp/wurde-joystick', fifo)
+                                          .replace('../maps/', f'{ROOT}/config/maps/'))
+    assert block.count('config/blind-teleop') == 1 and block.count('/tmp/wurde-joystick') == 1
+    block = block.replace('config/blind-teleop', str(config)).replace('/tmp/wurde-joystick', fifo)
+    env = dict(os.environ, WURDE_LOG_DIRECTORY=str(tmp_path))
+    result = subprocess.run(['bash', '-c', block], env=env, cwd=ROOT, capture_output=True, text=True,
+                            timeout=300, check=False)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    assert 'reader 1 opened the joystick' in result.stdout, result.stdout[-3000:]
+    log = (tmp_path / 'mcp-modules' / 'BlindTeleop.log').read_text().rsplit(' start: ', 1)[-1]
+    assert 'Relative Goal: (0.976592,0.000000)' in log, log[-3000:]   # -16000: 16000/32767*2 m
+    assert 'quit button' in log and log.rstrip().endswith('--- exit code 0'), log[-3000:]
+    x = float(re.findall(r'Location: \(([-0-9.]+),', log)[-1])
+    assert x > 0.3, f'the robot drove {x} m'     # started at 0 in its odometry frame
