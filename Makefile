@@ -101,7 +101,7 @@ bench-vision: build
 	$(IN_ENV) python bench/vision.py
 
 # Fuzz campaigns (issue 16; not part of `make test`, which replays the kept corpus): atheris over every
-# codec, XML reader, carmen.ini and the xmlServer's parser, FUZZ_SECONDS each (23 targets).
+# codec, XML reader, carmen.ini and the xmlServer's parser, FUZZ_SECONDS each (27 targets).
 FUZZ_SECONDS ?= 30
 .PHONY: fuzz
 fuzz: build

@@ -131,6 +131,13 @@ def dmu_stream(data: bytes) -> None:
     codec.DmuDeframer(mode).feed(data[1:])
 
 
+def joystick_stream(data: bytes) -> None:
+    from wurde_drivers.joystick import codec
+    decoder = codec.JsDecoder()
+    decoder.feed(data[: len(data) // 3])
+    decoder.feed(data[len(data) // 3:])
+
+
 def nmea_stream(data: bytes) -> None:
     from wurde_drivers.gps import codec
     codec.NmeaDeframer().feed(data)
@@ -212,6 +219,13 @@ def _targets() -> dict[str, Target]:
                _config_error, ('config/*/sim-config.xml',)),
         Target('carmen_ini', carmen_ini, _config_error, ('config/carmen/*.ini',)),
         Target('xml_server_line', xml_server_line, _command_error),
+        Target('joystick_stream', joystick_stream, _nothing),
+        Target('joystick_config', _device_config('wurde_drivers.joystick.config.load_joystick_config'),
+               _config_error, ('config/*/joystick-config.xml',)),
+        Target('camera_config', _device_config('wurde_drivers.vision.camera_config.load_camera_config'),
+               _config_error, ('config/vision/*camera-config.xml',)),
+        Target('vision_config', _device_config('wurde_drivers.vision.vision_config.load_vision_config'),
+               _config_error, ('config/vision/*vision-config.xml',)),
     ]
     for device in ('rflex', 'ptu', 'wrist', 'dmu', 'gps'):
         targets.append(Target(f'{device}_config', _device_config(drivers.format(device)),
@@ -225,6 +239,7 @@ TARGETS = _targets()
 def codec_seeds() -> dict[str, list[bytes]]:
     """Valid inputs for the codec targets, from the codecs' own encoders and the devices'
     documented examples (the corpus's starting points; the readers' seeds are shipped files)."""
+    from wurde_drivers.joystick import codec as joystick
     from wurde_drivers.rflex import codec as rflex
     from wurde_drivers.sick import codec as sick
     from wurde_drivers.wrist import codec as wrist
@@ -241,6 +256,8 @@ def codec_seeds() -> dict[str, list[bytes]]:
         'dmu_stream': [b'c\xff' + bytes(17), b'a\xff' + bytes(21)],
         'nmea_stream': [b'$GPGGA,123519,4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,*47\r\n'],
         'nmea_sentence': [b'$GPGGA,123519,4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,*47\r\n'],
+        'joystick_stream': [joystick.encode_event(joystick.JsEvent(joystick.JS_EVENT_AXIS, 1, 0, 1000, init=True))
+                            + joystick.encode_event(joystick.JsEvent(joystick.JS_EVENT_BUTTON, 3, 1, 1010))],
         'xml_server_line': [b'<var name="odoPose.pose"/>', b'<push t="0.5" cmd="var odoPose.pose"/>',
                             b'var drive.command="1 2 3"', b'help'],
     }

@@ -40,7 +40,7 @@ def images(directory: pathlib.Path) -> dict[int, np.ndarray]:
 
 def configs(tmp_path: pathlib.Path, out: pathlib.Path) -> tuple[pathlib.Path, pathlib.Path]:
     camera = tmp_path / 'camera-config.xml'
-    camera.write_text(f"""<?xml version="1.0"?>
+    camera.write_text("""<?xml version="1.0"?>
 <camera-config>
   <camera name="Play" type="playback">
     <option name="imageDirectory" value="images"/>

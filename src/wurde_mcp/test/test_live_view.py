@@ -8,7 +8,6 @@ on 127.0.0.1 only."""
 from __future__ import annotations
 
 import json
-import pathlib
 import re
 import struct
 import time
