@@ -18,7 +18,9 @@ Both YUV formats use one convention, the one of OpenCV's UYVY conversion (BT.601
 16-235 as cameras send it; OpenCV's ``COLOR_BGR2YUV`` is another, full-range one): yuv24 is
 OpenCV's UYVY of the image with every pixel doubled, so each pair's chroma is one pixel's.
 
-:func:`decode` goes back to BGR (lossy for gray and yuv422), for viewers and tests.
+:func:`decode` goes back to BGR (lossy for gray and yuv422), for viewers and tests.  The byte
+layouts themselves are :mod:`wurde_drivers.image_codec`'s (shared with the Eye, which works in RGB);
+this module is the VisionModule's BGR face of it.
 """
 
 from __future__ import annotations
@@ -29,12 +31,13 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
+from .. import image_codec
+
 __all__ = ['ENCODINGS', 'FORMATS', 'Encoded', 'decode', 'encode']
 
 #: ImagePublisher format -> ROS encoding name.
-ENCODINGS = {'gray': 'mono8', 'rgb': 'rgb8', 'yuv24': 'yuv24', 'yuv422': 'yuv422'}
+ENCODINGS = dict(image_codec.FORMATS)
 FORMATS = tuple(ENCODINGS)
-_CHANNELS = {'mono8': 1, 'rgb8': 3, 'yuv24': 3, 'yuv422': 2}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -55,22 +58,11 @@ def encode(image: NDArray[np.uint8], fmt: str) -> Encoded:
     """
     if fmt not in ENCODINGS:
         raise ValueError(f'unknown image format "{fmt}"; formats: {", ".join(FORMATS)}')
-    if image.ndim == 2:
-        image = cv2.cvtColor(image, cv2.COLOR_GRAY2BGR)
-    height, width = image.shape[:2]
-    if fmt == 'gray':
-        out = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
-    elif fmt == 'rgb':
-        out = cv2.cvtColor(image, cv2.COLOR_BGR2RGB)
-    elif fmt == 'yuv24':
-        pairs = cv2.cvtColor(np.repeat(image, 2, axis=1), cv2.COLOR_BGR2YUV_UYVY)
-        out = pairs.reshape(height, width, 4)[:, :, (1, 0, 2)]      # U Y V Y -> Y U V
-    else:
-        if width % 2:
-            raise ValueError(f'yuv422 needs an even width, not {width}')
-        out = cv2.cvtColor(image, cv2.COLOR_BGR2YUV_UYVY)
+    rgb = cv2.cvtColor(image, cv2.COLOR_GRAY2RGB if image.ndim == 2 else cv2.COLOR_BGR2RGB)
+    height, width = rgb.shape[:2]
     encoding = ENCODINGS[fmt]
-    return Encoded(width, height, encoding, width * _CHANNELS[encoding], out.tobytes())
+    return Encoded(width, height, encoding, width * image_codec.BYTES_PER_PIXEL[encoding],
+                   image_codec.encode(rgb, encoding))
 
 
 def decode(data: bytes | bytearray | memoryview, width: int, height: int, encoding: str,
@@ -79,22 +71,10 @@ def decode(data: bytes | bytearray | memoryview, width: int, height: int, encodi
 
     :raises ValueError: an unknown encoding or too few bytes for the size.
     """
-    channels = {**_CHANNELS, 'bgr8': 3}.get(encoding)
-    if channels is None:
+    if encoding == 'bgr8':
+        return cv2.cvtColor(image_codec.decode(width, height, 'rgb8', step or 3 * width, data),
+                            cv2.COLOR_RGB2BGR)
+    if encoding not in image_codec.BYTES_PER_PIXEL:
         raise ValueError(f'unknown encoding "{encoding}"')
-    row = width * channels
-    step = step or row
-    if step < row or len(data) < step * height:
-        raise ValueError(f'{len(data)} bytes (step {step}) are too few for {width}x{height} {encoding}')
-    rows = np.frombuffer(data, np.uint8, step * height).reshape(height, step)[:, :row]
-    pixels = np.ascontiguousarray(rows).reshape(height, width, channels)
-    if encoding == 'mono8':
-        return cv2.cvtColor(pixels, cv2.COLOR_GRAY2BGR)
-    if encoding == 'rgb8':
-        return cv2.cvtColor(pixels, cv2.COLOR_RGB2BGR)
-    if encoding == 'yuv24':
-        uyvy = pixels[:, :, (1, 0, 2, 0)].reshape(height, width * 2, 2)
-        return np.ascontiguousarray(cv2.cvtColor(uyvy, cv2.COLOR_YUV2BGR_UYVY)[:, ::2])
-    if encoding == 'yuv422':
-        return cv2.cvtColor(pixels, cv2.COLOR_YUV2BGR_UYVY)
-    return pixels.copy()
+    step = step or width * image_codec.BYTES_PER_PIXEL[encoding]
+    return cv2.cvtColor(image_codec.decode(width, height, encoding, step, data), cv2.COLOR_RGB2BGR)
