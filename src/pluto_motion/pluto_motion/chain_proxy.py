@@ -60,6 +60,8 @@ class ChainProxy:
         self._resends = 0
         #: The newest echo's (cmdFlags, position, velocity).
         self._echoed: tuple[int, list[float], list[float]] | None = None
+        #: Echoes taken in and not yet returned by echoes() (the newest 1000).
+        self._unreported_echoes: collections.deque[Any] = collections.deque(maxlen=UNREPORTED_MAX)
         #: Statuses taken in and not yet returned by update() (the newest 1000, as a queue).
         self._unreported: collections.deque[Any] = collections.deque(maxlen=UNREPORTED_MAX)
 
@@ -112,6 +114,16 @@ class ChainProxy:
             self.echo = (int(d.cmd_flags), [float(v) for v in [*d.position, *d.velocity]],
                          d.timestamp.get_seconds())
             self._echoed = (int(d.cmd_flags), [float(v) for v in d.position], [float(v) for v in d.velocity])
+            self._unreported_echoes.append(d.ros_message())
+
+    def echoes(self) -> list[Any]:
+        """The link's echoes of the commands it accepted (its ``command`` data), taken in since the
+        last call, oldest first: the proxy reads them for its own handshake, so a program that
+        wants them asks here rather than reading the channel."""
+        self._take_echoes()
+        taken = list(self._unreported_echoes)
+        self._unreported_echoes.clear()
+        return taken
 
     def _goal_task(self, flags: int, key: Sequence[float], send: Callable[[], object],
                    outcome: Callable[[], tuple[TaskResult, str]], what: str, timeout: float | None,

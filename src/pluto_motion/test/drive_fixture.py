@@ -80,8 +80,7 @@ class Driver:
     def pump(self) -> None:
         self.manager.step()
         self.statuses.extend(self.drive.update())
-        while self.drive.command.get_next_data():
-            self.accepted.append(self.drive.command.data.ros_message())
+        self.accepted.extend(self.drive.echoes())
         while self.truth.get_next_data():
             self.truths.append(self.truth.data.ros_message())
         while self.base.get_next_data():
