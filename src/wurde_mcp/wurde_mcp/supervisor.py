@@ -93,6 +93,12 @@ class Module:
     #: its CPU time then (None: not overdue, or not looked at yet).
     stalled_at: float | None = None
     stalled_cpu: float = 0.0
+    #: Pids of this module's processes that have ended: their heartbeats, still arriving after
+    #: the exit (a loaded machine delivers late), are not the new process's.
+    dead_pids: set[int] = field(default_factory=set)
+    #: The running process has described itself (a heartbeat info not from a dead pid) since it
+    #: was started: only then do its beats make it alive.
+    described: bool = True
 
     @property
     def name(self) -> str:
@@ -184,6 +190,7 @@ class Supervisor:
             return False
         module.pid = module.process.pid
         module.status = StatusMode.STARTING
+        module.described = False
         module.last_beat = module.last_beat_at = None
         self._changed = True
         g_info(f'MCP: started {name} (pid {module.pid})')
@@ -336,6 +343,9 @@ class Supervisor:
         described = False
         while heartbeat.get_next_info():
             info = heartbeat.info
+            if info.pid.get_value() in module.dead_pids:
+                continue                        # the last process's, delivered after its exit
+            module.described = True
             module.run_state = RunState(info.state.get_value())
             module.pid = info.pid.get_value()
             module.host = info.host.get_value()
@@ -360,7 +370,7 @@ class Supervisor:
             module.last_beat_at = now
             module.wall_late = False
             module.stalled_at = None
-            if module.status != StatusMode.ACTIVE:
+            if module.status != StatusMode.ACTIVE and module.described:
                 module.status = StatusMode.ACTIVE
                 module.ever_active = True
                 self._changed = True
@@ -374,6 +384,7 @@ class Supervisor:
     def _ended(self, module: Module, process: ModuleProcess, now: float) -> None:
         """The owner has reaped ``process``: record it, restart when wanted."""
         code = process.exit_code
+        module.dead_pids.add(process.pid)
         module.process = None
         module.pid = 0
         module.status = StatusMode.DEAD
