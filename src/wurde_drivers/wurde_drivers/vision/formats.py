@@ -35,8 +35,8 @@ from .. import image_codec
 
 __all__ = ['ENCODINGS', 'FORMATS', 'Encoded', 'decode', 'encode']
 
-#: ImagePublisher format -> ROS encoding name.
-ENCODINGS = dict(image_codec.FORMATS)
+#: ImagePublisher format -> ROS encoding name (in the order messages list them).
+ENCODINGS = {fmt: image_codec.FORMATS[fmt] for fmt in ('gray', 'rgb', 'yuv24', 'yuv422')}
 FORMATS = tuple(ENCODINGS)
 
 
