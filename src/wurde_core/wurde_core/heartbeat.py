@@ -26,6 +26,10 @@ STREAM_PREFIX = 'heartbeat/'
 #: configuration (guide 6.1), by name.  A module started by hand has none and reports itself
 #: unmanaged, which is what it is: no MCP restarts it.
 MANAGED_ENV = 'WURDE_MCP_MANAGED'
+#: Environment variable the MCP sets for the modules it starts: how many times it has started
+#: this module before in its run (0 the first time).  A module whose state outlives its process
+#: (the localModule's pose) picks it up again when this is not 0.
+RESTART_ENV = 'WURDE_MCP_RESTART'
 #: Longest gap between beats whatever the TTL, so that a beat lost before the MCP had discovered
 #: this module is soon followed by another.
 MAX_BEAT_INTERVAL_S = 1.0
@@ -37,6 +41,15 @@ def managed_state() -> ProcessType:
         return ProcessType[os.environ[MANAGED_ENV]]
     except KeyError:
         return ProcessType.UNMANAGED
+
+
+def restart_count() -> int:
+    """How many times the MCP that started this process had started its module before
+    (:data:`RESTART_ENV`); 0 for a first start or a module started by hand."""
+    try:
+        return max(0, int(os.environ.get(RESTART_ENV, '0')))
+    except ValueError:
+        return 0
 
 
 def heartbeat_stream(module: str) -> str:

@@ -8,7 +8,7 @@ import subprocess
 import sys
 import time
 
-from mcp_fixture import alive, start_mcp, wait_output, worker, write_config
+from mcp_fixture import alive, start_mcp, wait_file, wait_output, worker, write_config
 from wurde_core import RunState, StatusMode
 from wurde_mcp.supervisor import CMD_START, CMD_STATE, CMD_STOP
 from wurde_testing import ChildProcess, find_executable
@@ -34,6 +34,9 @@ def test_kill9_of_a_managed_module_restarts_it_and_disturbs_no_other(tmp_path, t
         assert rows['B']['pid'] == b_pid and rows['B']['restarts'] == 0
         assert rows['B']['status'] == ACTIVE
         assert mcp.process.poll() is None
+        # The new process knows it is a restart (WURDE_MCP_RESTART), B's first one that it is not.
+        wait_file(tmp_path / 'mcp-modules' / 'A.log', 'A: start 1 under this MCP')
+        assert 'B: start 0 under this MCP' in (tmp_path / 'mcp-modules' / 'B.log').read_text()
 
 
 def test_a_hung_module_becomes_a_zombie_and_is_restarted(tmp_path, table) -> None:

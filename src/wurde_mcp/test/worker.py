@@ -12,6 +12,7 @@ import sys
 import time
 
 from wurde_core import CommsManager, RunState, global_configuration
+from wurde_core.heartbeat import restart_count
 from wurde_core.interfaces import Foo
 
 manager = CommsManager('Worker')
@@ -23,6 +24,7 @@ if config.have_option('t'):
 stubborn = config.have_option('s') and not manager.options.registration
 foo = Foo(f'{manager.name}_out')
 manager.register_supplier(foo)
+print(f'{manager.name}: start {restart_count()} under this MCP', flush=True)
 
 
 def _ignore(signum: int, _frame: object) -> None:

@@ -30,7 +30,7 @@ from wurde_core import (CommsManager, ConfigError, RunState, StatusMode, g_error
 from wurde_idl import load_all
 
 from .config import McpConfig, read_mcp_config, read_mcp_mappings, validate
-from .supervisor import MAX_RESTARTS, Supervisor
+from .supervisor import MAX_RESTARTS, RESTART_WINDOW_S, Supervisor
 
 #: How long the registration pass waits for the binaries started with -r.
 REGISTRATION_TIMEOUT_S = 15.0
@@ -146,7 +146,8 @@ class Mcp:
                     g_error(f'MCP: {module.name} did not finish its registration (-r) in time')
                 module.process.stop_and_wait(step_s=1.0)
                 module.process = None
-            module.restarts = 0
+            module.restarts = module.starts = 0     # the registration runs were not the module's
+            module.recent_restarts = []
             module.restart_at = None
             module.status = StatusMode.UNKNOWN
         self.manager.step()
@@ -195,7 +196,8 @@ def main(argv: list[str] | None = None) -> int:
     manager.set_help_string('  -c FILE  MCP configuration (default: role config, mcp-config.xml)\n'
                             '  -m FILE  MCP mappings (default: role config, mcp-mapping.xml)\n'
                             '  -a       configure and activate at once\n'
-                            f'  -k N     restarts of a module before giving up (default {MAX_RESTARTS})')
+                            f'  -k N     restarts of a module within {RESTART_WINDOW_S:.0f} s before giving '
+                            f'up (default {MAX_RESTARTS})')
     manager.parse_options(argv, 'c:m:ak:')
     role = global_configuration()
     config_file = role.get_option('c') if role.have_option('c') else role.get_mcp_config_file()

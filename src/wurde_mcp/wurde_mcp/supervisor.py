@@ -19,7 +19,7 @@ from typing import Any
 
 from wurde_core import (CommsManager, ProcessLocale, ProcessType, RunState,
                         StatusMode, g_error, g_info, g_warn)
-from wurde_core.heartbeat import MANAGED_ENV
+from wurde_core.heartbeat import MANAGED_ENV, RESTART_ENV
 from wurde_core.interfaces import robot_object_class
 
 from .binaries import find_binary
@@ -33,8 +33,10 @@ from .streams import StreamDesk
 BACKOFF_S = (0.0, 0.5, 1.0, 2.0, 4.0)
 #: Least time between two state commands to a module that does not report the state it was told.
 RECOMMAND_S = 1.0
-#: Restarts of one module before the MCP gives up on it.
+#: Restarts of one module within :data:`RESTART_WINDOW_S` before the MCP gives up on it: a module
+#: that keeps failing at once is given up on, one that dies now and then in a long run never is.
 MAX_RESTARTS = 5
+RESTART_WINDOW_S = 60.0
 #: TTLs outside this range are not trusted (a module announcing 0 or a day is clamped).  The floor
 #: keeps a busy machine from turning every briefly descheduled module into a "zombie": on two
 #: loaded cores a healthy module with the guide's 0.2 s TTL (set_sleep(0.1)) was seen silent
@@ -76,6 +78,10 @@ class Module:
     pid: int = 0
     host: str = ''
     restarts: int = 0
+    #: Monotonic times of the automatic restarts within the last :data:`RESTART_WINDOW_S`.
+    recent_restarts: list[float] = field(default_factory=list)
+    #: Processes started for it so far (the next one learns it through :data:`RESTART_ENV`).
+    starts: int = 0
     restart_at: float | None = None
     supplies: list[tuple[str, str]] = field(default_factory=list)
     consumes: list[tuple[str, str]] = field(default_factory=list)
@@ -183,11 +189,13 @@ class Supervisor:
             module.process = ModuleProcess(name, [binary, *module.spec.args, *argv_extra,
                                                   *self._ros_arguments()],
                                            self.log_directory,
-                                           {MANAGED_ENV: module.spec.managed.name})
+                                           {MANAGED_ENV: module.spec.managed.name,
+                                            RESTART_ENV: str(module.starts)})
         except OSError as exc:
             g_error(f'MCP: cannot start {name} ({binary}): {exc}')
             self._failed_start(module)
             return False
+        module.starts += 1
         module.pid = module.process.pid
         module.status = StatusMode.STARTING
         module.described = False
@@ -452,13 +460,16 @@ class Supervisor:
     def _schedule_restart(self, module: Module, now: float) -> None:
         if module.spec.managed == ProcessType.UNMANAGED or not module.wanted:
             return
-        if module.restarts >= self.max_restarts:
+        recent = [t for t in module.recent_restarts if now - t < RESTART_WINDOW_S]
+        if len(recent) >= self.max_restarts:
             module.status = StatusMode.FAILED
             module.wanted = False
             self._changed = True
-            g_error(f'MCP: giving up on {module.name} after {module.restarts} restarts')
+            g_error(f'MCP: giving up on {module.name} after {len(recent)} restarts within '
+                    f'{RESTART_WINDOW_S:.0f} s')
             return
-        delay = BACKOFF_S[min(module.restarts, len(BACKOFF_S) - 1)]
+        delay = BACKOFF_S[min(len(recent), len(BACKOFF_S) - 1)]
+        module.recent_restarts = [*recent, now]
         module.restarts += 1
         module.restart_at = now + delay
 
@@ -504,6 +515,7 @@ class Supervisor:
                 g_warn(f'MCP: control command {command} for unknown module "{name}"')
             elif command == CMD_START:
                 self.modules[name].restarts = 0
+                self.modules[name].recent_restarts = []
                 self.start(name)
             elif command == CMD_STOP:
                 self.stop(name)
