@@ -100,6 +100,14 @@ bench-xml: build
 bench-vision: build
 	$(IN_ENV) python bench/vision.py
 
+# The soak (issue 16; not part of `make test`): the whole simulated Pluto under the MCP for SOAK_SECONDS
+# while a chaos driver SIGKILLs, SIGSTOPs and SIGTERMs a random module every ~10 s; it reports restarts,
+# time to Run after each kill, orphans, the MCP's memory, a counted queue-mode stream and the Pose error.
+SOAK_SECONDS ?= 600
+.PHONY: soak
+soak: build
+	$(IN_ENV) python bench/soak.py --seconds $(SOAK_SECONDS)
+
 # Fuzz campaigns (issue 16; not part of `make test`, which replays the kept corpus): atheris over every
 # codec, XML reader, carmen.ini and the xmlServer's parser, FUZZ_SECONDS each (27 targets).
 FUZZ_SECONDS ?= 30

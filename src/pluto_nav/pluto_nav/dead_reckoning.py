@@ -10,7 +10,9 @@ timing information from the sick" and fuses "the odometer and inertial data".  T
   change when it is not (no DMU, or its latest sample is older than ``dmu_stale_s``).  Pitch and
   roll come from the DMU when fresh, else 0 (flat floor).
 - An odometry increment no robot could make (faster than ``MAX_SPEED`` / ``MAX_TURN_RATE``) is
-  the base's odometry starting again from zero (its module restarted): it counts as no motion.
+  the base's odometry starting again from zero (its module restarted): it counts as no motion; so
+  does the first sample of a new base process however slow the jump (the caller says so: the
+  base's messages are numbered from 1 again).
 - An odometry sample waits (at most ``dmu_stale_s`` of odometry time) for the DMU to cover it, so
   both sources are used at the same instants.
 
@@ -78,6 +80,8 @@ class DeadReckoning:
         self._initial_cov = cov
         self._last_odometry: tuple[float, np.ndarray] | None = None
         self._pending: collections.deque[tuple[float, np.ndarray]] = collections.deque()
+        #: Stamps of odometry samples that are a restarted base's first.
+        self._restarts_at: set[float] = set()
         self._dmu: collections.deque[tuple[float, float, float, float]] = collections.deque()
         self._dmu_unwrapped = 0.0
         self._dmu_theta: float | None = None
@@ -87,21 +91,31 @@ class DeadReckoning:
         self.odometry_steps = 0
 
     # -- input -----------------------------------------------------------------------------------
-    def add_odometry(self, stamp: float, x: float, y: float, theta: float) -> list[DrSample]:
-        """Take an odometry sample; returns the dead-reckoned samples it (and the DMU) completed."""
+    def add_odometry(self, stamp: float, x: float, y: float, theta: float, *,
+                     restarted: bool = False) -> list[DrSample]:
+        """Take an odometry sample; returns the dead-reckoned samples it (and the DMU) completed.
+        ``restarted``: the first sample of a new base process (its odometry counts from zero
+        again), taken as no motion whatever the jump."""
         if self._pending and stamp <= self._pending[-1][0]:
             return []
         if not self._pending and self._last_odometry is not None and stamp <= self._last_odometry[0]:
             return []
+        if restarted:
+            self._restarts_at.add(stamp)
         self.odometry_samples += 1
         self._pending.append((stamp, np.array([x, y, theta], dtype=float)))
         return self._advance()
 
-    def add_dmu(self, stamp: float, theta: float, phi: float, psi: float) -> list[DrSample]:
-        """Take a DMU sample (filtered state: integrated heading, pitch, roll)."""
-        if self._dmu and stamp <= self._dmu[-1][0]:
+    def add_dmu(self, stamp: float, theta: float, phi: float, psi: float, *,
+                restarted: bool = False) -> list[DrSample]:
+        """Take a DMU sample (filtered state: integrated heading, pitch, roll).  ``restarted``: the
+        first sample of a new DMU process, whose heading is integrated from zero again: the
+        heading goes on from here, and the samples before it are not used across the gap."""
+        if restarted:
+            self._dmu.clear()
+        elif self._dmu and stamp <= self._dmu[-1][0]:
             return []
-        last = self._dmu_theta
+        last = theta if restarted else self._dmu_theta
         self._dmu_unwrapped = theta if last is None else self._dmu_unwrapped + wrap(theta - last)
         self._dmu_theta = theta
         self._dmu.append((stamp, self._dmu_unwrapped, phi, psi))
@@ -134,7 +148,9 @@ class DeadReckoning:
         self._last_odometry = (stamp, odo)
         increment = relative(last_odo, odo)
         dt = max(stamp - last_stamp, 1e-6)
-        if math.hypot(increment[0], increment[1]) > MAX_SPEED * dt + 0.05 or abs(increment[2]) > MAX_TURN_RATE * dt + 0.05:
+        if stamp in self._restarts_at or math.hypot(increment[0], increment[1]) > MAX_SPEED * dt + 0.05 \
+                or abs(increment[2]) > MAX_TURN_RATE * dt + 0.05:
+            self._restarts_at.discard(stamp)
             # The base's odometry jumped (its module restarted and counts from zero again): no
             # robot moves like that.  Dead reckoning never jumps: take it as no motion.
             self.odometry_resets += 1

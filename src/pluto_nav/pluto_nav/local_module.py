@@ -104,6 +104,7 @@ class LocalModule:
         self.last_status_wall = -np.inf
         self.stale = True                     # no odometry yet
         self.resets_seen = 0
+        self.odometry_sequence = self.dmu_sequence = 0
         self._publish_start(start)
 
     def _publish_start(self, start: tuple[float, float, float]) -> None:
@@ -123,14 +124,22 @@ class LocalModule:
         while self.dmu.get_next_data():
             d = self.dmu.data
             self.last_dmu_wall = time.monotonic()
-            completed += self.dr.add_dmu(d.timestamp.get_seconds(), d.theta, d.phi, d.psi)
+            sequence = d.ros_message().header.sequence      # from 1 again: a new DMU process
+            restarted = 0 < sequence < self.dmu_sequence
+            self.dmu_sequence = sequence
+            completed += self.dr.add_dmu(d.timestamp.get_seconds(), d.theta, d.phi, d.psi, restarted=restarted)
         while self.odometry.get_next_data():
             d = self.odometry.data
             self.last_odometry_wall = time.monotonic()
             self.tv, self.rv = d.tv, d.rv
             location = d.location
+            # A new base process numbers its messages from 1 again, and its odometry starts again
+            # from zero however long it was down (too slow a jump for the speed rule to see).
+            sequence = d.ros_message().header.sequence
+            restarted = 0 < sequence < self.odometry_sequence
+            self.odometry_sequence = sequence
             completed += self.dr.add_odometry(d.timestamp.get_seconds(), location.x(), location.y(),
-                                              location.theta())
+                                              location.theta(), restarted=restarted)
         if self.dr.odometry_resets != self.resets_seen:
             self.resets_seen = self.dr.odometry_resets
             self.logger.warn(f'{self.manager.name}: the odometry jumped (its base restarted?): taken as no '

@@ -125,3 +125,37 @@ def test_odometry_that_starts_again_from_zero_is_no_motion() -> None:
     assert dr.latest.pose == pytest.approx(before)
     dr.add_odometry(4.2, 0.05, 0.0, 0.0)                    # and drives on from its new zero
     assert relative(before, dr.latest.pose) == pytest.approx([0.05, 0.0, 0.0])
+
+
+def test_a_base_down_long_enough_to_hide_its_jump_is_still_no_motion() -> None:
+    """Down for 10 s, the restarted base's jump back of 2 m is slower than any speed limit: only
+    its first sample's flag (the base numbers its messages from 1 again) tells."""
+    dr = DeadReckoning((2.0, 3.0, 0.5))
+    for k in range(41):
+        dr.add_odometry(0.1 * k, 0.05 * k, 0.0, 0.0)
+    before = dr.latest.pose.copy()
+    dr.add_odometry(14.0, 0.0, 0.0, 0.0)                    # unflagged: 0.2 m/s, taken as motion
+    assert dr.odometry_resets == 0 and relative(before, dr.latest.pose)[0] == pytest.approx(-2.0)
+    dr = DeadReckoning((2.0, 3.0, 0.5))
+    for k in range(41):
+        dr.add_odometry(0.1 * k, 0.05 * k, 0.0, 0.0)
+    dr.add_odometry(14.0, 0.0, 0.0, 0.0, restarted=True)
+    assert dr.odometry_resets == 1 and dr.latest.pose == pytest.approx(before)
+    dr.add_odometry(14.1, 0.05, 0.0, 0.0)
+    assert relative(before, dr.latest.pose) == pytest.approx([0.05, 0.0, 0.0])
+
+
+def test_a_restarted_dmu_integrating_from_zero_again_turns_nothing() -> None:
+    """The DMU's heading is integrated since its process started: a new process's heading of 0
+    after 1 rad is no turn of the robot, and the turns after it count from there."""
+    dr = DeadReckoning((0.0, 0.0, 0.0))
+    for k in range(11):                                     # 1 rad in 1 s, the DMU agreeing
+        dr.add_dmu(0.1 * k, 0.1 * k, 0.0, 0.0)
+        dr.add_odometry(0.1 * k, 0.0, 0.0, 0.1 * k)
+    assert dr.latest.pose[2] == pytest.approx(1.0)
+    dr.add_dmu(5.0, 0.0, 0.0, 0.0, restarted=True)          # down 4 s, standing still
+    dr.add_odometry(5.0, 0.0, 0.0, 1.0)
+    dr.add_dmu(5.1, 0.1, 0.0, 0.0)
+    dr.add_odometry(5.1, 0.0, 0.0, 1.1)
+    assert dr.latest.pose[2] == pytest.approx(1.1)
+    assert dr.latest.dmu_used

@@ -34,8 +34,10 @@ def test_kill9_of_a_managed_module_restarts_it_and_disturbs_no_other(tmp_path, t
         assert rows['B']['pid'] == b_pid and rows['B']['restarts'] == 0
         assert rows['B']['status'] == ACTIVE
         assert mcp.process.poll() is None
-        # The new process knows it is a restart (WURDE_MCP_RESTART), B's first one that it is not.
-        wait_file(tmp_path / 'mcp-modules' / 'A.log', 'A: start 1 under this MCP')
+        # The new process knows it is a restart (WURDE_MCP_RESTART) and where its state is kept
+        # (WURDE_MCP_STATE); B's first one knows it is not a restart.
+        wait_file(tmp_path / 'mcp-modules' / 'A.log',
+                  f'A: start 1 under this MCP, state in {tmp_path / "mcp-modules" / "A.resume"}')
         assert 'B: start 0 under this MCP' in (tmp_path / 'mcp-modules' / 'B.log').read_text()
 
 

@@ -7,12 +7,14 @@ only SIGKILL ends it (the whole stop escalation runs).  SIGUSR1 makes it spin on
 for a minute without one (hung, though not stopped).
 """
 
+import os
 import signal
 import sys
 import time
 
 from wurde_core import CommsManager, RunState, global_configuration
 from wurde_core.heartbeat import restart_count
+from wurde_core.resume import STATE_ENV
 from wurde_core.interfaces import Foo
 
 manager = CommsManager('Worker')
@@ -24,7 +26,7 @@ if config.have_option('t'):
 stubborn = config.have_option('s') and not manager.options.registration
 foo = Foo(f'{manager.name}_out')
 manager.register_supplier(foo)
-print(f'{manager.name}: start {restart_count()} under this MCP', flush=True)
+print(f'{manager.name}: start {restart_count()} under this MCP, state in {os.environ.get(STATE_ENV)}', flush=True)
 
 
 def _ignore(signum: int, _frame: object) -> None:

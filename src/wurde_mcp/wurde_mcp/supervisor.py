@@ -13,6 +13,7 @@ the MCP's own timestamps.
 from __future__ import annotations
 
 import math
+import os
 import time
 from dataclasses import dataclass, field
 from typing import Any
@@ -21,6 +22,7 @@ from wurde_core import (CommsManager, ProcessLocale, ProcessType, RunState,
                         StatusMode, g_error, g_info, g_warn)
 from wurde_core.heartbeat import MANAGED_ENV, RESTART_ENV
 from wurde_core.interfaces import robot_object_class
+from wurde_core.resume import STATE_ENV
 
 from .binaries import find_binary
 from .clock import REVIEW_S, SupervisionClock
@@ -190,7 +192,9 @@ class Supervisor:
                                                   *self._ros_arguments()],
                                            self.log_directory,
                                            {MANAGED_ENV: module.spec.managed.name,
-                                            RESTART_ENV: str(module.starts)})
+                                            RESTART_ENV: str(module.starts),
+                                            STATE_ENV: os.path.join(self.log_directory,
+                                                                    f'{name}.resume')})
         except OSError as exc:
             g_error(f'MCP: cannot start {name} ({binary}): {exc}')
             self._failed_start(module)

@@ -14,16 +14,23 @@ Simulated time advances in the config's fixed steps; the loop catches up with th
 the time scale, so at time scale 10 the robot lives ten seconds each wall second.  Each step's
 time is published on ``/clock`` (:mod:`wurde_drivers.sim.dummies.clock_topic`) for nodes with
 ``use_sim_time``; the command watchdog counts simulated time.
+
+The simulated robot outlives its driver, as a real one does: under an MCP the base keeps where
+the robot truly stands in its state file (:mod:`wurde_core.resume`), and a base the MCP restarts
+puts the robot back there (at rest, its odometry counting from zero again as a restarted base
+driver's does) instead of at the config's start.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import math
 import sys
 import time
 
 from wurde_core import CommsManager, Logger, Pose, RunState, Time
 from wurde_core.interfaces import Egomotion
+from wurde_core.resume import ResumeState
 from wurde_idl.errors import ConfigError
 
 from ...module_setup import exit_on_config_error, set_loop
@@ -41,6 +48,9 @@ MAX_CATCH_UP = 200
 LOOP_S = 0.01
 #: Longest (simulated) time the base is given to come to rest when it goes Idle.
 MAX_STOP_S = 10.0
+#: How often the robot's true pose is saved for a restart (wall s): at most this much of its
+#: travel is undone when the MCP restarts the base.
+SAVE_S = 0.1
 
 
 def _every(rate: float, step: float) -> int:
@@ -51,8 +61,11 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('PlutoBase')
     path = sim_config_path(manager, argv)
+    kept = ResumeState(every_s=SAVE_S)
+    resumed, why = _resumed(kept)
     try:
         config, world, start = load_sim(path)
+        start = resumed or start
         robot = SimRobot(world, config.robot, make_rng(config.seed, 'base'), start=start)
     except ConfigError as error:
         return exit_on_config_error(argv[0], error)
@@ -87,7 +100,8 @@ def main(argv: list[str] | None = None) -> int:
     odometry_every = _every(config.base.rate, config.step)
     sonar_every = _every(config.base.sonar_rate, config.step)
     power_every = _every(1.0, config.step)
-    logger.notice(f'dummy base in {world.name} at {start}, seed {config.seed}, '
+    origin = 'resumed' if resumed else 'the start of the config'
+    logger.notice(f'dummy base in {world.name} at {start} ({origin}: {why}), seed {config.seed}, '
                   f'time scale {config.time_scale}')
     wall0 = time.monotonic()
     last_bumpers = robot.bumpers
@@ -130,6 +144,10 @@ def main(argv: list[str] | None = None) -> int:
                             'pressed: stopped')
             _publish(truth, truth_std, robot.truth, clock.now)
             clock_topic.publish(clock.now)
+            if kept.save({'x': robot.truth.x, 'y': robot.truth.y, 'theta': robot.truth.theta}) is False \
+                    and kept.failure:
+                logger.warn(f'{manager.name}: {kept.failure}; the robot would restart at the start')
+                kept.path = None
             n = clock.steps
             if n % odometry_every == 0:
                 o = robot.odometry
@@ -145,6 +163,20 @@ def main(argv: list[str] | None = None) -> int:
                                       stamp=clock.now)
     manager.clean_up()
     return 0
+
+
+def _resumed(kept: ResumeState) -> tuple[tuple[float, float, float] | None, str]:
+    """Where the last process of this base left the robot, if this is its restart by the MCP."""
+    saved, why = kept.load()
+    if saved is None:
+        return None, why
+    try:
+        pose = (float(saved['x']), float(saved['y']), float(saved['theta']))
+    except (KeyError, TypeError, ValueError) as error:
+        return None, f'{kept.path}: no pose in the saved state ({error!r})'
+    if not all(math.isfinite(v) for v in pose):
+        return None, f'{kept.path}: the saved pose is not finite'
+    return pose, why
 
 
 def _publish(truth: Egomotion, standard: OdometryPublisher, state: object, stamp: float) -> None:

@@ -1,0 +1,318 @@
+"""A day in an hour: the whole simulated Pluto under the MCP while a chaos driver kills modules.
+
+Issue 16's soak (``make soak``, not part of ``make test``).  config/pluto (the dummies with
+odometry noise on, localModule, poseModule, drive -> avoid -> motion, map_server, navigator) runs
+under one MCP with ``-a``, plus ``SoakCounter`` (:mod:`soak_counter`): a module that supplies a
+numbered queue-mode stream.  Meanwhile:
+
+- the ``mission`` client sends the robot round the office map's places by name, again and again;
+- every ``--kill-every`` seconds (give or take half) a chaos driver picks a random module that is
+  up and in Run and sends it SIGKILL, SIGSTOP or SIGTERM (a stopped one is found by the MCP's
+  TTL and killed; every one is restarted by the MCP);
+- this process counts the SoakCounter stream in queue mode, and records the localization's Pose
+  and the simulator's truth.
+
+It reports: the kills and the MCP's restarts; the time from each kill to the victim's new process
+in Run (median, max, by signal); orphans after the MCP has ended (processes still carrying the
+soak's log directory in their environment: must be 0); the MCP's resident memory at the start, at
+the end and its largest (flat); the counted stream (messages lost while both ends were up — a gap
+inside one supplier process's numbers — must be 0; the supplier's own restarts are counted, each
+starting at 1 again); the Pose against the truth (RMSE, largest, at the end) and the mission's
+goals.  Exit status 0 when every figure holds (see ``verdict``).
+
+Usage: ``make soak [SOAK_SECONDS=600]`` or
+``python bench/soak.py [--seconds 600] [--kill-every 10] [--seed 1]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import pathlib
+import random
+import signal
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+
+from lxml import etree
+
+from nav_run import PLUTO, POSE_STREAM, Track, compare, write_config
+
+HERE = pathlib.Path(__file__).resolve().parent
+COUNTER = HERE / 'soak_counter.py'
+COUNT_STREAM = 'SoakCount'
+#: The mission's round: places of config/pluto's office map, by name.
+ROUND = ('office2', 'lab', 'kitchen', 'corridor_east', 'conference', 'start')
+SIGNALS = (signal.SIGKILL, signal.SIGSTOP, signal.SIGTERM)
+#: A kill whose victim is not back in Run within this long counts as not recovered (s).
+RECOVERY_LIMIT_S = 60.0
+#: The MCP's resident memory may end at most this much above where it started (flat).
+MEMORY_SLACK = 1.2
+#: The Pose's error against the truth may never exceed this (m): localization survives.
+POSE_LIMIT_M = 1.0
+
+
+@dataclass
+class Kill:
+    """One act of the chaos driver."""
+
+    at: float
+    name: str
+    sig: signal.Signals
+    pid: int
+    recovered_s: float | None = None
+
+
+@dataclass
+class Counted:
+    """The numbered stream as this consumer saw it."""
+
+    received: int = 0
+    runs: int = 0                 # supplier processes seen (each numbers from 1)
+    lost: int = 0                 # gaps inside one process's numbers
+    late_start: int = 0           # a process's first number above 1 (sent before it was matched)
+    last: int | None = None
+    gaps: list[tuple[int, int]] = field(default_factory=list)
+
+    def take(self, sequence: int) -> None:
+        self.received += 1
+        if self.last is None or sequence <= self.last:
+            self.runs += 1
+            self.late_start += sequence - 1
+        elif sequence > self.last + 1:
+            self.lost += sequence - self.last - 1
+            self.gaps.append((self.last, sequence))
+        self.last = sequence
+
+
+def rss_kb(pid: int) -> int:
+    """Resident memory of ``pid`` (kB), 0 when it is gone."""
+    try:
+        for line in pathlib.Path(f'/proc/{pid}/status').read_text().splitlines():
+            if line.startswith('VmRSS:'):
+                return int(line.split()[1])
+    except OSError:
+        pass
+    return 0
+
+
+def orphans(marker: str) -> list[tuple[int, str]]:
+    """Live processes whose environment holds ``marker`` (the soak's log directory)."""
+    found = []
+    for entry in pathlib.Path('/proc').iterdir():
+        if not entry.name.isdigit() or int(entry.name) == os.getpid():
+            continue
+        try:
+            if marker.encode() in (entry / 'environ').read_bytes().split(b'\0'):
+                state = (entry / 'stat').read_text().rsplit(')', 1)[1].split()[0]
+                if state != 'Z':
+                    found.append((int(entry.name), (entry / 'cmdline').read_bytes().replace(b'\0', b' ').decode()))
+        except OSError:
+            continue
+    return found
+
+
+def write_soak_config(directory: pathlib.Path, seed: int) -> None:
+    """config/pluto with its map in ``directory``, poseModule and the chain in, plus SoakCounter."""
+    write_config(directory, PLUTO / 'map.xml', estimator='poseModule', seed=seed, time_scale=1.0,
+                 start_error=None, chain=True)
+    path = directory / 'mcp-config.xml'
+    tree = etree.parse(str(path))
+    module = etree.SubElement(tree.getroot(), 'module', name='SoakCounter', managed='managed')
+    etree.SubElement(module, 'binary').text = str(COUNTER)
+    etree.SubElement(module, 'options').text = f'-n SoakCounter -s {COUNT_STREAM}'
+    tree.write(str(path))
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--seconds', type=float, default=600.0, help='length of the chaos (s)')
+    parser.add_argument('--kill-every', type=float, default=10.0, help='mean time between kills (s)')
+    parser.add_argument('--seed', type=int, default=1, help='the chaos and the simulator noise')
+    args = parser.parse_args()
+    if os.environ.get('ROS_AUTOMATIC_DISCOVERY_RANGE') != 'LOCALHOST':
+        raise SystemExit('soak: run it through `make soak` or env.sh (DDS on loopback only)')
+    from wurde_core import CommsManager, RunState, StatusMode
+    from wurde_core.interfaces import Egomotion, Foo, LocalizationPose, SimpleControl
+    from wurde_testing import claim_domain_id, find_executable
+
+    claim = claim_domain_id()
+    os.environ['ROS_DOMAIN_ID'] = str(claim.domain_id)
+    work = pathlib.Path(tempfile.mkdtemp(prefix='wurde-soak-'))
+    write_soak_config(work, args.seed)
+    marker = f'WURDE_LOG_DIRECTORY={work}'
+    env = dict(os.environ, WURDE_CONFIG_DIR=str(work), WURDE_LOG_DIRECTORY=str(work),
+               WURDE_DATA_DIR=str(work))
+    chaos = random.Random(args.seed)
+
+    manager = CommsManager(f'Soak{os.getpid()}')
+    manager.set_no_sleep()
+    manager.set_no_heartbeat()
+    table = SimpleControl('mcp_control')
+    count = Foo(COUNT_STREAM)
+    truth_obj, pose_obj = Egomotion('PlutoBaseTruth'), LocalizationPose(POSE_STREAM)
+    for obj in (table, count, truth_obj, pose_obj):
+        obj.set_queue_mode(True)
+        manager.register_consumer(obj)
+    rows: dict[str, tuple[StatusMode, RunState, int, int]] = {}
+    counted = Counted()
+    truth, pose = Track(), Track()
+    kills: list[Kill] = []
+
+    def take() -> None:
+        manager.step()
+        while table.get_next_data():
+            d = table.data
+            rows.update({n: (StatusMode(s), RunState(r), p, k) for n, s, r, p, k in zip(
+                d.module_names, d.module_status, d.module_state, d.module_pid, d.module_restarts)})
+        while count.get_next_data():
+            counted.take(count.data.ros_message().header.sequence)
+        while truth_obj.get_next_data():
+            loc = truth_obj.data.location
+            truth.add(truth_obj.data.timestamp.get_seconds(), loc.x(), loc.y(), loc.theta())
+        while pose_obj.get_next_data():
+            p = pose_obj.data.pose
+            pose.add(pose_obj.data.timestamp.get_seconds(), p.x(), p.y(), p.theta())
+        now = time.monotonic()
+        for kill in kills:
+            if kill.recovered_s is None and kill.name in rows:
+                status, state, pid, _ = rows[kill.name]
+                if status == StatusMode.ACTIVE and state == RunState.RUN and pid not in (0, kill.pid):
+                    kill.recovered_s = now - kill.at
+
+    def all_up() -> bool:
+        return len(rows) > 1 and all(s == StatusMode.ACTIVE and r == RunState.RUN
+                                     for s, r, _, _ in rows.values())
+
+    def until(predicate, what: str, timeout: float) -> None:
+        deadline = time.monotonic() + timeout
+        while not predicate():
+            if time.monotonic() > deadline:
+                raise SystemExit(f'soak: {what} not within {timeout:.0f} s; table {rows}')
+            take()
+            manager.wait(0.05)
+
+    mcp_log = open(work / 'mcp.out', 'wb')   # noqa: SIM115 - closed below
+    mission_log = open(work / 'mission.out', 'wb')   # noqa: SIM115 - closed below
+    mcp = subprocess.Popen([sys.executable, find_executable('wurde_mcp', 'mcp'), '-c', str(work / 'mcp-config.xml'),
+                            '-m', str(work / 'mcp-mappings.xml'), '-a'], env=env,
+                           stdout=mcp_log, stderr=subprocess.STDOUT)
+    mission: subprocess.Popen[bytes] | None = None
+    missions = 0
+    memory: list[int] = []
+    try:
+        until(all_up, 'the whole robot up in Run', 180.0)
+        memory.append(rss_kb(mcp.pid))
+        print(f'soak: {len(rows)} modules up; chaos for {args.seconds:.0f} s, a kill every '
+              f'~{args.kill_every:g} s; ROS_DOMAIN_ID={claim.domain_id}; files in {work}', flush=True)
+        start = time.monotonic()
+        next_kill = start + chaos.uniform(0.5, 1.5) * args.kill_every
+        next_memory = start + 60.0
+        while time.monotonic() - start < args.seconds:
+            if mission is None or mission.poll() is not None:
+                missions += 1
+                mission = subprocess.Popen(
+                    [sys.executable, find_executable('pluto_motion', 'mission'), '-P', ','.join(ROUND),
+                     '-t', '120', '-O', str(work)], env=env, stdout=mission_log, stderr=subprocess.STDOUT)
+            now = time.monotonic()
+            if now >= next_kill:
+                up = sorted(n for n, (s, r, p, _) in rows.items()
+                            if s == StatusMode.ACTIVE and r == RunState.RUN and p > 0)
+                if up:
+                    name = chaos.choice(up)
+                    sig = chaos.choice(SIGNALS)
+                    pid = rows[name][2]
+                    try:
+                        os.kill(pid, sig)
+                        kills.append(Kill(time.monotonic(), name, sig, pid))
+                        print(f'soak: {now - start:6.1f} s  {sig.name:<8} {name} (pid {pid})', flush=True)
+                    except ProcessLookupError:
+                        pass
+                next_kill = now + chaos.uniform(0.5, 1.5) * args.kill_every
+            if now >= next_memory:
+                memory.append(rss_kb(mcp.pid))
+                next_memory = now + 60.0
+            take()
+            manager.wait(0.05)
+        # The last victims get their time to come back before the books are closed.
+        until(lambda: all(k.recovered_s is not None or time.monotonic() - k.at > RECOVERY_LIMIT_S
+                          for k in kills) and all_up(), 'every victim back', RECOVERY_LIMIT_S + 30.0)
+        memory.append(rss_kb(mcp.pid))
+        restarts = sum(k for _, _, _, k in rows.values())
+    finally:
+        if mission is not None and mission.poll() is None:
+            mission.send_signal(signal.SIGINT)
+            try:
+                mission.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                mission.kill()
+                mission.wait()
+        mcp.send_signal(signal.SIGINT)
+        try:
+            mcp.wait(timeout=60)
+        except subprocess.TimeoutExpired:
+            mcp.kill()
+            mcp.wait()
+        mcp_log.close()
+        mission_log.close()
+        manager.clean_up()
+        claim.release()
+    left = orphans(marker)
+    errors = compare(pose, truth)
+    final = None
+    if pose.stamps:
+        true = truth.at(pose.stamps[-1])
+        if true is not None:
+            final = math.dist(pose.poses[-1][:2], true[:2])
+    mission_text = (work / 'mission.out').read_text(errors='replace')
+    reached = mission_text.count(': reached')
+    recovered = [k.recovered_s for k in kills if k.recovered_s is not None]
+
+    print(f'\nsoak: {args.seconds:.0f} s of chaos, {len(kills)} kills, seed {args.seed}, '
+          f'{os.cpu_count()} cores; files in {work}')
+    print(f'{"measure":<62} {"value":>12}')
+
+    def line(what: str, value: object) -> None:
+        print(f'{what:<62} {value!s:>12}')
+
+    line('kills (SIGKILL / SIGSTOP / SIGTERM)',
+         ' / '.join(str(sum(k.sig == s for k in kills)) for s in SIGNALS))
+    line("restarts in the MCP's table", restarts)
+    line('victims back in Run', f'{len(recovered)} of {len(kills)}')
+    if recovered:
+        line('kill -> new process in Run, median (s)', f'{statistics.median(recovered):.2f}')
+        line('kill -> new process in Run, max (s)', f'{max(recovered):.2f}')
+        for sig in SIGNALS:
+            times = [k.recovered_s for k in kills if k.sig == sig and k.recovered_s is not None]
+            if times:
+                line(f'  {sig.name}: median / max (s)', f'{statistics.median(times):.2f} / {max(times):.2f}')
+    line('orphans after the MCP ended', len(left))
+    line('MCP resident memory start / end / max (MB)',
+         f'{memory[0] / 1024:.0f} / {memory[-1] / 1024:.0f} / {max(memory) / 1024:.0f}')
+    line(f'{COUNT_STREAM} messages received', counted.received)
+    line(f'{COUNT_STREAM} lost while both ends were up', counted.lost)
+    line(f'{COUNT_STREAM} supplier processes seen (restarts + 1)', counted.runs)
+    line(f'{COUNT_STREAM} sent before a new supplier was matched', counted.late_start)
+    line('Pose error RMSE / max / at the end (cm)',
+         f'{100 * errors.position_rmse:.1f} / {100 * errors.position_max:.1f} / '
+         f'{"-" if final is None else f"{100 * final:.1f}"}')
+    line('mission rounds started / goals reached', f'{missions} / {reached}')
+    for pid, command in left:
+        print(f'soak: orphan {pid}: {command}')
+    for before, after in counted.gaps:
+        print(f'soak: {COUNT_STREAM} jumped from {before} to {after}')
+    ok = (len(recovered) == len(kills) and not left and counted.lost == 0
+          and memory[-1] <= memory[0] * MEMORY_SLACK and errors.position_max <= POSE_LIMIT_M)
+    print('result:', 'PASS' if ok else 'FAIL',
+          f'(every victim back in Run, 0 orphans, 0 lost, memory within {MEMORY_SLACK:.0%} of its '
+          f'start, Pose error at most {POSE_LIMIT_M:g} m)')
+    return 0 if ok else 1
+
+
+if __name__ == '__main__':
+    sys.exit(main())
