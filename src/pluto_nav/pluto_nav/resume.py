@@ -17,7 +17,7 @@ row as 9 numbers)::
 to; ``dead_reckoning`` is stream (0) then, ``pose`` stream (3) (dead reckoning adjusted by the
 accepted Post_Pose writes) with the setter and the module holding it; its covariance is null while
 no write was accepted (stream (3)'s covariance is then dead reckoning's).  It is written to a
-temporary file beside it and renamed over it (``os.replace``), so a reader (or a process killed
+temporary file beside it (``<file>.<pid>.tmp``) and renamed over it (``os.replace``), so a reader (or a process killed
 while writing) never sees half a file.  :func:`read_resume` refuses anything else with a reason.
 """
 
@@ -83,12 +83,13 @@ def to_json(state: ResumeState) -> str:
 
 
 def write_resume(path: str | os.PathLike[str], state: ResumeState) -> None:
-    """Write ``state`` to ``path`` atomically (``<path>.tmp``, then ``os.replace``).
+    """Write ``state`` to ``path`` atomically (``<path>.<pid>.tmp``, then ``os.replace``: two
+    processes writing the same file never share a temporary one).
 
     :raises OSError: when it cannot be written (the caller decides what that means).
     """
     path = pathlib.Path(path)
-    temporary = path.with_name(path.name + '.tmp')
+    temporary = path.with_name(f'{path.name}.{os.getpid()}.tmp')
     with open(temporary, 'w', encoding='utf-8') as stream:
         stream.write(to_json(state))
     os.replace(temporary, path)
