@@ -230,9 +230,9 @@ def test_a_bad_pose_file_is_refused_with_file_line_and_reason(ros_domain: int, t
 START = (3.0, 7.5, 0.0)     # config/pluto's map: the place "start"
 
 
-def _local_module(directory: pathlib.Path, restart: int):
+def _local_module(directory: pathlib.Path, restart: int, **env: str):
     """A localModule process as the MCP starts it the ``restart``-th time (0: the first)."""
-    return module('pluto_nav', 'local_module', directory, env={'WURDE_MCP_RESTART': str(restart)})
+    return module('pluto_nav', 'local_module', directory, env={'WURDE_MCP_RESTART': str(restart), **env})
 
 
 def _xyt(message) -> tuple[float, float, float]:
@@ -313,10 +313,11 @@ def test_a_restarted_local_module_goes_on_where_the_killed_one_was(
     assert np.trace(covariance) >= np.trace(np.array(old_last.covariance).reshape(3, 3))
 
 
-def test_a_first_start_ignores_the_resume_file_and_a_bad_one_is_a_warned_normal_start(
+def test_a_first_start_ignores_the_resume_file_and_bad_or_unwritable_ones_are_said(
         ros_domain: int, tmp_path: pathlib.Path) -> None:
     """A new run (WURDE_MCP_RESTART 0) starts at the map's start whatever a resume file says; a
-    restart whose resume file is garbage says so and starts there too."""
+    restart whose resume file is garbage says so and starts there too; a resume file that cannot
+    be written is said once and the module runs on."""
     directory = pluto_config(tmp_path, elements=EXACT)
     resume_file = directory / 'localModule.resume'
     watcher = _watcher()
@@ -342,5 +343,17 @@ def test_a_first_start_ignores_the_resume_file_and_a_bad_one_is_a_warned_normal_
                 watcher.until(lambda: read_resume(resume_file)[0] is not None, 'a readable resume file')
                 state, _ = read_resume(resume_file)
                 assert state.pose == pytest.approx(START, abs=1e-6)
+            # A data directory that is not there: the resume file cannot be written; that is said
+            # once, and the module runs on.
+            nowhere = tmp_path / 'no-such-directory'
+            with _local_module(directory, 0, WURDE_DATA_DIR=str(nowhere)) as unwritable:
+                watcher.until(lambda: 'cannot write the resume file' in unwritable.stderr, 'the write failure said')
+                said = time.time()
+                watcher.until(lambda: seconds(events[POSE][-1]) > said + 1.5, 'Poses 1.5 s later')
+                assert unwritable.process.poll() is None
+                # (each log line is on stderr twice: the WURDE logger's and rclpy's)
+                assert unwritable.stderr.count('[ERROR] localModule: localModule: cannot write the resume file') == 1, \
+                    unwritable.stderr
+                assert f'{nowhere}/localModule.resume' in unwritable.stderr
     finally:
         watcher.close()
