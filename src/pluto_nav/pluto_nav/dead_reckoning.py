@@ -16,7 +16,10 @@ timing information from the sick" and fuses "the odometer and inertial data".  T
 - An odometry sample waits (at most ``dmu_stale_s`` of odometry time) for the DMU to cover it, so
   both sources are used at the same instants.
 
-The pose starts at ``start`` and never jumps: it is the continuous estimate of stream (0).  Its
+The pose starts at ``start`` and never jumps: it is the continuous estimate of stream (0).  A
+dead reckoning resumed from a saved state (``resume_odometry``: the odometry reading the saved
+``start`` corresponds to, see :mod:`pluto_nav.resume`) applies the increment from that reading to
+its first odometry sample, with the same reset rule, so the motion made meanwhile is not lost.  Its
 covariance grows by :func:`pluto_nav.odometry_model.increment_covariance` of each step (with the
 heading part of a DMU step from ``dmu_sigma``).  A history of a few seconds lets the laser's scan
 time be interpolated (stream 1) and a Post_Pose of the recent past be related to the present.
@@ -66,11 +69,15 @@ class DeadReckoning:
     :param dmu_sigma: rad/sqrt(s), heading random walk of the DMU's integrated heading.
     :param dmu_stale_s: s of odometry time after which a DMU that has not covered a sample is
         considered absent for it.
+    :param resume_odometry: ``(stamp, (x, y, theta))``, the odometry reading at which the robot was
+        at ``start`` (a restarted module resuming a saved state); None: ``start`` is where the
+        first odometry sample finds the robot.
     """
 
     def __init__(self, start: tuple[float, float, float], *, start_covariance: np.ndarray | None = None,
                  noise: OdometryNoiseModel | None = None, dmu_sigma: float = 0.002,
-                 dmu_stale_s: float = 0.25) -> None:
+                 dmu_stale_s: float = 0.25,
+                 resume_odometry: tuple[float, tuple[float, float, float]] | None = None) -> None:
         self.noise = noise or OdometryNoiseModel()
         self.dmu_sigma = dmu_sigma
         self.dmu_stale_s = dmu_stale_s
@@ -79,6 +86,8 @@ class DeadReckoning:
         self.history: collections.deque[DrSample] = collections.deque()
         self._initial_cov = cov
         self._last_odometry: tuple[float, np.ndarray] | None = None
+        self._resume = None if resume_odometry is None else (
+            float(resume_odometry[0]), np.asarray(resume_odometry[1], dtype=float))
         self._pending: collections.deque[tuple[float, np.ndarray]] = collections.deque()
         #: Stamps of odometry samples that are a restarted base's first.
         self._restarts_at: set[float] = set()
@@ -138,13 +147,18 @@ class DeadReckoning:
         return done
 
     def _step(self, stamp: float, odo: np.ndarray, *, use_dmu: bool) -> DrSample:
-        if self._last_odometry is None:
+        if self._last_odometry is None and self._resume is None:
             self._last_odometry = (stamp, odo)
             phi, psi = self._attitude(stamp) if use_dmu else (0.0, 0.0)
             sample = DrSample(stamp, self.start.copy(), phi, psi, self._initial_cov.copy(), use_dmu)
             self.history.append(sample)
             return sample
-        last_stamp, last_odo = self._last_odometry
+        if self._last_odometry is None:       # resumed: ``start`` was the robot at this reading
+            last_stamp, last_odo = self._resume  # type: ignore[misc]
+            previous_pose, previous_cov = self.start, self._initial_cov
+        else:
+            last_stamp, last_odo = self._last_odometry
+            previous_pose, previous_cov = self.history[-1].pose, self.history[-1].covariance
         self._last_odometry = (stamp, odo)
         increment = relative(last_odo, odo)
         dt = max(stamp - last_stamp, 1e-6)
@@ -166,10 +180,9 @@ class DeadReckoning:
             self.dmu_steps += 1
         else:
             self.odometry_steps += 1
-        previous = self.history[-1]
-        pose = compose(previous.pose, increment)
-        j_pose, j_increment = compose_jacobians(previous.pose, increment)
-        cov = j_pose @ previous.covariance @ j_pose.T + j_increment @ q @ j_increment.T
+        pose = compose(previous_pose, increment)
+        j_pose, j_increment = compose_jacobians(previous_pose, increment)
+        cov = j_pose @ previous_cov @ j_pose.T + j_increment @ q @ j_increment.T
         phi, psi = self._attitude(stamp) if dmu_turn is not None else (0.0, 0.0)
         sample = DrSample(stamp, pose, phi, psi, 0.5 * (cov + cov.T), dmu_turn is not None, increment, q)
         self.history.append(sample)
@@ -203,6 +216,14 @@ class DeadReckoning:
     @property
     def latest(self) -> DrSample | None:
         return self.history[-1] if self.history else None
+
+    @property
+    def latest_odometry(self) -> tuple[float, np.ndarray] | None:
+        """The odometry reading ``(stamp, (x, y, theta))`` that :attr:`latest` was reckoned from
+        (None before the first)."""
+        if self._last_odometry is None:
+            return None
+        return self._last_odometry[0], self._last_odometry[1].copy()
 
     def at(self, stamp: float) -> DrSample | None:
         """The dead-reckoned pose interpolated at ``stamp`` (None when the history does not reach

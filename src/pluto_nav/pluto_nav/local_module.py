@@ -14,8 +14,22 @@ Outputs: the five LocalizationPose streams of :mod:`pluto_nav.streams`, a status
 and only once the laser's mounting is known (its RangeFinder info): a scan timed before that is
 held (up to ``MAX_PENDING_SCANS``), never placed at the robot's centre.
 
-Start: ``-p POSE_FILE`` (:mod:`pluto_nav.start_pose`), else the place ``start`` of the map
-``-m MAP`` (default ``map.xml`` in the config directory, WURDE_CONFIG_DIR), else the origin.
+Start: a process the MCP restarted (``wurde_core.heartbeat.restart_count() > 0``: WURDE_MCP_RESTART)
+goes on where the killed one was: from the state file the MCP gives it (WURDE_MCP_STATE,
+:func:`wurde_core.resume.state_path`; the format is :mod:`pluto_nav.resume`'s; a module started
+by hand has none and keeps none), which the module rewrites (atomically) at most every ``RESUME_PERIOD_S`` of wall time, and once more
+on a clean exit: the dead-reckoned pose and its covariance, the adjusted Pose (3) with its
+covariance and setter, and the base's odometry reading they correspond to.  Dead reckoning
+continues from that reading, so the motion the base made while no localModule ran is applied to
+the new process's first odometry sample (unless the odometry jumped, the base having restarted
+too: then it is no motion, as always).  A restarted process whose resume file is missing or
+unreadable warns with the file and the reason and starts as a first one does.  A first start
+(count 0: the MCP's first, or a module started by hand) ignores the file and removes it (a new
+run starts where the configuration says, and a stale file cannot leak into a later restart):
+``-p POSE_FILE`` (:mod:`pluto_nav.start_pose`), else the place ``start`` of the map ``-m MAP``
+(default ``map.xml`` in the config directory, WURDE_CONFIG_DIR), else the origin.  One log line
+says where it started and why.  A resume file that cannot be written is logged once; the module
+runs on.
 
 ``Localization/Status``: element = [odometry fresh (1/0), DMU fresh (1/0), setter, refused Post_Pose
 writes]; data = [seconds since the last odometry (wall clock), the Pose's position standard deviation
@@ -30,20 +44,24 @@ from __future__ import annotations
 
 import collections
 import os
+import pathlib
 import sys
 import time
 
 import numpy as np
 
 from wurde_core import CommsManager, Logger
+from wurde_core.heartbeat import restart_count
+from wurde_core.resume import state_path
 from wurde_core.interfaces import ActuatorState, DMUState, Egomotion, FVectorState, LocalizationPose, RangeFinder
 from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, set_loop
 from wurde_idl.errors import ConfigError
 
 from .adjustment import Adjuster
 from .dead_reckoning import DeadReckoning, DrSample
-from .geometry import compose, compose_jacobians
+from .geometry import compose, compose_jacobians, inverse
 from .odometry_model import laser_increment
+from .resume import ResumeState, read_resume, write_resume
 from .ros_std import LocalizationPublisher
 from .start_pose import start_pose
 from .streams import (DEAD_RECKONING, LASER_DEAD_RECKONING, LASER_POSE, POSE, POST_POSE, STREAMS, LocPose,
@@ -59,6 +77,8 @@ STALE_GROWTH = np.diag([0.1 ** 2, 0.1 ** 2, 0.05 ** 2])
 #: Scan times waiting for the odometry to reach them; older ones are dropped.
 MAX_PENDING_SCANS = 10
 STATUS_PERIOD_S = 1.0
+#: Wall seconds between two writes of the resume file (at most).
+RESUME_PERIOD_S = 0.5
 HELP = ('  -m MAP    map file (start place; default map.xml in the config directory)\n'
         '  -p FILE   starting pose file "x y theta" (default: the map\'s place "start")\n'
         '  -b BASE   base module (odometry <BASE>Motion; default PlutoBase)\n'
@@ -71,10 +91,21 @@ class LocalModule:
     """The localModule's state between loops; :meth:`step` is one pass of the guide's loop."""
 
     def __init__(self, manager: CommsManager, logger: Logger, start: tuple[float, float, float], *,
-                 base: str, dmu: str, wrist: str, laser: str) -> None:
+                 base: str, dmu: str, wrist: str, laser: str, resume: ResumeState | None = None,
+                 resume_file: pathlib.Path | None = None) -> None:
         self.manager, self.logger = manager, logger
-        self.dr = DeadReckoning(start)
         self.adjuster = Adjuster()
+        if resume is None:
+            self.dr = DeadReckoning(start)
+        else:
+            self.dr = DeadReckoning(resume.dead_reckoning, start_covariance=resume.dead_reckoning_covariance,
+                                    resume_odometry=(resume.odometry_stamp, resume.odometry))
+            self.adjuster.offset = compose(resume.pose, inverse(resume.dead_reckoning))
+            self.adjuster.covariance = None if resume.pose_covariance is None else resume.pose_covariance.copy()
+            self.adjuster.setter, self.adjuster.holder = resume.setter, resume.holder
+        self.resume_file = resume_file
+        self.last_resume_wall = -np.inf
+        self.resume_failed = False
         self.odometry = Egomotion(f'{base}Motion')
         self.dmu = DMUState(dmu)
         self.wrist = ActuatorState(wrist)
@@ -105,11 +136,16 @@ class LocalModule:
         self.stale = True                     # no odometry yet
         self.resets_seen = 0
         self.odometry_sequence = self.dmu_sequence = 0
-        self._publish_start(start)
+        self._publish_start(start, resume)
 
-    def _publish_start(self, start: tuple[float, float, float]) -> None:
+    def _publish_start(self, start: tuple[float, float, float], resume: ResumeState | None) -> None:
         value = LocPose(pose=(start[0], start[1], 0.0, start[2], 0.0, 0.0))
-        for obj in self.poses:
+        for index, obj in enumerate(self.poses):
+            if resume is not None:      # (0), (1): dead reckoning; (2) to (4): adjusted, the setter
+                dead = index in (DEAD_RECKONING, LASER_DEAD_RECKONING)
+                xyt = resume.dead_reckoning if dead else resume.pose
+                value = LocPose(pose=(xyt[0], xyt[1], 0.0, xyt[2], 0.0, 0.0),
+                                setter=0 if dead else resume.setter)
             write_pose(obj.info, value)
             obj.publish_info()
 
@@ -156,6 +192,30 @@ class LocalModule:
         while posts.get_next_request():
             self._post(posts.requests)
         self._watch_odometry()
+        self.save_resume()
+
+    def save_resume(self, force: bool = False) -> None:
+        """Rewrite the resume file (at most every ``RESUME_PERIOD_S`` unless ``force``)."""
+        now = time.monotonic()
+        if self.resume_file is None or (not force and now - self.last_resume_wall < RESUME_PERIOD_S):
+            return
+        latest, odometry = self.dr.latest, self.dr.latest_odometry
+        if latest is None or odometry is None:
+            return      # no odometry yet: a resume file from before (if any) still holds
+        self.last_resume_wall = now
+        state = ResumeState(odometry_stamp=odometry[0], odometry=tuple(odometry[1]),  # type: ignore[arg-type]
+                            dead_reckoning=tuple(latest.pose), dead_reckoning_covariance=latest.covariance,  # type: ignore[arg-type]
+                            pose=tuple(self.adjuster.pose(latest)),  # type: ignore[arg-type]
+                            pose_covariance=self.adjuster.covariance, setter=self.adjuster.setter,
+                            holder=self.adjuster.holder)
+        try:
+            write_resume(self.resume_file, state)
+        except OSError as error:
+            if not self.resume_failed:
+                self.resume_failed = True
+                self.logger.error(f'{self.manager.name}: cannot write the resume file {self.resume_file}: '
+                                  f'{error.strerror or error} (a restart will not know where the robot '
+                                  f'is; logged once)')
 
     def _take_mounting(self) -> None:
         while self.laser.get_next_info():
@@ -270,13 +330,44 @@ def main(argv: list[str] | None = None) -> int:
         return exit_on_config_error(argv[0], error)
     logger = Logger(manager.name)
     manager.register_supplier(logger)
-    if default_missing and 'p' not in opts:
+    resume_file = state_path()
+    resume, why = _resume_state(logger, manager.name, resume_file)
+    if resume is None and default_missing and 'p' not in opts:
         logger.warn(f'{manager.name}: no map {map_file} and no pose file: starting at the origin')
     module = LocalModule(manager, logger, start, base=opts.get('b', 'PlutoBase'), dmu=opts.get('d', 'PlutoDMU'),
-                         wrist=opts.get('w', 'PlutoWrist'), laser=opts.get('s', 'PlutoLaser'))
+                         wrist=opts.get('w', 'PlutoWrist'), laser=opts.get('s', 'PlutoLaser'), resume=resume,
+                         resume_file=resume_file)
     set_loop(manager, LOOP_S)
-    logger.notice(f'{manager.name}: starting at x={start[0]:.3f} y={start[1]:.3f} theta={start[2]:.3f}')
-    return run_loop(manager, module.step, lambda: None)
+    if resume is not None:
+        x, y, theta = resume.pose
+        logger.notice(f'{manager.name}: resuming at x={x:.3f} y={y:.3f} theta={theta:.3f} (setter '
+                      f'{resume.setter}) from {resume_file}, odometry stamp {resume.odometry_stamp:.3f}: {why}')
+    else:
+        origin = 'the pose file' if 'p' in opts else 'the origin' if default_missing else f'the map {map_file}'
+        logger.notice(f'{manager.name}: starting at x={start[0]:.3f} y={start[1]:.3f} theta={start[2]:.3f} '
+                      f'from {origin}: {why}')
+    return run_loop(manager, module.step, lambda: module.save_resume(force=True))
+
+
+def _resume_state(logger: Logger, name: str, path: pathlib.Path | None) -> tuple[ResumeState | None, str]:
+    """The state to resume (None: start as configured) and why."""
+    if path is None:
+        return None, 'not started by an MCP (no state file)'
+    count = restart_count()
+    if count == 0:
+        try:
+            path.unlink()
+        except FileNotFoundError:
+            pass
+        except OSError as error:
+            logger.warn(f'{name}: cannot remove the old resume file {path}: {error.strerror or error}')
+        return None, 'a first start (the MCP has not started it before)'
+    state, reason = read_resume(path)
+    if state is None:
+        logger.warn(f'{name}: restart {count}, but the resume file {path} is unusable ({reason}): '
+                    f'starting as configured; where the robot is, is lost')
+        return None, f'restart {count} without a usable resume file'
+    return state, f'restart {count}'
 
 
 if __name__ == '__main__':

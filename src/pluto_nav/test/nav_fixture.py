@@ -52,9 +52,15 @@ def pluto_config(directory: pathlib.Path, *, map_file: pathlib.Path | None = Non
     return directory
 
 
-def module(package: str, name: str, directory: pathlib.Path, *args: str) -> ChildProcess:
-    env = dict(os.environ, WURDE_CONFIG_DIR=str(directory), WURDE_LOG_DIRECTORY=str(directory))
-    return ChildProcess([find_executable(package, name), *args], env=env)
+def module(package: str, name: str, directory: pathlib.Path, *args: str,
+           env: dict[str, str] | None = None) -> ChildProcess:
+    """A pluto_nav or wurde_drivers executable with ``directory`` as its config, log and data
+    directory (the localModule's resume file goes there, not into the working directory), and
+    ``env`` added to the environment."""
+    environment = dict(os.environ, WURDE_CONFIG_DIR=str(directory), WURDE_LOG_DIRECTORY=str(directory),
+                       WURDE_DATA_DIR=str(directory))
+    environment.update(env or {})
+    return ChildProcess([find_executable(package, name), *args], env=environment)
 
 
 DUMMIES = {'PlutoBase': 'dummy_base', 'PlutoLaser': 'dummy_sick', 'PlutoDMU': 'dummy_dmu',

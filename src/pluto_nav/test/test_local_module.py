@@ -7,13 +7,16 @@ import math
 import os
 import pathlib
 import signal
+import time
 
 import numpy as np
 import pytest
 from nav_fixture import (EXACT, Watcher, angle_error, interpolate_truth, module, pluto_config, processes,
                          seconds)
 
+from pluto_nav.geometry import compose, relative
 from pluto_nav.loc_proxy import LocProxy
+from pluto_nav.resume import ResumeState, read_resume, write_resume
 from pluto_nav.streams import STREAMS
 
 MOUNT_X = 0.2     # config/pluto: the laser 0.2 m ahead of the robot centre
@@ -29,8 +32,8 @@ def drive(watcher: Watcher, trans: float, rot: float) -> None:
 
 
 def _watcher(*extra: str) -> Watcher:
-    streams = {'PlutoBaseTruth': 'Egomotion', 'PlutoBaseDrive': 'RobotDrive', 'PlutoLaser/Timing': 'FVectorState',
-               'Localization/Status': 'FVectorState'}
+    streams = {'PlutoBaseTruth': 'Egomotion', 'PlutoBaseMotion': 'Egomotion', 'PlutoBaseDrive': 'RobotDrive',
+               'PlutoLaser/Timing': 'FVectorState', 'Localization/Status': 'FVectorState'}
     streams.update({name: 'LocalizationPose' for name in (DR, LASER_DR, POSE, LASER_POSE)})
     streams.update({name: 'FVectorState' for name in extra})
     return Watcher(streams)
@@ -222,3 +225,137 @@ def test_a_bad_pose_file_is_refused_with_file_line_and_reason(ros_domain: int, t
     with module('pluto_nav', 'local_module', directory, '-m', str(tmp_path / 'no-start.xml')) as process:
         assert process.process.wait(timeout=60) == 2
     assert 'no place "start"' in process.stderr
+
+
+START = (3.0, 7.5, 0.0)     # config/pluto's map: the place "start"
+
+
+def _local_module(directory: pathlib.Path, restart: int, **env: str):
+    """A localModule process as the MCP starts it the ``restart``-th time (0: the first), its
+    state file ``localModule.resume`` in ``directory``."""
+    return module('pluto_nav', 'local_module', directory, env={
+        'WURDE_MCP_RESTART': str(restart), 'WURDE_MCP_STATE': str(directory / 'localModule.resume'), **env})
+
+
+def _xyt(message) -> tuple[float, float, float]:
+    return message.pose.x, message.pose.y, message.pose.theta
+
+
+@pytest.mark.parametrize('noise', ['exact', 'realistic'])
+def test_a_restarted_local_module_goes_on_where_the_killed_one_was(
+        ros_domain: int, tmp_path: pathlib.Path, noise: str) -> None:
+    """The MCP restarts a killed localModule (WURDE_MCP_RESTART=1): its first Pose is where the
+    robot is, not the map's start, although the robot drove on while no localModule ran.
+
+    Its first Pose must be the dead process's last Pose advanced by the odometry between the two
+    stamps (what the old process would have published had it lived), within 2 cm and 0.02 rad:
+    both are the same odometry, so the only difference is the heading of that one step coming from
+    the odometry rather than the DMU (the DMU's history of the dead process is gone), under 0.01
+    rad over a gap of a few seconds with config/pluto's DMU.  With exact odometry (EXACT) dead
+    reckoning equals the truth, so the resumed Pose must be the truth too, within the 2 cm and
+    0.02 rad dead reckoning is held to above; with config/pluto's noisy odometry dead reckoning
+    has drifted from the truth before the kill, so only the odometry check applies."""
+    directory = pluto_config(tmp_path, elements=EXACT if noise == 'exact' else None)
+    resume_file = directory / 'localModule.resume'
+    watcher = _watcher()
+    events = watcher.events
+
+    def steer() -> None:
+        """0.4 m/s east along the corridor, weaving onto the line y = 7.9 (the heading changes)."""
+        truth = events['PlutoBaseTruth']
+        y, theta = (truth[-1].location.y, truth[-1].location.theta) if truth else (START[1], 0.0)
+        heading = max(-0.3, min(0.3, 0.8 * (7.9 - y)))
+        drive(watcher, 0.4, max(-0.5, min(0.5, 2.0 * (heading - theta))))
+
+    def away() -> bool:
+        return bool(events[POSE]) and math.dist(_xyt(events[POSE][-1])[:2], START[:2]) > 1.2 and resume_file.exists()
+
+    try:
+        with processes(directory, ['PlutoBase', 'PlutoDMU']):
+            with _local_module(directory, 0) as old:
+                watcher.until(lambda: bool(events[POSE]), 'the first Pose')
+                watcher.until(away, '1.2 m from the start, a resume file written', every=steer)
+                old.process.send_signal(signal.SIGKILL)
+                old.process.wait(timeout=30)
+                # Stamps are the simulation's, which never runs ahead of the wall clock: every
+                # Pose of the dead process is stamped before this.
+                cutoff = time.time() + 0.05
+            with _local_module(directory, 1) as new:
+                watcher.until(lambda: any(seconds(m) > cutoff for m in events[POSE]),
+                              "the new process's first Pose", every=steer)
+                drive(watcher, 0.0, 0.0)
+                assert 'resuming at' in new.stderr, new.stderr
+    finally:
+        watcher.close()
+    old_last = [m for m in events[POSE] if seconds(m) <= cutoff][-1]
+    new_first = next(m for m in events[POSE] if seconds(m) > cutoff)
+    t0, t1 = seconds(old_last), seconds(new_first)
+    true0, true1 = interpolate_truth(events['PlutoBaseTruth'], t0), interpolate_truth(events['PlutoBaseTruth'], t1)
+    assert true0 is not None and true1 is not None
+    gap = math.dist(true0[:2], true1[:2])
+    assert gap > 0.2, gap            # the robot drove on while no localModule ran
+    assert math.dist(START[:2], _xyt(new_first)[:2]) > 1.2
+    # Against the old process's last Pose advanced by the odometry between the two stamps (the
+    # Poses are stamped with the odometry sample they were reckoned from).
+    odometry = {round(seconds(m), 6): (m.location.x, m.location.y, m.location.theta)
+                for m in events['PlutoBaseMotion']}
+    expected = compose(_xyt(old_last), relative(odometry[round(t0, 6)], odometry[round(t1, 6)]))
+    error = math.dist(_xyt(new_first)[:2], expected[:2])
+    heading_error = angle_error(new_first.pose.theta, expected[2])
+    true_error = math.dist(_xyt(new_first)[:2], true1[:2])
+    print(f'{noise}: resumed Pose {100 * error:.2f} cm, {heading_error:.4f} rad from the old Pose + odometry; '
+          f'{100 * true_error:.2f} cm, {angle_error(new_first.pose.theta, true1[2]):.4f} rad from the truth; '
+          f'{gap:.2f} m driven in {t1 - t0:.2f} s without a localModule')
+    assert error < 0.02 and heading_error < 0.02
+    if noise == 'exact':        # where the robot is
+        assert true_error < 0.02
+        assert angle_error(new_first.pose.theta, true1[2]) < 0.02
+    assert new_first.cmd_flags == 0
+    covariance = np.array(new_first.covariance).reshape(3, 3)
+    assert np.trace(covariance) >= np.trace(np.array(old_last.covariance).reshape(3, 3))
+
+
+def test_a_first_start_ignores_the_resume_file_and_bad_or_unwritable_ones_are_said(
+        ros_domain: int, tmp_path: pathlib.Path) -> None:
+    """A new run (WURDE_MCP_RESTART 0) starts at the map's start whatever a resume file says; a
+    restart whose resume file is garbage says so and starts there too; a resume file that cannot
+    be written is said once and the module runs on."""
+    directory = pluto_config(tmp_path, elements=EXACT)
+    resume_file = directory / 'localModule.resume'
+    watcher = _watcher()
+    events = watcher.events
+    try:
+        with processes(directory, ['PlutoBase']):
+            resume_file.write_text('{"format": "pluto_nav.resume", "version": 1, "odometry": {"st')
+            with _local_module(directory, 2) as garbage:
+                watcher.until(lambda: bool(events[POSE]), 'the first Pose after a garbage resume file')
+                assert _xyt(events[POSE][0]) == pytest.approx(START, abs=1e-6)
+                assert f'resume file {resume_file} is unusable (not JSON (truncated?)' in garbage.stderr, \
+                    garbage.stderr
+            count = len(events[POSE])
+            write_resume(resume_file, ResumeState(
+                odometry_stamp=1.0, odometry=(0.0, 0.0, 0.0), dead_reckoning=(9.0, 7.5, 1.0),
+                dead_reckoning_covariance=np.eye(3) * 0.01, pose=(9.0, 7.5, 1.0), pose_covariance=None))
+            with _local_module(directory, 0) as fresh:
+                watcher.until(lambda: len(events[POSE]) > count and resume_file.exists(),
+                              'the first Pose of a new run, its resume file')
+                assert _xyt(events[POSE][count]) == pytest.approx(START, abs=1e-6)
+                assert 'a first start' in fresh.stderr, fresh.stderr
+                # The file is the new run's now (standing at the start).
+                watcher.until(lambda: read_resume(resume_file)[0] is not None, 'a readable resume file')
+                state, _ = read_resume(resume_file)
+                assert state.pose == pytest.approx(START, abs=1e-6)
+            # A state file in a directory that is not there cannot be written; that is said once,
+            # and the module runs on.
+            nowhere = tmp_path / 'no-such-directory'
+            with _local_module(directory, 0, WURDE_MCP_STATE=str(nowhere / 'localModule.resume')) as unwritable:
+                watcher.until(lambda: 'cannot write the resume file' in unwritable.stderr, 'the write failure said')
+                said = time.time()
+                watcher.until(lambda: seconds(events[POSE][-1]) > said + 1.5, 'Poses 1.5 s later')
+                assert unwritable.process.poll() is None
+                # (each log line is on stderr twice: the WURDE logger's and rclpy's)
+                assert unwritable.stderr.count('[ERROR] localModule: localModule: cannot write the resume file') == 1, \
+                    unwritable.stderr
+                assert f'{nowhere}/localModule.resume' in unwritable.stderr
+    finally:
+        watcher.close()

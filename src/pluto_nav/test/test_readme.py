@@ -32,7 +32,8 @@ def test_where_am_i_reads_the_pose_of_the_simulated_pluto_under_the_mcp(ros_doma
     script = tmp_path / 'where_am_i.py'
     script.write_text(code)
     directory = pluto_config(tmp_path / 'pluto')     # config/pluto as shipped (its MCP config too)
-    env = dict(os.environ, WURDE_CONFIG_DIR=str(directory), WURDE_LOG_DIRECTORY=str(directory))
+    env = dict(os.environ, WURDE_CONFIG_DIR=str(directory), WURDE_LOG_DIRECTORY=str(directory),
+               WURDE_DATA_DIR=str(directory))     # the localModule's resume file goes there
     with ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', str(directory / 'mcp-config.xml'),
                        '-m', str(directory / 'mcp-mappings.xml'), '-a'], env=env) as mcp:
         mcp.expect('MCP ready', timeout=90)

@@ -21,18 +21,23 @@ from typing import Any
 
 from .heartbeat import restart_count
 
-__all__ = ['STATE_ENV', 'ResumeState']
+__all__ = ['STATE_ENV', 'ResumeState', 'state_path']
 
 #: Environment variable the MCP sets for the modules it starts: the path of the module's state file.
 STATE_ENV = 'WURDE_MCP_STATE'
+
+
+def state_path() -> pathlib.Path | None:
+    """The state file the MCP gave this process (:data:`STATE_ENV`); None when started by hand."""
+    path = os.environ.get(STATE_ENV, '')
+    return pathlib.Path(path) if path else None
 
 
 class ResumeState:
     """The state file of this module, if the MCP gave it one."""
 
     def __init__(self, every_s: float = 0.5) -> None:
-        path = os.environ.get(STATE_ENV, '')
-        self.path = pathlib.Path(path) if path else None
+        self.path = state_path()
         self.every_s = every_s
         self._saved_at = -math.inf
         #: Why the last save failed (reported once by the caller through :attr:`failure`).
