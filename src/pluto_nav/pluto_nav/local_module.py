@@ -136,6 +136,8 @@ class LocalModule:
         self.stale = True                     # no odometry yet
         self.resets_seen = 0
         self.odometry_sequence = self.dmu_sequence = 0
+        if resume is not None:          # a base restarted meanwhile numbers its messages lower
+            self.odometry_sequence = resume.odometry_sequence
         self._publish_start(start, resume)
 
     def _publish_start(self, start: tuple[float, float, float], resume: ResumeState | None) -> None:
@@ -207,7 +209,7 @@ class LocalModule:
                             dead_reckoning=tuple(latest.pose), dead_reckoning_covariance=latest.covariance,  # type: ignore[arg-type]
                             pose=tuple(self.adjuster.pose(latest)),  # type: ignore[arg-type]
                             pose_covariance=self.adjuster.covariance, setter=self.adjuster.setter,
-                            holder=self.adjuster.holder)
+                            holder=self.adjuster.holder, odometry_sequence=self.odometry_sequence)
         try:
             write_resume(self.resume_file, state)
         except OSError as error:

@@ -159,3 +159,14 @@ def test_a_restarted_dmu_integrating_from_zero_again_turns_nothing() -> None:
     dr.add_odometry(5.1, 0.0, 0.0, 1.1)
     assert dr.latest.pose[2] == pytest.approx(1.1)
     assert dr.latest.dmu_used
+
+
+def test_a_resumed_dead_reckoning_whose_base_restarted_meanwhile_takes_no_motion() -> None:
+    """The localModule resumed at a reading of the old base; the first sample is the new base's
+    (flagged: numbered lower than the saved one), 12 m back in 3 s: no motion, not 4 m/s."""
+    dr = DeadReckoning((10.0, 5.0, 0.0), resume_odometry=(100.0, (12.0, 0.0, 0.0)))
+    dr.add_odometry(103.0, 0.0, 0.0, 0.0, restarted=True)
+    assert dr.latest.pose == pytest.approx([10.0, 5.0, 0.0]) and dr.odometry_resets == 1
+    dr = DeadReckoning((10.0, 5.0, 0.0), resume_odometry=(100.0, (12.0, 0.0, 0.0)))
+    dr.add_odometry(103.0, 0.0, 0.0, 0.0)
+    assert dr.latest.pose[0] == pytest.approx(-2.0)

@@ -19,12 +19,13 @@ COV = np.array([[0.01, 0.002, 0.0], [0.002, 0.02, 0.001], [0.0, 0.001, 0.003]])
 def _state(pose_covariance: np.ndarray | None = COV * 2) -> ResumeState:
     return ResumeState(odometry_stamp=1764718000.125, odometry=(1.5, -0.25, 0.3),
                        dead_reckoning=(4.4, 7.9, 0.31), dead_reckoning_covariance=COV,
-                       pose=(4.5, 7.8, -3.1), pose_covariance=pose_covariance, setter=1, holder='poseModule')
+                       pose=(4.5, 7.8, -3.1), pose_covariance=pose_covariance, setter=1, holder='poseModule',
+                       odometry_sequence=812)
 
 
 def _same(a: ResumeState, b: ResumeState) -> None:
-    assert (a.odometry_stamp, a.odometry, a.dead_reckoning, a.pose, a.setter, a.holder) == \
-        (b.odometry_stamp, b.odometry, b.dead_reckoning, b.pose, b.setter, b.holder)
+    assert (a.odometry_stamp, a.odometry, a.dead_reckoning, a.pose, a.setter, a.holder, a.odometry_sequence) == \
+        (b.odometry_stamp, b.odometry, b.dead_reckoning, b.pose, b.setter, b.holder, b.odometry_sequence)
     np.testing.assert_array_equal(a.dead_reckoning_covariance, b.dead_reckoning_covariance)
     if a.pose_covariance is None:
         assert b.pose_covariance is None
