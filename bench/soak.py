@@ -117,6 +117,18 @@ def orphans(marker: str) -> list[tuple[int, str]]:
     return found
 
 
+def interrupt(process: subprocess.Popen[bytes], timeout: float) -> None:
+    """SIGINT ``process`` (if it still runs) and reap it; SIGKILL it if it has not ended in time."""
+    if process.poll() is not None:
+        return
+    process.send_signal(signal.SIGINT)
+    try:
+        process.wait(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.wait()
+
+
 def write_soak_config(directory: pathlib.Path, seed: int) -> None:
     """config/pluto with its map in ``directory``, poseModule and the chain in, plus SoakCounter."""
     write_config(directory, PLUTO / 'map.xml', estimator='poseModule', seed=seed, time_scale=1.0,
@@ -245,19 +257,9 @@ def main() -> int:
         memory.append(rss_kb(mcp.pid))
         restarts = sum(k for _, _, _, k in rows.values())
     finally:
-        if mission is not None and mission.poll() is None:
-            mission.send_signal(signal.SIGINT)
-            try:
-                mission.wait(timeout=30)
-            except subprocess.TimeoutExpired:
-                mission.kill()
-                mission.wait()
-        mcp.send_signal(signal.SIGINT)
-        try:
-            mcp.wait(timeout=60)
-        except subprocess.TimeoutExpired:
-            mcp.kill()
-            mcp.wait()
+        if mission is not None:
+            interrupt(mission, 30.0)
+        interrupt(mcp, 60.0)
         mcp_log.close()
         mission_log.close()
         manager.clean_up()

@@ -29,9 +29,9 @@ import dataclasses
 import json
 import math
 import os
-import pathlib
 
 import numpy as np
+from wurde_core.resume import replace_file
 
 __all__ = ['FORMAT', 'VERSION', 'ResumeState', 'read_resume', 'to_json', 'write_resume']
 
@@ -84,16 +84,11 @@ def to_json(state: ResumeState) -> str:
 
 
 def write_resume(path: str | os.PathLike[str], state: ResumeState) -> None:
-    """Write ``state`` to ``path`` atomically (``<path>.<pid>.tmp``, then ``os.replace``: two
-    processes writing the same file never share a temporary one).
+    """Write ``state`` to ``path`` atomically (:func:`wurde_core.resume.replace_file`).
 
     :raises OSError: when it cannot be written (the caller decides what that means).
     """
-    path = pathlib.Path(path)
-    temporary = path.with_name(f'{path.name}.{os.getpid()}.tmp')
-    with open(temporary, 'w', encoding='utf-8') as stream:
-        stream.write(to_json(state))
-    os.replace(temporary, path)
+    replace_file(path, to_json(state))
 
 
 def _object(document: dict, key: str) -> dict:

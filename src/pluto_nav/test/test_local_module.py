@@ -286,7 +286,7 @@ def test_a_restarted_local_module_goes_on_where_the_killed_one_was(
                 watcher.until(lambda: any(seconds(m) > cutoff for m in events[POSE]),
                               "the new process's first Pose", every=steer)
                 drive(watcher, 0.0, 0.0)
-                assert 'resuming at' in new.stderr, new.stderr
+                watcher.until(lambda: 'resuming at' in new.stderr, 'the new process saying it resumed')
     finally:
         watcher.close()
     old_last = [m for m in events[POSE] if seconds(m) <= cutoff][-1]
@@ -336,8 +336,8 @@ def test_a_first_start_ignores_the_resume_file_and_bad_or_unwritable_ones_are_sa
             with _local_module(directory, 2) as garbage:
                 watcher.until(lambda: bool(events[POSE]), 'the first Pose after a garbage resume file')
                 assert _xyt(events[POSE][0]) == pytest.approx(START, abs=1e-6)
-                assert f'resume file {resume_file} is unusable (not JSON (truncated?)' in garbage.stderr, \
-                    garbage.stderr
+                watcher.until(lambda: f'resume file {resume_file} is unusable (not JSON (truncated?)'
+                              in garbage.stderr, 'the garbage resume file said')
             count = len(events[POSE])
             write_resume(resume_file, ResumeState(
                 odometry_stamp=1.0, odometry=(0.0, 0.0, 0.0), dead_reckoning=(9.0, 7.5, 1.0),
@@ -346,7 +346,8 @@ def test_a_first_start_ignores_the_resume_file_and_bad_or_unwritable_ones_are_sa
                 watcher.until(lambda: len(events[POSE]) > count and resume_file.exists(),
                               'the first Pose of a new run, its resume file')
                 assert _xyt(events[POSE][count]) == pytest.approx(START, abs=1e-6)
-                assert 'a first start' in fresh.stderr, fresh.stderr
+                # The process's log is read by a thread of the test: wait for the line, do not race it.
+                watcher.until(lambda: 'a first start' in fresh.stderr, 'the new run saying it is a first start')
                 # The file is the new run's now (standing at the start).
                 watcher.until(lambda: read_resume(resume_file)[0] is not None, 'a readable resume file')
                 state, _ = read_resume(resume_file)

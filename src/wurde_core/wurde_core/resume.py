@@ -21,10 +21,23 @@ from typing import Any
 
 from .heartbeat import restart_count
 
-__all__ = ['STATE_ENV', 'ResumeState', 'state_path']
+__all__ = ['STATE_ENV', 'ResumeState', 'replace_file', 'state_path']
 
 #: Environment variable the MCP sets for the modules it starts: the path of the module's state file.
 STATE_ENV = 'WURDE_MCP_STATE'
+
+
+def replace_file(path: str | os.PathLike[str], text: str) -> None:
+    """Write ``text`` to ``path`` whole or not at all: a temporary file of this process beside it
+    (``<path>.<pid>.tmp``, so two writers never share one), then ``os.replace``; a reader, or a
+    process killed while writing, never sees half a file.
+
+    :raises OSError: when it cannot be written.
+    """
+    path = pathlib.Path(path)
+    temporary = path.with_name(f'{path.name}.{os.getpid()}.tmp')
+    temporary.write_text(text, encoding='utf-8')
+    os.replace(temporary, path)
 
 
 def state_path() -> pathlib.Path | None:
@@ -73,10 +86,8 @@ class ResumeState:
         if not force and now - self._saved_at < self.every_s:
             return False
         self._saved_at = now
-        temporary = self.path.with_name(self.path.name + '.tmp')
         try:
-            temporary.write_text(json.dumps(state), encoding='utf-8')
-            os.replace(temporary, self.path)
+            replace_file(self.path, json.dumps(state))
         except OSError as error:
             self.failure = f'{self.path}: cannot save ({error.strerror or error})'
             return False

@@ -400,6 +400,10 @@ class Supervisor:
         module.process = None
         module.pid = 0
         module.status = StatusMode.DEAD
+        # Beats carry no pid: the dead process's last ones, arriving late on a loaded machine,
+        # must not make it alive again (test_no_stall saw a stopped module back as ACTIVE with
+        # pid 0, then a zombie); only a new process that describes itself does.
+        module.described = False
         self._changed = True
         late = f'{1000 * (now - process.ended):.0f} ms after the exit' if process.ended else ''
         text = f'MCP: {module.name} exited with code {code} (noticed at monotonic {now:.3f}, {late})'
