@@ -108,6 +108,14 @@ SOAK_SECONDS ?= 600
 soak: build
 	$(IN_ENV) python bench/soak.py --seconds $(SOAK_SECONDS)
 
+# Two hosts (issue 16; needs root): network namespaces joined by a veth pair, the simulated Pluto
+# under one MCP on "robot", a client under its own MCP on "desktop", the link cut for 10 s
+# (src/wurde_mcp/test/test_two_hosts.py; about 2 minutes).  DDS stays on that link.
+.PHONY: two-hosts
+two-hosts: build
+	cd src/wurde_mcp && WURDE_TWO_HOSTS=1 ../../$(IN_ENV) python -m pytest -v -s -p no:cacheprovider \
+		test/test_two_hosts.py
+
 # Fuzz campaigns (issue 16; not part of `make test`, which replays the kept corpus): atheris over every
 # codec, XML reader, carmen.ini and the xmlServer's parser, FUZZ_SECONDS each (27 targets).
 FUZZ_SECONDS ?= 30

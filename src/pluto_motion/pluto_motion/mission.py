@@ -29,7 +29,9 @@ from rich.console import Console, Group
 from rich.live import Live
 from rich.table import Table
 from wurde_core import CommsManager, RunState
+from wurde_core.heartbeat import mcp_name
 from wurde_core.interfaces import Egomotion, Navigator, RangeFinder, SimpleControl
+from wurde_core.mcp_client import control_stream
 from wurde_core.module_loop import config_file
 from wurde_core.wrappers import GOAL_REACHED, STOP_FAILED, STOP_NONE, USER_STOPPED
 from wurde_idl.errors import ConfigError
@@ -82,7 +84,7 @@ class Mission:
         self.motion = MotionProxy(manager)
         self.loc = LocProxy(manager, 1 << POSE)
         self.truth = Egomotion(truth) if truth else None
-        self.table = SimpleControl('mcp_control')
+        self.table = SimpleControl(control_stream(mcp_name()))  # its own MCP's table
         self.nav = Navigator('Navigator')
         self.nav.set_queue_mode(True)
         self.laser = RangeFinder(laser) if laser else None

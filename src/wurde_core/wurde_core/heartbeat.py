@@ -2,8 +2,8 @@
 
 Seed: WURDE Programming Guide 3.4.7 and 5.2.1.  Each module supplies a ``Heartbeat`` object on
 stream ``heartbeat/<module name>``: data carries the TTL (how long to wait for the next beat),
-info describes the process (run state, pid, host, managed state, locale, what it supplies and
-consumes), and requests that set ``state`` change the module's run state — from the MCP or any
+info describes the process (run state, pid, host, managed state, locale, the MCP it belongs to,
+what it supplies and consumes), and requests that set ``state`` change the module's run state — from the MCP or any
 controller (``Heartbeat("heartbeat/FooServer")`` as a consumer, ``requests.state.set_value``).
 
 The heartbeat knows nothing of the manager: the manager tells it what to describe and when to
@@ -30,6 +30,14 @@ MANAGED_ENV = 'WURDE_MCP_MANAGED'
 #: this module before in its run (0 the first time).  A module whose state outlives its process
 #: (the localModule's pose) picks it up again when this is not 0.
 RESTART_ENV = 'WURDE_MCP_RESTART'
+#: Environment variable naming the MCP a module belongs to: the MCP sets it (its own CommsManager
+#: name) for the modules it starts, and a module started by hand on a host whose MCP is not named
+#: ``MCP`` is given it in its shell.  Several MCPs can then share a domain, one per host: each
+#: module talks to its own MCP's streams only (:func:`wurde_core.mcp_client.request_stream`), and
+#: its heartbeat says which MCP it belongs to, so that no other MCP commands it.
+MCP_ENV = 'WURDE_MCP_NAME'
+#: The seed's MCP: the name a module assumes when :data:`MCP_ENV` is not set.
+DEFAULT_MCP = 'MCP'
 #: Longest gap between beats whatever the TTL, so that a beat lost before the MCP had discovered
 #: this module is soon followed by another.
 MAX_BEAT_INTERVAL_S = 1.0
@@ -41,6 +49,17 @@ def managed_state() -> ProcessType:
         return ProcessType[os.environ[MANAGED_ENV]]
     except KeyError:
         return ProcessType.UNMANAGED
+
+
+def mcp_owner() -> str:
+    """The MCP this process belongs to (:data:`MCP_ENV`); empty when none is named (started by
+    hand under the seed's single MCP, which may then command it)."""
+    return os.environ.get(MCP_ENV, '').strip()
+
+
+def mcp_name() -> str:
+    """The name of the MCP this process talks to: :func:`mcp_owner`, else :data:`DEFAULT_MCP`."""
+    return mcp_owner() or DEFAULT_MCP
 
 
 def restart_count() -> int:
@@ -76,6 +95,7 @@ class ModuleHeartbeat:
         info.state.set_value(state)
         info.pid.set_value(os.getpid())
         info.host.set_value(socket.gethostname())
+        info.mcp.set_value(mcp_owner())
         supplied = [o for o in objects if o.role == SUPPLIER]
         consumed = [o for o in objects if o.role != SUPPLIER]
         info.interfaces.set_value([o.interface_name for o in supplied])

@@ -1,4 +1,5 @@
-"""The module side of the MCP protocol, over the McpRequest interface on stream ``mcp``.
+"""The module side of the MCP protocol, over the McpRequest interface on stream ``mcp``
+(``mcp/<name>`` for an MCP started as another name: :func:`mcp_stream`).
 
 Seed: WURDE Programming Guide 6.3 and 7 (``-r``, ``-l``).  The MCP supplies ``McpRequest("mcp")``;
 each module is a consumer that sends requests and reads the answers from the MCP's info:
@@ -23,10 +24,28 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from .enums import ConnectionStrategy
+from .heartbeat import DEFAULT_MCP, mcp_name
 from .interfaces import robot_object_class
 from .robot_object import SUPPLIER, RobotObject
 
 STREAM = 'mcp'
+#: The MCP's control stream (commands from mcp_controller and turn_off, its module table).
+CONTROL_STREAM = 'mcp_control'
+
+
+def mcp_stream(mcp: str = DEFAULT_MCP) -> str:
+    """The McpRequest stream of the MCP named ``mcp``: :data:`STREAM` for the seed's MCP, and
+    ``mcp/<name>`` for any other, so that several MCPs in one domain (one per host) each answer
+    only their own modules."""
+    return STREAM if mcp == DEFAULT_MCP else f'{STREAM}/{mcp}'
+
+
+def control_stream(mcp: str = DEFAULT_MCP) -> str:
+    """The SimpleControl stream of the MCP named ``mcp`` (its commands and module table):
+    :data:`CONTROL_STREAM` for the seed's MCP, ``mcp_control/<name>`` for any other."""
+    return CONTROL_STREAM if mcp == DEFAULT_MCP else f'{CONTROL_STREAM}/{mcp}'
+
+
 KIND_ASSIGN, KIND_START, KIND_CAPABILITIES = 0, 1, 2
 RETRY_S = 1.0
 
@@ -37,7 +56,7 @@ class McpClient:
     def __init__(self, module: str, warn: Callable[[str], None]) -> None:
         self.module = module
         self._warn = warn
-        self.obj: RobotObject = robot_object_class('McpRequest')(STREAM)
+        self.obj: RobotObject = robot_object_class('McpRequest')(mcp_stream(mcp_name()))
         self.obj._system = True
         self.obj.set_queue_mode(True)
         # Ids differ between incarnations of a module, so that the MCP's last answer to an earlier

@@ -31,8 +31,29 @@ def worker(name: str, managed: str = 'managed', extra: str = '') -> str:
             f'<options>-n {name} {extra}</options></module>')
 
 
-def start_mcp(directory: pathlib.Path, config: str, mappings: str, *args: str) -> ChildProcess:
-    env = dict(os.environ, WURDE_LOG_DIRECTORY=str(directory))
+def listener_script(directory: pathlib.Path) -> pathlib.Path:
+    """``directory/listener.py``: module Listener, whose STRAT_ASSIGNED Foo consumer ``BarClient``
+    prints ``VALUE <source> <ranges[0]>`` for every message (queue mode)."""
+    script = directory / 'listener.py'
+    script.write_text(
+        '#!/usr/bin/env python3\n'
+        'import sys\n'
+        'from wurde_core import CommsManager, ConnectionStrategy, RunState\n'
+        'from wurde_core.interfaces import Foo\n'
+        'm = CommsManager("Listener"); m.parse_options(sys.argv); m.set_sleep(0.1)\n'
+        'foo = Foo(ConnectionStrategy.ASSIGNED, "BarClient"); foo.set_queue_mode(True)\n'
+        'm.register_consumer(foo)\n'
+        'while m.run_update() != RunState.QUIT:\n'
+        '    while foo.get_next_data():\n'
+        '        print("VALUE", foo.data.source, foo.data.ranges[0], flush=True)\n'
+        'm.clean_up()\n')
+    script.chmod(0o755)
+    return script
+
+
+def start_mcp(directory: pathlib.Path, config: str, mappings: str, *args: str,
+              env: dict[str, str] | None = None) -> ChildProcess:
+    env = dict(os.environ, WURDE_LOG_DIRECTORY=str(directory), **(env or {}))
     mcp = ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', config, '-m', mappings, *args],
                        env=env)
     mcp.expect('MCP ready', timeout=60)
@@ -42,10 +63,10 @@ def start_mcp(directory: pathlib.Path, config: str, mappings: str, *args: str) -
 class Table:
     """Reads the MCP's module table (SimpleControl data on mcp_control) from this process."""
 
-    def __init__(self) -> None:
+    def __init__(self, stream: str = 'mcp_control') -> None:
         self.manager = CommsManager('Tester')
         self.manager.set_no_sleep()
-        self.control = robot_object_class('SimpleControl')('mcp_control')
+        self.control = robot_object_class('SimpleControl')(stream)
         # Every table, not the newest: a short state (a module Idle while a critical one restarts)
         # must not be missed by a test process that a loaded machine let fall behind.
         self.control.set_queue_mode(True)

@@ -13,7 +13,8 @@ import time
 from lifecycle_msgs.msg import Transition
 from lifecycle_msgs.srv import ChangeState, GetState
 
-from mcp_fixture import WORKER, Table, alive, start_mcp, wait_output, worker, write_config
+from mcp_fixture import (WORKER, Table, alive, listener_script, start_mcp, wait_output, worker,
+                         write_config)
 from wurde_core import RunState, StatusMode
 from wurde_core.interfaces import robot_object_class
 from wurde_mcp.supervisor import CMD_START, CMD_STOP
@@ -142,20 +143,7 @@ def test_registration_pass_collects_capabilities(tmp_path, table) -> None:
 
 
 def test_assigned_consumer_receives_data_also_after_its_supplier_restarts(tmp_path, table) -> None:
-    client_script = tmp_path / 'listener.py'
-    client_script.write_text(
-        '#!/usr/bin/env python3\n'
-        'import sys\n'
-        'from wurde_core import CommsManager, ConnectionStrategy, RunState\n'
-        'from wurde_core.interfaces import Foo\n'
-        'm = CommsManager("Listener"); m.parse_options(sys.argv); m.set_sleep(0.1)\n'
-        'foo = Foo(ConnectionStrategy.ASSIGNED, "BarClient"); foo.set_queue_mode(True)\n'
-        'm.register_consumer(foo)\n'
-        'while m.run_update() != RunState.QUIT:\n'
-        '    while foo.get_next_data():\n'
-        '        print("VALUE", foo.data.source, foo.data.ranges[0], flush=True)\n'
-        'm.clean_up()\n')
-    client_script.chmod(0o755)
+    client_script = listener_script(tmp_path)
     modules = ('<module name="FooServer" binary="wurde_core/foo_server"/>'
                f'<module name="Listener" binary="{client_script}"/>')
     mappings_xml = ('<connect module="Listener">\n'

@@ -45,6 +45,6 @@ def test_turn_off_reaches_a_module_the_mcp_does_not_supervise(tmp_path, table) -
             assert 'sent Quit to Stray directly' in off.stdout
             assert stray.process.wait(timeout=30) == 0
         off = turn_off('Kept')  # supervised: through the MCP, which keeps it down
-        assert 'asked the MCP to quit Kept' in off.stdout
+        assert 'asked the MCP on mcp_control to quit Kept' in off.stdout
         rows = table.until(lambda r: r['Kept']['status'] == StatusMode.DEAD, 'Kept quit')
         assert rows['Kept']['restarts'] == 0

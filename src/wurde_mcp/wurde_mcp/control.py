@@ -9,6 +9,9 @@ too, on ``/wurde/mcp_control/data``).  ``turn_off`` lives in :mod:`wurde_mcp.tur
   ``mcp_controller state MODULE RUN|IDLE|RESET|RESTART|QUIT``.
 
 Both take ``--ros-args`` (``-r __ns:=/robot1`` reaches the MCP started in ``/robot1``).
+``mcp_controller --mcp NAME ...`` reaches the MCP named NAME where several share a domain (one per
+host; the default is ``WURDE_MCP_NAME``, else ``MCP``); ``turn_off NAME`` finds the MCP a module
+belongs to by itself.
 """
 
 from __future__ import annotations
@@ -17,8 +20,10 @@ import sys
 import time
 from typing import Any
 
-from wurde_core import CommsManager, ProcessType, RunState, StatusMode
+from wurde_core import CommsManager, ProcessLocale, ProcessType, RunState, StatusMode
+from wurde_core.heartbeat import mcp_name
 from wurde_core.interfaces import robot_object_class
+from wurde_core.mcp_client import control_stream
 from wurde_core.options import split_ros_arguments
 
 from .supervisor import CMD_RESTART, CMD_START, CMD_STATE, CMD_STOP
@@ -26,16 +31,17 @@ from .supervisor import CMD_RESTART, CMD_START, CMD_STATE, CMD_STOP
 WAIT_S = 10.0
 
 
-def connect(name: str, wait_s: float = WAIT_S,
-            ros_arguments: list[str] | None = None) -> tuple[CommsManager, Any]:
-    """A manager named ``name`` with a consumer of ``mcp_control``; waits up to ``wait_s`` for
-    an MCP and exits with a message when ``wait_s`` is positive and none answers.
-    ``ros_arguments`` (``--ros-args -r __ns:=/robot1``) reach the MCP of that namespace."""
+def connect(name: str, wait_s: float = WAIT_S, ros_arguments: list[str] | None = None,
+            mcp: str | None = None) -> tuple[CommsManager, Any]:
+    """A manager named ``name`` with a consumer of the control stream of the MCP named ``mcp``
+    (default: ``WURDE_MCP_NAME``, else the seed's ``MCP``); waits up to ``wait_s`` for it and
+    exits with a message when ``wait_s`` is positive and none answers.  ``ros_arguments``
+    (``--ros-args -r __ns:=/robot1``) reach the MCP of that namespace."""
     manager = CommsManager(name)
     manager.parse_options([name, *(ros_arguments or [])])
     manager.set_no_heartbeat()
     manager.set_no_sleep()
-    control = robot_object_class('SimpleControl')('mcp_control')
+    control = robot_object_class('SimpleControl')(control_stream(mcp or mcp_name()))
     manager.register_consumer(control)
     if wait_s > 0:
         deadline = time.monotonic() + wait_s
@@ -44,7 +50,7 @@ def connect(name: str, wait_s: float = WAIT_S,
             manager.wait(0.05)
         if not control.peers():
             manager.clean_up()
-            raise SystemExit(f'{name}: no MCP answers on mcp_control within {wait_s:.0f} s')
+            raise SystemExit(f'{name}: no MCP answers on {control.stream} within {wait_s:.0f} s')
     return manager, control
 
 
@@ -67,10 +73,12 @@ def read_table(manager: CommsManager, control: Any,
         if control.get_next_data():
             d = control.data
             return [dict(name=n, status=StatusMode(s).name, managed=ProcessType(m).name,
-                         state=RunState(r).name, pid=p, host=h, age=a, restarts=k)
-                    for n, s, m, r, p, h, a, k in zip(
-                        d.module_names, d.module_status, d.module_managed, d.module_state,
-                        d.module_pid, d.module_host, d.module_heartbeat_age, d.module_restarts)]
+                         locale=ProcessLocale(w).name, state=RunState(r).name, pid=p, host=h,
+                         age=a, restarts=k)
+                    for n, s, m, w, r, p, h, a, k in zip(
+                        d.module_names, d.module_status, d.module_managed, d.module_locale,
+                        d.module_state, d.module_pid, d.module_host, d.module_heartbeat_age,
+                        d.module_restarts)]
         manager.wait(0.05)
     return None
 
@@ -78,9 +86,13 @@ def read_table(manager: CommsManager, control: Any,
 def mcp_controller(argv: list[str] | None = None) -> int:
     """``mcp_controller list | status | start M | stop M | restart M | state M STATE``."""
     args, ros_arguments = split_ros_arguments(list(sys.argv[1:] if argv is None else argv))
+    mcp = None
+    if args[:1] == ['--mcp'] and len(args) >= 2:
+        mcp, args = args[1], args[2:]
     if args[:1] == ['status']:
         args[0] = 'list'                  # the name a ROS 2 user tries first
-    usage = 'usage: mcp_controller list | status | start M | stop M | restart M | state M STATE'
+    usage = ('usage: mcp_controller [--mcp NAME] list | status | start M | stop M | restart M | '
+             'state M STATE')
     commands = {'start': CMD_START, 'stop': CMD_STOP, 'restart': CMD_RESTART}
     if not args or args[0] not in ('list', 'state', *commands) or \
             (args[0] in commands and len(args) != 2) or (args[0] == 'state' and len(args) != 3):
@@ -89,7 +101,7 @@ def mcp_controller(argv: list[str] | None = None) -> int:
     if args[0] == 'state' and args[2].upper() not in RunState.__members__:
         print(f'mcp_controller: unknown state {args[2]}\n{usage}', file=sys.stderr)
         return 2
-    manager, control = connect('mcpController', ros_arguments=ros_arguments)
+    manager, control = connect('mcpController', ros_arguments=ros_arguments, mcp=mcp)
     try:
         if args[0] == 'list':
             rows = read_table(manager, control)

@@ -9,7 +9,9 @@
 - deactivate: set every module to Idle;
 - cleanup and shutdown: Quit every module and reap the internal ones.
 
-``-a`` configures and activates at once.  Transitions are driven with the standard lifecycle
+``-a`` configures and activates at once.  ``-n NAME`` (or ``WURDE_MCP_NAME``) names the MCP when
+several share a domain, one per host: its streams are then ``mcp/NAME`` and ``mcp_control/NAME``,
+its modules are told its name, and it commands only its own (see ``Supervisor.owns``).  Transitions are driven with the standard lifecycle
 services (``/MCP/change_state``), so any ROS 2 lifecycle tool can drive the MCP.  The MCP is one
 node, ``/MCP``: its CommsManager's node is the lifecycle node, and the manager's loop serves the
 lifecycle services (no executor of its own).  Files come from
@@ -27,6 +29,7 @@ from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackRet
 
 from wurde_core import (CommsManager, ConfigError, RunState, StatusMode, g_error, g_info,
                         g_warn, global_configuration)
+from wurde_core.heartbeat import mcp_name
 from wurde_idl import load_all
 
 from .config import McpConfig, read_mcp_config, read_mcp_mappings, validate
@@ -192,7 +195,7 @@ class Mcp:
 
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
-    manager = CommsManager('MCP', node_type=McpNode)
+    manager = CommsManager(mcp_name(), node_type=McpNode)
     manager.set_help_string('  -c FILE  MCP configuration (default: role config, mcp-config.xml)\n'
                             '  -m FILE  MCP mappings (default: role config, mcp-mapping.xml)\n'
                             '  -a       configure and activate at once\n'

@@ -20,8 +20,9 @@ from typing import Any
 
 from wurde_core import (CommsManager, ProcessLocale, ProcessType, RunState,
                         StatusMode, g_error, g_info, g_warn)
-from wurde_core.heartbeat import MANAGED_ENV, RESTART_ENV
+from wurde_core.heartbeat import MANAGED_ENV, MCP_ENV, RESTART_ENV
 from wurde_core.interfaces import robot_object_class
+from wurde_core.mcp_client import control_stream, mcp_stream
 from wurde_core.resume import STATE_ENV
 
 from .binaries import find_binary
@@ -107,6 +108,9 @@ class Module:
     #: The running process has described itself (a heartbeat info not from a dead pid) since it
     #: was started: only then do its beats make it alive.
     described: bool = True
+    #: The MCP the module says it belongs to (its heartbeat info; empty: none named or not heard
+    #: yet).
+    owner: str = ''
 
     @property
     def name(self) -> str:
@@ -129,15 +133,19 @@ class Supervisor:
         self.max_restarts = max_restarts
         self.modules: dict[str, Module] = {}
         self.idled_for: str | None = None
+        #: This MCP's name (its CommsManager's): its streams, and what its modules are told.
+        self.name = manager.name
+        #: External modules whose commands were withheld because another MCP owns them (told once).
+        self._not_ours: set[str] = set()
         self._table_at = 0.0
         self._changed = True
         # The MCP's channels are MCP traffic: they flow while the MCP itself idles or quits
         # (its last act is to command everyone to Quit).
-        self.mcp = robot_object_class('McpRequest')('mcp')
+        self.mcp = robot_object_class('McpRequest')(mcp_stream(self.name))
         self.mcp.set_queue_mode(True)
         self.mcp.set_mcp_traffic(True)
         manager.register_supplier(self.mcp)
-        self.control = robot_object_class('SimpleControl')('mcp_control')
+        self.control = robot_object_class('SimpleControl')(control_stream(self.name))
         self.control.set_queue_mode(True)
         self.control.set_mcp_traffic(True)
         manager.register_supplier(self.control)
@@ -192,6 +200,7 @@ class Supervisor:
                                                   *self._ros_arguments()],
                                            self.log_directory,
                                            {MANAGED_ENV: module.spec.managed.name,
+                                            MCP_ENV: self.name,
                                             RESTART_ENV: str(module.starts),
                                             STATE_ENV: os.path.join(self.log_directory,
                                                                     f'{name}.resume')})
@@ -251,12 +260,27 @@ class Supervisor:
         else:
             self.start(name)
 
+    def owns(self, module: Module) -> bool:
+        """Whether this MCP commands ``module``: its internal modules, and the external ones
+        that belong to no other MCP.  An external module another MCP started (several MCPs in
+        one domain, one per host) is only watched: its own MCP idles, stops and quits it.  Which MCP
+        a module belongs to is known from its heartbeat info: until that is heard, an external
+        module is commanded as the seed's single MCP commands it."""
+        return module.internal or module.owner in ('', self.name)
+
     def command_state(self, name: str, state: RunState) -> None:
         """Send a run-state command to a module (through its heartbeat channel).  Run and Idle
-        are held: a module that reports another state later is told again."""
+        are held: a module that reports another state later is told again.  A module another
+        MCP owns is not commanded (see :meth:`owns`)."""
         module = self.modules[name]
         module.commanded_state = RunState(state)
         module.commanded_at = time.monotonic()
+        if not self.owns(module):
+            if name not in self._not_ours:
+                self._not_ours.add(name)
+                g_info(f'MCP: {name} belongs to MCP "{module.owner}": it is watched, not '
+                       'commanded, from here')
+            return
         heartbeat = module.heartbeat
         heartbeat.requests.state.set_value(state)
         heartbeat.publish_request()
@@ -361,6 +385,7 @@ class Supervisor:
             module.run_state = RunState(info.state.get_value())
             module.pid = info.pid.get_value()
             module.host = info.host.get_value()
+            module.owner = info.mcp.get_value()
             module.supplies = list(zip(info.interfaces.get_value(), info.streams.get_value()))
             described = True
             self._changed = True
@@ -521,6 +546,10 @@ class Supervisor:
                     self.stop(module)
             elif name not in self.modules:
                 g_warn(f'MCP: control command {command} for unknown module "{name}"')
+            elif not self.owns(self.modules[name]):
+                owner = self.modules[name].owner
+                g_warn(f'MCP: control command {command} for {name} not carried out: it belongs '
+                       f'to MCP "{owner}" (mcp_controller --mcp {owner} reaches it)')
             elif command == CMD_START:
                 self.modules[name].restarts = 0
                 self.modules[name].recent_restarts = []

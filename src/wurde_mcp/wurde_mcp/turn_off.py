@@ -6,7 +6,8 @@ So ``turn_off NAME`` reaches any running module by its CommsManager name:
 
 - when an MCP answers on ``mcp_control`` and its table lists NAME, the MCP is asked to stop it
   (so that it keeps a managed module down instead of restarting it, and escalates to signals
-  if the module does not obey);
+  if the module does not obey).  Where several MCPs share a domain (one per host), it is the
+  MCP the module belongs to, as its heartbeat info says (field ``mcp``), from whichever host;
 - otherwise — no MCP, or one that does not supervise NAME — Quit goes to NAME's heartbeat
   directly.
 
@@ -26,7 +27,9 @@ import time
 from typing import Any
 
 from wurde_core import CommsManager, ProcessType, RunState, WurdeError, stream_name
+from wurde_core.heartbeat import mcp_name
 from wurde_core.interfaces import robot_object_class
+from wurde_core.mcp_client import control_stream
 from wurde_core.options import split_ros_arguments
 
 from .control import WAIT_S, connect, read_table, send
@@ -59,47 +62,68 @@ def _wait(manager: CommsManager, done: Any, seconds: float) -> None:
         manager.wait(0.02)
 
 
-def _mcp_seen(manager: CommsManager) -> bool:
-    """Whether the ROS graph shows an MCP's node in this namespace (before its control channel
-    is matched)."""
+def _mcp_seen(manager: CommsManager, mcp: str) -> bool:
+    """Whether the ROS graph shows the node of the MCP named ``mcp`` in this namespace (before
+    its control channel is matched)."""
     namespace = manager.node.get_namespace()
-    return (MCP_NAME, namespace) in manager.node.get_node_names_and_namespaces()
+    return (mcp, namespace) in manager.node.get_node_names_and_namespaces()
 
 
-def _supervised(manager: CommsManager, heartbeat: Any) -> bool:
-    """Whether the module's heartbeat info says an MCP started it to keep it up (info is
-    transient-local: it comes with the match, however late)."""
+def _description(manager: CommsManager, heartbeat: Any) -> tuple[bool, str]:
+    """Whether the module's heartbeat info says an MCP started it to keep it up, and the MCP
+    it belongs to ('' when none is named); info is transient-local: it comes with the match,
+    however late."""
     _wait(manager, lambda: heartbeat.received('info'), WAIT_S)
-    managed = None
+    managed, owner = None, ''
     while heartbeat.get_next_info():
         managed = heartbeat.info.managed.get_value()
-    return managed in (ProcessType.MANAGED, ProcessType.CRITICAL)
+        owner = heartbeat.info.mcp.get_value()
+    return managed in (ProcessType.MANAGED, ProcessType.CRITICAL), owner
+
+
+def _ask_mcp(manager: CommsManager, control: Any, name: str, internal_only: bool = False) -> bool:
+    """Ask the MCP on ``control`` to stop ``name`` if its table lists it (``internal_only``: as
+    one it started, so surely its own); whether it did."""
+    rows = read_table(manager, control, WAIT_S)
+    if rows is None or not any(row['name'] == name and (row['locale'] == 'INTERNAL'
+                                                        or not internal_only) for row in rows):
+        return False
+    send(control, CMD_STOP, name)
+    control.wait_delivered(WAIT_S)
+    print(f'turn_off: asked the MCP on {control.stream} to quit {name}')
+    return True
 
 
 def _one(manager: CommsManager, control: Any, name: str) -> int:
     heartbeat = _heartbeat(manager, name)
     start = time.monotonic()
     _wait(manager, lambda: heartbeat.peers() or control.peers(), WAIT_S)
-    if heartbeat.peers() and not control.peers():
-        if _supervised(manager, heartbeat):  # its MCP is there: wait for the control channel
-            _wait(manager, control.peers, WAIT_S)
-        else:
-            _wait(manager, lambda: control.peers() or _mcp_seen(manager),
-                  MCP_GRACE_S - (time.monotonic() - start))
-            if _mcp_seen(manager):
-                _wait(manager, control.peers, WAIT_S)
-    if control.peers():
-        rows = read_table(manager, control, WAIT_S)
-        if rows is not None and any(row['name'] == name for row in rows):
-            send(control, CMD_STOP, name)
-            control.wait_delivered(WAIT_S)
-            print(f'turn_off: asked the MCP to quit {name}')
+    if control.peers() and not heartbeat.peers():
+        if _ask_mcp(manager, control, name, internal_only=True):  # the MCP at hand started it
             return 0
-        _wait(manager, heartbeat.peers, WAIT_S)
+        _wait(manager, heartbeat.peers, WAIT_S)  # its heartbeat tells whose it is
     if not heartbeat.peers():
         print(f'turn_off: no module {name} answers on {HEARTBEAT_PREFIX}{name}, and no MCP '
               'lists it', file=sys.stderr)
         return 1
+    supervised, owner = _description(manager, heartbeat)
+    if owner and control.stream != control_stream(owner):
+        # It belongs to another MCP (one per host): that one is asked, or it would start the
+        # module again.
+        manager.unregister(control)
+        control = robot_object_class('SimpleControl')(control_stream(owner))
+        manager.register_consumer(control)
+    if not control.peers():
+        if supervised:  # its MCP is there: wait for the control channel
+            _wait(manager, control.peers, WAIT_S)
+        else:
+            mcp = owner or mcp_name()
+            _wait(manager, lambda: control.peers() or _mcp_seen(manager, mcp),
+                  MCP_GRACE_S - (time.monotonic() - start))
+            if _mcp_seen(manager, mcp):
+                _wait(manager, control.peers, WAIT_S)
+    if control.peers() and _ask_mcp(manager, control, name):
+        return 0
     if not _quit_directly(manager, heartbeat):
         print(f'turn_off: {name} did not acknowledge Quit within {WAIT_S:.0f} s', file=sys.stderr)
         return 1

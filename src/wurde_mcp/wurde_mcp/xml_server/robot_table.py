@@ -42,7 +42,9 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from wurde_core import CommsManager, LockedError, RobotObject, RunState, StatusMode, WurdeError
+from wurde_core.heartbeat import mcp_name
 from wurde_core.interfaces import robot_object_class
+from wurde_core.mcp_client import control_stream
 
 from .variables import Value, VarError, Variable, VariablePool
 
@@ -124,7 +126,6 @@ ROWS: tuple[Row, ...] = (
 )
 
 #: The MCP's module table (SimpleControl data on this stream) gives ``mcp.<module>.*``.
-MCP_STREAM = 'mcp_control'
 
 
 class RobotPool:
@@ -147,7 +148,7 @@ class RobotPool:
             initial: Value = [math.nan] * (4 if row.typ == 'pose' else 0) if row.typ != 's' else ''
             self.pool.add(Variable(row.var, row.typ, row.description, initial, write=write))
         self.pool.describe('', 'the robot (Pluto) through the WURDE streams')
-        self._mcp = robot_object_class('SimpleControl')(MCP_STREAM)
+        self._mcp = robot_object_class('SimpleControl')(control_stream(mcp_name()))
         manager.register_consumer(self._mcp)
 
     def refresh(self) -> int:
