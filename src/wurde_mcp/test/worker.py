@@ -4,7 +4,8 @@
 ``-t TTL`` overrides its TTL; ``-s`` makes it stubborn: it ignores Quit, SIGINT and SIGTERM, so
 only SIGKILL ends it (the whole stop escalation runs).  SIGUSR1 makes it spin on the CPU for
 2.5 s without a heartbeat (a starved or busy module: working, but silent); SIGUSR2 makes it sleep
-for a minute without one (hung, though not stopped).
+for a minute without one (hung, though not stopped).  It prints ``<name>: idle`` on entering Idle
+and ``<name>: running again`` on returning to Run (its state hooks).
 """
 
 import os
@@ -49,6 +50,8 @@ def _hang(_signum: int, _frame: object) -> None:
 if stubborn:
     signal.signal(signal.SIGINT, _ignore)
     signal.signal(signal.SIGTERM, _ignore)
+manager.on_state(RunState.IDLE, lambda: print(f'{manager.name}: idle', flush=True))
+manager.on_state(RunState.RUN, lambda: print(f'{manager.name}: running again', flush=True))
 signal.signal(signal.SIGUSR1, _spin)
 signal.signal(signal.SIGUSR2, _hang)
 while True:
