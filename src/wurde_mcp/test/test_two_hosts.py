@@ -6,7 +6,8 @@ config/pluto (the dummies, localization, the drive → avoid → motion chain) u
 host ``desktop`` runs MCP_B with Watcher, whose STRAT_ASSIGNED Pose consumer is mapped to the
 robot's ``Localization/Pose``.  Each MCP lists the other host's modules as external.  Shown:
 heartbeats and module tables cross; the assignment connects the consumer on one host to the
-supplier on the other; ``turn_off`` on the desktop reaches the robot's module through its own
+supplier on the other; a client script on the desktop (``mission``) drives the robot to a place;
+``turn_off`` on the desktop reaches the robot's module through its own
 MCP; the link cut for 10 s makes each side mark the other's modules lost within their TTL while
 nothing on the robot stops, and everything comes back when the link does, the losses counted.
 """
@@ -190,6 +191,17 @@ def test_robot_and_desktop_over_a_link_that_is_cut(tmp_path, ros_domain) -> None
             # The desktop's MCP commanded none of the robot's modules.
             wait_output(mcp_b, r'MCP: PlutoBase belongs to MCP "MCP": it is watched, not '
                                r'commanded, from here')
+
+            # A client script on the desktop (the mission client of make demo, not under MCP_B)
+            # sends the robot to a place by name across the link: the navigator, the chain and the
+            # Pose all live on the robot.
+            mission = desktop.run(
+                [find_executable('pluto_motion', 'mission'), '-m', str(PLUTO / 'map.xml'),
+                 '-P', 'office2', '-O', str(desktop_dir / 'mission')],
+                {k: v for k, v in env_desktop.items() if k != 'WURDE_MCP_NAME'}, timeout=400)
+            assert mission.returncode == 0 and 'mission: office2 (7.5, 3): reached' in \
+                mission.stdout, mission.stdout + mission.stderr
+            print([line for line in mission.stdout.splitlines() if 'reached' in line])
 
             # turn_off on the desktop reaches the robot's poseModule through the robot's MCP,
             # which keeps it down.
