@@ -1,6 +1,6 @@
 """``navigator``: CARMEN's navigator (Programming with CARMEN 4.2.1, 4.3) on the Pluto chain.
 
-    navigator [-m MAP] [-s STREAM] [-t SECONDS]
+    navigator [-m MAP] [-s STREAM] [-t SECONDS] [-b BASE]
 
 Supplies NavigatorTransport on ``STREAM`` (default ``Navigator``); consumers use
 :class:`wurde_core.wrappers.Navigator` (``set_goal``, ``set_goal_place``, ``go``, ``stop``).  One goal
@@ -11,10 +11,15 @@ to the goal by the motionModule's moveto (cmdFlags 42 on ``motion/command``); ``
 robot.  The status (data) says the robot's Localization/Pose, the goal, whether one is set, whether
 the navigator is autonomous and why it last stopped — 4.3's autonomous-stopped reasons: 1 goal
 reached, 2 user stopped (every ``stop``, autonomous or not), and 3 (ours) a goal that could not be
-reached (unreachable, the motion thread stopped, more than ``-t`` seconds; the reason goes to the
-log).  ``go`` while already at the goal is autonomous for one status and then stops with goal
-reached, as 4.3 says.  The status goes out on every change and at least every
-:data:`STATUS_PERIOD_S`; ``plan`` is empty (the motionModule's plan is not on its interface).
+reached (unreachable, the motion thread stopped, more than ``-t`` seconds, the base down; the reason
+goes to the log).  The base is down when its odometry (``<BASE>Motion``) has been silent for the
+tunable ``base_wait`` seconds (default :data:`BASE_WAIT_S`), counted from the later of the last sample
+and the navigator's start or return to Run (under the MCP a critical base that goes down idles the
+navigator, so a base the MCP brings back in time fails nothing); a ``go`` then, or a base that goes
+down while driving, ends with 3 and stops the chain.  ``go`` while already at the goal is
+autonomous for one status and then stops with goal reached, as 4.3 says.  The status goes out on
+every change and at least every :data:`STATUS_PERIOD_S`; ``plan`` is empty (the motionModule's plan
+is not on its interface).
 """
 
 from __future__ import annotations
@@ -23,8 +28,8 @@ import math
 import sys
 import time
 
-from wurde_core import CommsManager, Logger, Point, Pose
-from wurde_core.interfaces import robot_object_class
+from wurde_core import CommsManager, Logger, Point, Pose, RunState
+from wurde_core.interfaces import Egomotion, robot_object_class
 from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, set_loop
 from wurde_core.wrappers import GOAL_REACHED, STOP_FAILED, STOP_NONE, USER_STOPPED
 from wurde_idl.errors import ConfigError
@@ -36,22 +41,28 @@ from pluto_nav.streams import POSE
 from .motion_proxy import MotionProxy
 from .task import Task, TaskResult
 
-__all__ = ['AT_GOAL_M', 'NavigatorModule', 'main']
+__all__ = ['AT_GOAL_M', 'BASE_WAIT_S', 'NavigatorModule', 'main']
 
 LOOP_S = 0.05
 STATUS_PERIOD_S = 0.5
 #: A robot this near its goal (m) is at it: ``go`` then ends at once with goal reached (the
 #: motionModule's own reach is 0.25 m).  The default of the tunable ``approach_dist``.
 AT_GOAL_M = 0.3
+#: Seconds of silence of the base's odometry after which it is down (the default of ``base_wait``):
+#: several times the MCP's default TTL, so that a critical base the MCP notices and restarts
+#: idles the navigator before it counts as down.
+BASE_WAIT_S = 5.0
 HELP = ('  -m MAP       the map whose places set_goal_place names (default map.xml of the config directory)\n'
         '  -s STREAM    the NavigatorTransport stream supplied (default Navigator)\n'
-        '  -t SECONDS   longest drive to one goal (default 300)')
+        '  -t SECONDS   longest drive to one goal (default 300)\n'
+        '  -b BASE      the base whose odometry (<BASE>Motion) says it is up (default PlutoBase)')
 
 
 class NavigatorModule:
     """The navigator's state and its loop step."""
 
-    def __init__(self, manager: CommsManager, logger: Logger, places: dict, stream: str, timeout: float) -> None:
+    def __init__(self, manager: CommsManager, logger: Logger, places: dict, stream: str, timeout: float,
+                 base: str = 'PlutoBase') -> None:
         self.manager = manager
         self.logger = logger
         self.places = places
@@ -62,8 +73,16 @@ class NavigatorModule:
         self.nav = robot_object_class('NavigatorTransport')(stream)
         self.nav.set_queue_mode(True)       # set_goal_place then go: two requests, neither lost
         manager.register_supplier(self.nav)
+        self.base_wait = manager.tunable(
+            'base_wait', BASE_WAIT_S, 's: the base\'s odometry silent this long, the base is down and a '
+            'goal fails', 0.5, 600.0)
         self.motion = MotionProxy(manager)
         self.loc = LocProxy(manager, 1 << POSE)
+        self.base = base
+        self.odometry = Egomotion(f'{base}Motion')
+        manager.register_consumer(self.odometry)
+        self._odometry_at = time.monotonic()    # the last sample, or the start / return to Run
+        manager.on_state(RunState.RUN, self._resumed)
         self.goal: tuple[float, float] | None = None
         self.autonomous = False
         self.stop_reason = STOP_NONE
@@ -117,6 +136,10 @@ class NavigatorModule:
             self._end(GOAL_REACHED, 'already at the goal')
             return
         self.autonomous, self.stop_reason = True, STOP_NONE
+        silent = self._base_down()
+        if silent is not None:
+            self._base_failed(silent)
+            return
         self._drive()
 
     def _drive(self) -> None:
@@ -152,9 +175,32 @@ class NavigatorModule:
         if self.nav.publish_data():
             self._sent, self._sent_at = state, now
 
+    def _resumed(self) -> None:
+        """Back in Run after Idle (under the MCP: the critical base is back): the silence counts
+        from now, not from before the Idle."""
+        self._odometry_at = time.monotonic()
+
+    def _base_down(self) -> float | None:
+        """Seconds the base's odometry has been silent, when that makes the base down."""
+        now = time.monotonic()
+        if self.odometry.get_next_data():
+            self._odometry_at = now
+        silent = now - self._odometry_at
+        return silent if silent > self.base_wait.value else None
+
+    def _base_failed(self, silent: float) -> None:
+        why = f'the base is down: no odometry from {self.base} for {silent:.1f} s'
+        self.logger.warn(f'{self.manager.name}: goal {self.goal} not reached: {why}')
+        if self.task is not None:
+            self.task.cancel()              # the chain stops: nothing drives on when the base is back
+        self._end(STOP_FAILED, why)
+
     def step(self) -> None:
         self.motion.update()
         self._requests()
+        silent = self._base_down()
+        if self.autonomous and silent is not None:
+            self._base_failed(silent)
         if self.task is not None and self.task.is_task_complete():
             result = self.task.result()
             if result is TaskResult.SUCCEEDED:
@@ -174,7 +220,7 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('navigator')
     manager.set_help_string(HELP)
-    opts = manager.parse_options(argv, 'm:s:t:').user
+    opts = manager.parse_options(argv, 'm:s:t:b:').user
     try:
         world = load_map_data(config_file(manager, opts.get('m'), 'map.xml'))
         timeout = float(opts.get('t', 300.0))
@@ -185,7 +231,8 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     logger = Logger(manager.name)
     manager.register_supplier(logger)
-    module = NavigatorModule(manager, logger, dict(world.places), opts.get('s', 'Navigator'), timeout)
+    module = NavigatorModule(manager, logger, dict(world.places), opts.get('s', 'Navigator'), timeout,
+                             opts.get('b', 'PlutoBase'))
     set_loop(manager, LOOP_S)
     logger.notice(f'{manager.name}: supplying {module.nav.stream}; {len(world.places)} places on {world.name}')
     return run_loop(manager, module.step, module.close)

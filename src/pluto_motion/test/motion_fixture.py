@@ -34,7 +34,8 @@ def pluto_config(directory: pathlib.Path, map_file: pathlib.Path) -> pathlib.Pat
     return directory
 
 
-def _program(package: str, name: str, directory: pathlib.Path, *args: str) -> ChildProcess:
+def program(package: str, name: str, directory: pathlib.Path, *args: str) -> ChildProcess:
+    """The executable ``package``/``name`` with ``args``, its config and logs in ``directory``."""
     env = dict(os.environ, WURDE_CONFIG_DIR=str(directory), WURDE_LOG_DIRECTORY=str(directory))
     return ChildProcess([find_executable(package, name), *args], env=env)
 
@@ -50,7 +51,7 @@ def pluto(directory: pathlib.Path, *motion_args: str) -> Iterator[dict[str, Chil
              ('avoid', 'pluto_motion', 'avoid_module', ()),
              ('motion', 'pluto_motion', 'motion_module', motion_args)]
     with contextlib.ExitStack() as stack:
-        yield {name: stack.enter_context(_program(package, exe, directory, *args))
+        yield {name: stack.enter_context(program(package, exe, directory, *args))
                for name, package, exe, args in specs}
 
 

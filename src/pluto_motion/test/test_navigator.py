@@ -39,6 +39,14 @@ class Statuses:
         return self.take()[mark:]
 
 
+def listen(manager: Any) -> tuple[Any, Statuses]:
+    """A queue-mode Navigator consumer of ``manager`` and its :class:`Statuses`."""
+    nav = Navigator('Navigator')
+    nav.set_queue_mode(True)
+    manager.register_consumer(nav)
+    return nav, Statuses(nav)
+
+
 def _follows(statuses: list, first: tuple[bool, int], then: tuple[bool, int]) -> bool:
     """Whether a status ``first`` (autonomous, stop_reason) came and later a status ``then``."""
     pairs = [x[:2] for x in statuses]
@@ -50,10 +58,7 @@ def test_the_navigator_goes_to_places_by_name_and_stops_when_told(ros_domain: in
         shutil.copy(PLUTO / name, tmp_path / name)
     env = dict(os.environ, WURDE_CONFIG_DIR=str(tmp_path), WURDE_LOG_DIRECTORY=str(tmp_path))
     c = Commander(PLUTO / 'map.xml')
-    nav = Navigator('Navigator')
-    nav.set_queue_mode(True)
-    c.manager.register_consumer(nav)
-    s = Statuses(nav)
+    nav, s = listen(c.manager)
     try:
         with ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', str(tmp_path / 'mcp-config.xml'),
                            '-m', str(tmp_path / 'mcp-mappings.xml'), '-a'], env=env) as mcp:
