@@ -2,12 +2,12 @@
 # `make test`'s colcon test: every package's tests in two lanes at once, for the 2-core machine
 # that must finish within 20 minutes.  A package's tests need its dependencies built, not tested,
 # so colcon's test ordering is dropped (COLCON_FEATURE_FLAGS=drop_test_deps); the lanes are
-# balanced by measured test times (wurde_drivers ~8 min and wurde_mcp ~5.5 min in one lane; every
-# other package, pluto_motion ~8 min and pluto_nav ~2 min the largest, in the other).  A package
-# added later joins the first lane.  Arguments go to `colcon test`.
+# balanced by measured test times (wurde_drivers ~8.5 min, wurde_mcp ~5.5 min and wurde_core ~1 min
+# in one lane; every other package, pluto_motion ~11.5 min and pluto_nav ~2.5 min the largest, in
+# the other).  A package added later joins the first lane.  Arguments go to `colcon test`.
 set -uo pipefail
 cd "$(dirname "$0")/.."
-second=(wurde_drivers wurde_mcp)
+second=(wurde_core wurde_drivers wurde_mcp)
 mapfile -t all < <(tools/in_env.sh colcon list --names-only)
 first=()
 for package in "${all[@]}"; do

@@ -40,6 +40,8 @@ GOTO, TURN = 32, 21
 FOLLOW = TURN
 #: element[1] of avoidance/status (Pluto 6.2).
 GOTO_REACHED, GOTO_STUCK, GOTO_NORMAL = 1, 2, -1
+#: Seconds investigate looks for scan points (an object to go to) before it ends with none.
+LOOK_S = 5.0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -229,9 +231,10 @@ class Investigate:
         self.approached = False
         self.request: AvoidRequest | None = None
         self.sent_at = math.inf
+        self.looking_since: float | None = None
 
     def resume(self) -> None:
-        self.targets, self.approached, self.request = None, False, None
+        self.targets, self.approached, self.request, self.looking_since = None, False, None, None
 
     def _plan(self, s: Situation) -> bool:
         found = closest_object(s.points, s.pose)
@@ -248,16 +251,21 @@ class Investigate:
 
     def step(self, s: Situation) -> Step:
         if self.targets is None and not self._plan(s):
-            self.warn('investigate: no object in view')
+            # No scan points yet (the module's first scans, or scans before a pose places them):
+            # look for up to LOOK_S before saying there is nothing to investigate.
+            self.looking_since = s.now if self.looking_since is None else self.looking_since
+            if s.now - self.looking_since < LOOK_S:
+                return Step(None, 0, APPROACHING)
+            self.warn(f'investigate: no object in view (no scan points for {LOOK_S:.0f} s)')
             return Step(None, INVESTIGATE_DONE, APPROACHING, done=True)
         assert self.targets is not None
-        code = CIRCLING if self.approached else APPROACHING
         if self.request is not None and (_reached(s, self.targets[0], self.settings.reach) or s.goto == GOTO_STUCK):
             self.targets.pop(0)
             self.request = None
             if not self.approached:
                 self.approached = True
                 self.warn('investigate: the arm step (unfold the arm) is not available on this robot')
+        code = CIRCLING if self.approached else APPROACHING
         if not self.targets:
             return Step(None, INVESTIGATE_DONE, CIRCLING, done=True)
         if self.request is None:

@@ -158,3 +158,29 @@ def test_explore_covers_the_rectangle_and_returns_home(home: tuple[float, float]
     assert math.dist(visited[-1], home) <= MotionSettings().reach
     assert all(c.rectangle.contains(*p, grid.resolution) for p in visited)
     assert max(p[1] for p in visited) == pytest.approx(4.0, abs=MotionSettings().reach)   # up to the second lane
+
+
+def test_investigate_looks_for_a_scan_then_circles_the_nearest_object() -> None:
+    """No scan points yet: investigate keeps approaching (11) for LOOK_S, then ends done (2) with
+    nothing to see; with a box's points it sends goto requests round it, 11 then 12."""
+    from pluto_motion.motion_behaviours import LOOK_S, Investigate, Situation, Step
+    from pluto_motion.motion_command import APPROACHING, CIRCLING, INVESTIGATE_DONE
+
+    said: list[str] = []
+    blind = Investigate(MotionSettings(), lambda x, y: True, said.append)
+    assert blind.step(Situation((0.0, 0.0, 0.0), NO_POINTS, None, 10.0)) == Step(None, 0, APPROACHING)
+    assert blind.step(Situation((0.0, 0.0, 0.0), NO_POINTS, None, 10.0 + LOOK_S - 0.1)).done is False
+    end = blind.step(Situation((0.0, 0.0, 0.0), NO_POINTS, None, 10.0 + LOOK_S))
+    assert end.done and (end.element2, end.element3) == (INVESTIGATE_DONE, APPROACHING) and 'no object' in said[0]
+
+    box = np.array([(3.0, y) for y in np.linspace(-0.3, 0.3, 7)])       # a face 3 m ahead
+    look = Investigate(MotionSettings(), lambda x, y: True, said.append)
+    first = look.step(Situation((0.0, 0.0, 0.0), box, None, 0.0))
+    assert first.request is not None and first.element3 == APPROACHING
+    assert math.dist(first.request.position, (3.0, 0.0)) == pytest.approx(0.3 + MotionSettings().investigate_distance)
+    codes = []
+    for _ in range(MotionSettings().circle_points + 1):
+        target = look.request.position
+        step = look.step(Situation((*target, 0.0), box, 1, 1.0))     # each point reached in turn
+        codes.append(step.element3)
+    assert codes[0] == CIRCLING and step.done and step.element2 == INVESTIGATE_DONE
