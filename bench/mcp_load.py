@@ -46,6 +46,7 @@ def main() -> int:
         raise SystemExit('bench: run it through `make bench` or env.sh (DDS on loopback only)')
     from wurde_core import CommsManager, StatusMode
     from wurde_core.interfaces import robot_object_class
+    from wurde_core.mcp_client import control_stream
     from wurde_testing import claim_domain_id, find_executable
     claim = claim_domain_id()
     os.environ['ROS_DOMAIN_ID'] = str(claim.domain_id)
@@ -63,7 +64,7 @@ def main() -> int:
     manager = CommsManager('McpLoadBench')
     manager.set_no_sleep()
     manager.set_no_heartbeat()
-    table = robot_object_class('SimpleControl')('mcp_control')
+    table = robot_object_class('SimpleControl')(control_stream())
     table.set_queue_mode(True)
     manager.register_consumer(table)
     rows: dict[str, tuple[StatusMode, int, int]] = {}

@@ -151,6 +151,7 @@ def main() -> int:
         raise SystemExit('soak: run it through `make soak` or env.sh (DDS on loopback only)')
     from wurde_core import CommsManager, RunState, StatusMode
     from wurde_core.interfaces import Egomotion, Foo, LocalizationPose, SimpleControl
+    from wurde_core.mcp_client import control_stream
     from wurde_testing import claim_domain_id, find_executable
 
     claim = claim_domain_id()
@@ -165,7 +166,7 @@ def main() -> int:
     manager = CommsManager(f'Soak{os.getpid()}')
     manager.set_no_sleep()
     manager.set_no_heartbeat()
-    table = SimpleControl('mcp_control')
+    table = SimpleControl(control_stream())
     count = Foo(COUNT_STREAM)
     truth_obj, pose_obj = Egomotion('PlutoBaseTruth'), LocalizationPose(POSE_STREAM)
     for obj in (table, count, truth_obj, pose_obj):

@@ -1,5 +1,7 @@
 """turn_off NAME reaches a running module by its CommsManager name, with or without an MCP
-(guide 7.1): Quit goes to the module's heartbeat stream directly when no MCP supervises it."""
+(guide 7.1): Quit goes to the module's heartbeat stream directly when no MCP supervises it.
+turn_off alone, with no MCP of its host's name answering, quits the modules one by one and leaves
+an MCP of another name running."""
 
 from __future__ import annotations
 
@@ -48,3 +50,14 @@ def test_turn_off_reaches_a_module_the_mcp_does_not_supervise(tmp_path, table) -
         assert 'asked the MCP on mcp_control to quit Kept' in off.stdout
         rows = table.until(lambda r: r['Kept']['status'] == StatusMode.DEAD, 'Kept quit')
         assert rows['Kept']['restarts'] == 0
+
+
+def test_turn_off_all_without_its_mcp_leaves_another_mcp_running(tmp_path, ros_domain: int) -> None:
+    config, mappings = write_config(tmp_path, '')
+    with start_mcp(tmp_path, config, mappings, '-a', '-n', 'MCP_B') as mcp_b, \
+            ChildProcess([WORKER, '-n', 'Loose']) as loose:
+        off = turn_off()            # this shell's MCP is the seed's MCP, which is not running
+        assert off.returncode == 0, off.stderr
+        assert 'sent Quit to Loose directly' in off.stdout and 'MCP_B is an MCP: left running' in off.stdout
+        assert loose.process.wait(timeout=30) == 0
+        assert mcp_b.process.poll() is None

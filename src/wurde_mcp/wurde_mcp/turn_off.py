@@ -17,7 +17,8 @@ the MCP's control channel as long as for the module.  For any other module it gi
 :data:`MCP_GRACE_S` from its start, and waits as long once the ROS graph shows the MCP's node.
 
 ``turn_off`` alone quits every module but the MCP: through the MCP's quit-all when one answers,
-else directly to every heartbeat stream in the ROS graph.
+else directly to every heartbeat stream in the ROS graph but those of MCPs (a module whose
+heartbeat info lists an MCP control stream, under whatever name: one MCP per host).
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ from typing import Any
 from wurde_core import CommsManager, ProcessType, RunState, WurdeError, stream_name
 from wurde_core.heartbeat import mcp_name
 from wurde_core.interfaces import robot_object_class
-from wurde_core.mcp_client import control_stream
+from wurde_core.mcp_client import CONTROL_STREAM, control_stream
 from wurde_core.options import split_ros_arguments
 
 from .control import WAIT_S, connect, read_table, send
@@ -132,7 +133,7 @@ def _one(manager: CommsManager, control: Any, name: str) -> int:
 
 
 def _heartbeat_modules(manager: CommsManager) -> list[str]:
-    """Modules with a heartbeat supplier in the ROS graph (the MCP excepted)."""
+    """Modules with a heartbeat supplier in the ROS graph (the seed's MCP excepted)."""
     names = set()
     for topic_name, _types in manager.node.get_topic_names_and_types():
         try:
@@ -146,6 +147,16 @@ def _heartbeat_modules(manager: CommsManager) -> list[str]:
     return sorted(names)
 
 
+def _is_mcp(manager: CommsManager, heartbeat: Any) -> bool:
+    """Whether the module's heartbeat info says it is an MCP (under any name): it supplies an
+    MCP control stream.  The info comes with the match, so no later discovery can contradict it."""
+    _wait(manager, lambda: heartbeat.received('info'), WAIT_S)
+    streams: list[str] = []
+    while heartbeat.get_next_info():
+        streams = list(heartbeat.info.streams.get_value())
+    return any(s == CONTROL_STREAM or s.startswith(CONTROL_STREAM + '/') for s in streams)
+
+
 def _all(manager: CommsManager, control: Any) -> int:
     _wait(manager, control.peers, WAIT_S)
     if control.peers():
@@ -156,7 +167,11 @@ def _all(manager: CommsManager, control: Any) -> int:
     names = _heartbeat_modules(manager)
     heartbeats = [_heartbeat(manager, name) for name in names]
     for name, heartbeat in zip(names, heartbeats):
-        if heartbeat.wait_for_peers(WAIT_S) and _quit_directly(manager, heartbeat):
+        if not heartbeat.wait_for_peers(WAIT_S):
+            continue
+        if _is_mcp(manager, heartbeat):
+            print(f'turn_off: {name} is an MCP: left running')
+        elif _quit_directly(manager, heartbeat):
             print(f'turn_off: sent Quit to {name} directly (no MCP answers)')
     if not names:
         print('turn_off: no MCP and no module answers', file=sys.stderr)
