@@ -13,13 +13,13 @@ the navigator is autonomous and why it last stopped — 4.3's autonomous-stopped
 reached, 2 user stopped (every ``stop``, autonomous or not), and 3 (ours) a goal that could not be
 reached (unreachable, the motion thread stopped, more than ``-t`` seconds, the base down; the reason
 goes to the log).  The base is down when its odometry (``<BASE>Motion``) has been silent for the
-tunable ``base_wait`` seconds (default :data:`BASE_WAIT_S`), counted from the later of the last sample
-and the navigator's start or return to Run (under the MCP a critical base that goes down idles the
-navigator, so a base the MCP brings back in time fails nothing); a ``go`` then, or a base that goes
-down while driving, ends with 3 and stops the chain.  ``go`` while already at the goal is
-autonomous for one status and then stops with goal reached, as 4.3 says.  The status goes out on
-every change and at least every :data:`STATUS_PERIOD_S`; ``plan`` is empty (the motionModule's plan
-is not on its interface).
+tunable ``base_wait`` seconds (default :data:`BASE_WAIT_S`) since its last sample, or for
+:data:`FIRST_SAMPLE_S` from the navigator's start or return to Run before a first sample (under
+the MCP a critical base that goes down idles the navigator, so a base the MCP brings back fails
+nothing); a ``go`` then, or a base that goes down while driving, ends with 3 and stops the
+chain.  ``go`` while already at the goal is autonomous for one status and then stops with goal
+reached, as 4.3 says.  The status goes out on every change and at least every
+:data:`STATUS_PERIOD_S`; ``plan`` is empty (the motionModule's plan is not on its interface).
 """
 
 from __future__ import annotations
@@ -41,7 +41,7 @@ from pluto_nav.streams import POSE
 from .motion_proxy import MotionProxy
 from .task import Task, TaskResult
 
-__all__ = ['AT_GOAL_M', 'BASE_WAIT_S', 'NavigatorModule', 'main']
+__all__ = ['AT_GOAL_M', 'BASE_WAIT_S', 'FIRST_SAMPLE_S', 'NavigatorModule', 'main']
 
 LOOP_S = 0.05
 STATUS_PERIOD_S = 0.5
@@ -52,6 +52,10 @@ AT_GOAL_M = 0.3
 #: several times the MCP's default TTL, so that a critical base the MCP notices and restarts
 #: idles the navigator before it counts as down.
 BASE_WAIT_S = 5.0
+#: Seconds allowed for the first sample after the navigator's start or return to Run: the base
+#: (a new process, after a restart) must be discovered first, which on a loaded machine can take
+#: seconds.  Until then a silent base is down only after the longer of this and ``base_wait``.
+FIRST_SAMPLE_S = 20.0
 HELP = ('  -m MAP       the map whose places set_goal_place names (default map.xml of the config directory)\n'
         '  -s STREAM    the NavigatorTransport stream supplied (default Navigator)\n'
         '  -t SECONDS   longest drive to one goal (default 300)\n'
@@ -82,6 +86,7 @@ class NavigatorModule:
         self.odometry = Egomotion(f'{base}Motion')
         manager.register_consumer(self.odometry)
         self._odometry_at = time.monotonic()    # the last sample, or the start / return to Run
+        self._heard = False                     # a sample since the start / return to Run
         manager.on_state(RunState.RUN, self._resumed)
         self.goal: tuple[float, float] | None = None
         self.autonomous = False
@@ -176,17 +181,18 @@ class NavigatorModule:
             self._sent, self._sent_at = state, now
 
     def _resumed(self) -> None:
-        """Back in Run after Idle (under the MCP: the critical base is back): the silence counts
-        from now, not from before the Idle."""
-        self._odometry_at = time.monotonic()
+        """Back in Run after Idle (under the MCP: the critical base is back, maybe as a new
+        process): the silence counts from now, not from before the Idle."""
+        self._odometry_at, self._heard = time.monotonic(), False
 
     def _base_down(self) -> float | None:
         """Seconds the base's odometry has been silent, when that makes the base down."""
         now = time.monotonic()
         if self.odometry.get_next_data():
-            self._odometry_at = now
+            self._odometry_at, self._heard = now, True
         silent = now - self._odometry_at
-        return silent if silent > self.base_wait.value else None
+        limit = self.base_wait.value if self._heard else max(self.base_wait.value, FIRST_SAMPLE_S)
+        return silent if silent > limit else None
 
     def _base_failed(self, silent: float) -> None:
         why = f'the base is down: no odometry from {self.base} for {silent:.1f} s'
