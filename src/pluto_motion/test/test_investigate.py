@@ -48,7 +48,7 @@ def test_investigate_approaches_and_circles_the_nearest_object(ros_domain: int, 
             c.until(lambda: any(s.element[2] == INVESTIGATE_DONE for s in c.statuses[mark:]), 'investigate done',
                     timeout=240)
             codes = [int(s.element[3]) for s in c.statuses[mark:]]
-            assert APPROACHING in codes and CIRCLING in codes
+            assert APPROACHING in codes and CIRCLING in codes, processes['motion'].stderr[-3000:]
             assert codes.index(APPROACHING) < codes.index(CIRCLING)
             sides = {int(math.atan2(y - BOX[1], x - BOX[0]) // (math.pi / 2)) for x, y, _ in c.truths[start:]}
             assert sides == {-2, -1, 0, 1}, sides
