@@ -20,18 +20,22 @@ import math
 from collections.abc import Callable
 
 from .grid_planner import Planner
-from .motion_behaviours import (GOTO_NORMAL, AvoidRequest, Explore, Investigate, MotionSettings, Moveto,
-                                Situation, Step)
+from .motion_behaviours import (GOTO, GOTO_NORMAL, GOTO_REACHED, GOTO_STUCK, AvoidRequest, Explore, Investigate,
+                                MotionSettings, Moveto, Situation, Step)
 from .motion_command import (IDLE, IDLE_RECTANGLE, MOVETO_SET, NO_MOVETO, THREAD_STOPPED, CommandRefused, Kind,
                              MotionCommand, Rectangle)
 from .planning_grid import PlanningGrid
 from .ray_follow import RaySettings
 
-__all__ = ['ANSWER_S', 'MotionController']
+__all__ = ['ANSWER_S', 'RESEND_S', 'MotionController']
 
 #: Seconds after a new avoid request from which the avoid goto's state counts as its answer even
 #: without a "goto normal" (-1) first.
 ANSWER_S = 1.0
+#: Seconds after which a goto the avoidModule has not answered is sent again: a request written
+#: before the avoidModule's reader matched this writer (on a loaded machine, seconds after both
+#: started) is lost, and nothing else would send it (investigate's goto hung so, r61).
+RESEND_S = 1.0
 Behaviour = Moveto | Investigate | Explore
 
 
@@ -50,6 +54,7 @@ class MotionController:
         self.motion_code: int | None = None           # element[3] of the running behaviour
         self.request: AvoidRequest | None = None
         self.sent_at = -math.inf
+        self.resent_at = -math.inf
         self.answered = False
         self._planner: Planner | None = None
         #: Why the last moveto ended unreachable.
@@ -168,4 +173,9 @@ class MotionController:
         if result.request is not None and result.request != self.request:
             self.request, self.sent_at, self.answered = result.request, now, False
             return [result.request]
+        if (self.request is not None and self.request.cmd_flags == GOTO and not self.answered
+                and goto_state not in (GOTO_REACHED, GOTO_STUCK)
+                and now - max(self.sent_at, self.resent_at) >= RESEND_S):
+            self.resent_at = now
+            return [self.request]
         return []

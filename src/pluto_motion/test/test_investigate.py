@@ -45,8 +45,13 @@ def test_investigate_approaches_and_circles_the_nearest_object(ros_domain: int, 
             mark, start = len(c.statuses), len(c.truths)
             c.until(lambda: any(s.element[3] == APPROACHING for s in c.statuses[mark:]), 'approaching',
                     every=m.investigate, period=2.0)
-            c.until(lambda: any(s.element[2] == INVESTIGATE_DONE for s in c.statuses[mark:]), 'investigate done',
-                    timeout=240)
+            try:
+                c.until(lambda: any(s.element[2] == INVESTIGATE_DONE for s in c.statuses[mark:]), 'investigate done',
+                        timeout=240)
+            except AssertionError as error:
+                raise AssertionError(f"{error}\nmotion:\n{processes['motion'].stderr[-4000:]}\navoid:\n"
+                                     f"{processes['avoid'].stderr[-4000:]}\nstatuses: "
+                                     f"{[(list(s.element), list(s.data)) for s in c.statuses[mark:][:40]]}") from None
             codes = [int(s.element[3]) for s in c.statuses[mark:]]
             assert APPROACHING in codes and CIRCLING in codes, processes['motion'].stderr[-3000:]
             assert codes.index(APPROACHING) < codes.index(CIRCLING)

@@ -184,3 +184,22 @@ def test_investigate_looks_for_a_scan_then_circles_the_nearest_object() -> None:
         step = look.step(Situation((*target, 0.0), box, 1, 1.0))     # each point reached in turn
         codes.append(step.element3)
     assert codes[0] == CIRCLING and step.done and step.element2 == INVESTIGATE_DONE
+
+
+def test_an_unanswered_goto_is_sent_again() -> None:
+    """A goto the avoidModule never answers (the request was lost: written before its reader
+    matched) is sent again every RESEND_S until avoid says "goto normal" (-1); then not again."""
+    from pluto_motion.motion_behaviours import GOTO_NORMAL
+    from pluto_motion.motion_control import RESEND_S
+
+    c, _ = _controller()
+    box = np.array([(3.0, y) for y in np.linspace(-0.3, 0.3, 7)])
+    c.accept(parse_command(43, [], [], []), (0.0, 0.0, 0.0))
+    (first,) = c.step((0.0, 0.0, 0.0), box, 0, 0.0)
+    assert first.cmd_flags == GOTO
+    assert c.step((0.0, 0.0, 0.0), box, 0, RESEND_S / 2) == []
+    assert c.step((0.0, 0.0, 0.0), box, 0, RESEND_S + 0.01) == [first]        # lost: again
+    assert c.step((0.0, 0.0, 0.0), box, 0, RESEND_S + 0.5) == []
+    assert c.step((0.0, 0.0, 0.0), box, 0, 2 * RESEND_S + 0.02) == [first]
+    assert c.step((0.1, 0.0, 0.0), box, GOTO_NORMAL, 2 * RESEND_S + 0.1) == []   # answered
+    assert c.step((0.2, 0.0, 0.0), box, GOTO_NORMAL, 10.0) == []
