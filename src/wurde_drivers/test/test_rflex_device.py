@@ -91,15 +91,20 @@ def test_brake_command_when_allowed(emulator: RFlexEmulator, driver: RFlexDriver
 
 
 def timed_poses(drv: RFlexDriver, count: int) -> list[tuple[float, float, float, float]]:
-    """(base time s, x, y, theta) at each bearing report, i.e. each completed odometry step."""
+    """(base time s, x, y, theta) at bearing reports, i.e. completed odometry steps.
+
+    ``poll`` returns every report it decoded, and the state after the last of them: on a loaded
+    machine a batch can hold two report cycles, so only a batch's last bearing report is paired
+    with the state (a distance report after it does not move the pose until the next bearing).
+    """
     poses: list[tuple[float, float, float, float]] = []
     deadline = time.monotonic() + 20.0
     while len(poses) < count:
         assert time.monotonic() < deadline
-        for report in drv.poll(0.05):
-            if isinstance(report, rflex.MotorReport) and report.axis == 1:
-                state = drv.state
-                poses.append((report.timestamp / 1000.0, state.x, state.y, state.theta))
+        bearings = [r for r in drv.poll(0.05) if isinstance(r, rflex.MotorReport) and r.axis == 1]
+        if bearings:
+            state = drv.state
+            poses.append((bearings[-1].timestamp / 1000.0, state.x, state.y, state.theta))
     return poses
 
 
