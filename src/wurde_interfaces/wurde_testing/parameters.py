@@ -8,6 +8,8 @@ dump is written in ``ros2 param dump``'s layout (names split at dots into nested
 
 from __future__ import annotations
 
+import time
+from collections.abc import Callable
 from typing import Any
 
 import rclpy
@@ -19,6 +21,12 @@ from rclpy.parameter_client import AsyncParameterClient
 
 SERVICE_WAIT_S = 60.0
 CALL_WAIT_S = 30.0
+#: A request not answered within this is sent again.  Services found ready by their client can
+#: still drop an answer on a loaded machine: the server's reply writer may not have matched this
+#: client's reply reader yet (discovery runs both ways, not at once), and the server gives up on
+#: the reply after a short wait.  Every request here is idempotent (list, get, describe, and a
+#: set of one value), so sending it again is safe; any of the copies' answers is the answer.
+RESEND_S = 1.0
 
 
 class ParameterTool:
@@ -36,28 +44,42 @@ class ParameterTool:
             self.close()
             raise AssertionError(f'{self.node_name} serves no parameters within {SERVICE_WAIT_S} s')
 
-    def _call(self, future: Any) -> Any:
-        self.executor.spin_until_future_complete(future, timeout_sec=CALL_WAIT_S)
-        if not future.done():
-            raise AssertionError(f'{self.node_name}: no parameter service answer in {CALL_WAIT_S} s')
-        return future.result()
+    def _call(self, send: Callable[[], Any]) -> Any:
+        """The answer to the request ``send()`` makes (a future), sent again every
+        :data:`RESEND_S` while no copy has been answered, for at most :data:`CALL_WAIT_S`."""
+        deadline = time.monotonic() + CALL_WAIT_S
+        sent: list[Any] = []
+        while True:
+            sent.append(send())
+            resend = min(deadline, time.monotonic() + RESEND_S)
+            while time.monotonic() < resend:
+                self.executor.spin_once(timeout_sec=max(0.0, resend - time.monotonic()))
+                answered = [future for future in sent if future.done()]
+                if answered:
+                    for future in sent:
+                        future.cancel()
+                    return answered[0].result()
+            if time.monotonic() >= deadline:
+                raise AssertionError(f'{self.node_name}: no parameter service answer to '
+                                     f'{len(sent)} requests in {CALL_WAIT_S} s')
 
     def names(self) -> list[str]:
         """``ros2 param list``."""
-        return sorted(self._call(self.client.list_parameters()).result.names)
+        return sorted(self._call(self.client.list_parameters).result.names)
 
     def get(self, *names: str) -> list[Any]:
         """``ros2 param get``: the values as Python values."""
         return [parameter_value_to_python(v)
-                for v in self._call(self.client.get_parameters(list(names))).values]
+                for v in self._call(lambda: self.client.get_parameters(list(names))).values]
 
     def describe(self, name: str) -> Any:
         """``ros2 param describe``: the ParameterDescriptor."""
-        return self._call(self.client.describe_parameters([name])).descriptors[0]
+        return self._call(lambda: self.client.describe_parameters([name])).descriptors[0]
 
     def set(self, name: str, value: Any) -> tuple[bool, str]:
         """``ros2 param set``: (whether it was taken, the node's reason if not)."""
-        result = self._call(self.client.set_parameters([Parameter(name, value=value)])).results[0]
+        result = self._call(
+            lambda: self.client.set_parameters([Parameter(name, value=value)])).results[0]
         return result.successful, result.reason
 
     def dump(self) -> str:
