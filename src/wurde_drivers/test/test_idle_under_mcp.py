@@ -22,7 +22,7 @@ from typing import Any
 
 import pytest
 from lifecycle_msgs.msg import Transition
-from lifecycle_msgs.srv import ChangeState
+from lifecycle_msgs.srv import ChangeState, GetState
 from rclpy.executors import SingleThreadedExecutor
 from sim_fixture import sim_config
 from wurde_core import CommsManager, RunState, StatusMode
@@ -31,6 +31,7 @@ from wurde_core.naming import topic
 from wurde_core.qos import stream_qos
 from wurde_core.ros_adaptor import take_stamped
 from wurde_testing import ChildProcess, find_executable
+from wurde_testing.lifecycle import change_state
 
 #: Module → one data stream it publishes continuously, and that stream's interface.
 STREAMS = {'PlutoBase': ('PlutoBaseMotion', 'Egomotion'), 'PlutoLaser': ('PlutoLaser', 'RangeFinder'),
@@ -72,6 +73,7 @@ class Watcher:
                       stream_qos(True))
             self._add((module, 'data'), kind.data_type, topic(stream, 'data'), stream_qos(True))
         self.change = node.create_client(ChangeState, '/MCP/change_state')
+        self.get = node.create_client(GetState, '/MCP/get_state')
         self.executor = SingleThreadedExecutor(context=self.manager.context)
         self.executor.add_node(node)
 
@@ -124,17 +126,13 @@ class Watcher:
     def written_between(self, module: str, start: int, end: int) -> list[int]:
         return [s for _, s in self.events[(module, 'data')] if start < s < end]
 
-    def transition(self, transition_id: int) -> None:
-        deadline = time.monotonic() + WAIT_S
-        while not self.change.service_is_ready():
-            assert time.monotonic() < deadline, 'the MCP\'s lifecycle service is not there'
-            self.manager.wait(0.05)
-        future = self.change.call_async(ChangeState.Request(transition=Transition(id=transition_id)))
-        while not future.done():
-            assert time.monotonic() < deadline, 'the MCP did not answer the transition'
-            self.executor.spin_once(timeout_sec=0.05)
-            self.take()
-        assert future.result().success
+    def spin(self, timeout: float) -> None:
+        """Run the lifecycle clients' callbacks, taking the data meanwhile."""
+        self.executor.spin_once(timeout_sec=timeout)
+        self.take()
+
+    def transition(self, transition_id: int, goal: str) -> None:
+        assert change_state(self.spin, self.change, self.get, transition_id, goal, WAIT_S)
 
     def refresh_table(self) -> dict[str, tuple[StatusMode, RunState]]:
         """The MCP's newest module table; notes when it first shows each module Idle."""
@@ -208,7 +206,7 @@ def test_deactivate_then_activate_keeps_every_pid_and_silences_data_while_idle(r
     # Only this deactivation's Idle counts: a module started before the critical base was up
     # was Idle then (a two-lane fresh-clone run took that start-up Idle for this one).
     asked = watcher.forget_idle()
-    watcher.transition(Transition.TRANSITION_DEACTIVATE)
+    watcher.transition(Transition.TRANSITION_DEACTIVATE, 'inactive')
     watcher.until(lambda: watcher.refresh_table() is not None
                   and all(watcher.idle_since(m, asked) for m in STREAMS), 'every module Idle')
     idle = {m: watcher.idle_since(m, asked) for m in STREAMS}
@@ -216,7 +214,7 @@ def test_deactivate_then_activate_keeps_every_pid_and_silences_data_while_idle(r
     watcher.until(lambda: all(watcher.beats_after(m, idle[m]) >= 2 for m in STREAMS),
                   'heartbeats from every idle module')
     activated = time.time_ns()  # nobody is told to Run before this
-    watcher.transition(Transition.TRANSITION_ACTIVATE)
+    watcher.transition(Transition.TRANSITION_ACTIVATE, 'active')
     watcher.until(lambda: watcher.all_active() and all(watcher.data_after(m, activated) >= 1
                                                        for m in STREAMS),
                   'every module in Run again, with data flowing')

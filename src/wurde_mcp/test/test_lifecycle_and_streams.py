@@ -12,6 +12,7 @@ import time
 
 from lifecycle_msgs.msg import Transition
 from lifecycle_msgs.srv import ChangeState, GetState
+from rclpy.executors import SingleThreadedExecutor
 
 from mcp_fixture import (WORKER, Table, alive, listener_script, start_mcp, wait_output, worker,
                          write_config)
@@ -19,27 +20,25 @@ from wurde_core import RunState, StatusMode
 from wurde_core.interfaces import robot_object_class
 from wurde_mcp.supervisor import CMD_START, CMD_STOP
 from wurde_testing import ChildProcess, find_executable
+from wurde_testing.lifecycle import change_state, get_state
 
 ACTIVE, DEAD = StatusMode.ACTIVE, StatusMode.DEAD
 
 
-def call(table: Table, client, request, timeout: float = 30.0):
-    deadline = time.monotonic() + timeout
-    while not client.service_is_ready():
-        assert time.monotonic() < deadline, 'lifecycle service not available'
-        table.manager.wait(0.05)
-    future = client.call_async(request)
-    from rclpy.executors import SingleThreadedExecutor
-    executor = SingleThreadedExecutor(context=table.manager.context)
-    executor.add_node(table.manager.node)
-    try:
-        while not future.done():
-            assert time.monotonic() < deadline, 'lifecycle service did not answer'
-            executor.spin_once(timeout_sec=0.05)
-            table.refresh()
-    finally:
-        executor.remove_node(table.manager.node)
-    return future.result()
+class _Spinner:
+    """Spins the table's node for the lifecycle clients, refreshing the table meanwhile."""
+
+    def __init__(self, table: Table) -> None:
+        self.table = table
+        self.executor = SingleThreadedExecutor(context=table.manager.context)
+        self.executor.add_node(table.manager.node)
+
+    def __call__(self, timeout: float) -> None:
+        self.executor.spin_once(timeout_sec=timeout)
+        self.table.refresh()
+
+    def close(self) -> None:
+        self.executor.remove_node(self.table.manager.node)
 
 
 def test_lifecycle_transitions_drive_the_modules(tmp_path, table) -> None:
@@ -48,7 +47,8 @@ def test_lifecycle_transitions_drive_the_modules(tmp_path, table) -> None:
         node = table.manager.node
         change = node.create_client(ChangeState, '/MCP/change_state')
         get = node.create_client(GetState, '/MCP/get_state')
-        assert call(table, get, GetState.Request()).current_state.label == 'unconfigured'
+        spin = _Spinner(table)
+        assert get_state(spin, get) == 'unconfigured'
         # The node that answered is the MCP's one node (the graph's node names come with discovery,
         # after the service has matched: waited for).
         deadline = time.monotonic() + 30
@@ -59,27 +59,27 @@ def test_lifecycle_transitions_drive_the_modules(tmp_path, table) -> None:
         names = node.get_node_names()
         assert names.count('MCP') == 1 and 'mcp' not in names, names
 
-        def transition(tid: int) -> None:
-            assert call(table, change, ChangeState.Request(
-                transition=Transition(id=tid))).success
+        def transition(tid: int, goal: str) -> None:
+            assert change_state(spin, change, get, tid, goal)
 
-        transition(Transition.TRANSITION_CONFIGURE)  # the registration pass runs here
+        transition(Transition.TRANSITION_CONFIGURE, 'inactive')  # the registration pass runs here
         assert 'Life.log' in [p.name for p in (tmp_path / 'mcp-modules').iterdir()]
         assert '-r' in (tmp_path / 'mcp-modules' / 'Life.log').read_text()
         rows = table.until(lambda r: 'Life' in r, 'module table')
         assert rows['Life']['pid'] == 0 or not alive(rows['Life']['pid'])
-        transition(Transition.TRANSITION_ACTIVATE)
+        transition(Transition.TRANSITION_ACTIVATE, 'active')
         rows = table.until(lambda r: r['Life']['status'] == ACTIVE, 'Life started')
         pid = rows['Life']['pid']
-        transition(Transition.TRANSITION_DEACTIVATE)
+        transition(Transition.TRANSITION_DEACTIVATE, 'inactive')
         table.until(lambda r: r['Life']['state'] == RunState.IDLE, 'Life idle')
-        transition(Transition.TRANSITION_CLEANUP)
+        transition(Transition.TRANSITION_CLEANUP, 'unconfigured')
         deadline = time.monotonic() + 20
         while alive(pid):
             assert time.monotonic() < deadline, 'cleanup left the module running'
             time.sleep(0.05)
-        assert call(table, get, GetState.Request()).current_state.label == 'unconfigured'
+        assert get_state(spin, get) == 'unconfigured'
         assert mcp.process.poll() is None
+        spin.close()
 
 
 def test_assigned_stream_and_supplier_started_on_demand(tmp_path, table) -> None:
