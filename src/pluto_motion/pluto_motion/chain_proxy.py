@@ -170,6 +170,12 @@ class ChainProxy:
         """Commands the link refused so far (0 before a status says)."""
         return 0
 
+    def send(self, cmd_flags: int, velocity: Sequence[float] = (), position: Sequence[float] = (),
+             force: Sequence[float] = ()) -> bool:
+        """Any command of the link, as written (held and sent again as every command; see
+        :meth:`_request` and :meth:`_resend_unechoed`)."""
+        return self._send(cmd_flags, list(velocity), list(position), list(force))
+
     def stop(self) -> bool:
         """Stop the robot (a velocity 0)."""
         return self._send(0, [0.0, 0.0], [])

@@ -53,6 +53,7 @@ from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, 
 from wurde_core.parameters import TunedSettings, out_of_range
 from wurde_idl.errors import ConfigError
 
+from .avoid_proxy import AvoidProxy
 from .motion_behaviours import AvoidRequest, MotionSettings
 from .plan_topic import PlanPublisher
 from .motion_command import COMMAND, STATUS, THREAD_STOPPED, CommandRefused, MotionCommand, parse_command
@@ -61,9 +62,7 @@ from .planning_grid import PlanningGrid, grid_from_map_file
 from .pose_source import PoseSource
 from .ray_follow import ScanGeometry, geometry_from_info, scan_points
 
-__all__ = ['AVOID_COMMAND', 'AVOID_STATUS', 'MotionModule', 'main']
-
-AVOID_COMMAND, AVOID_STATUS = 'avoidance/command', 'avoidance/status'
+__all__ = ['MotionModule', 'main']
 LOOP_S = 0.05
 STATUS_PERIOD_S = 1.0
 #: Heartbeat TTL (s): a plan on a large map (a million cells, and a replan round what the laser
@@ -99,13 +98,14 @@ class MotionModule:
         self.commands = ActuatorState(COMMAND)
         self.commands.set_queue_mode(True)
         self.status = FVectorState(STATUS)
-        self.avoid = ActuatorState(AVOID_COMMAND)
-        self.avoid_status = FVectorState(AVOID_STATUS)
+        #: The link below, through the proxy every program uses: a request waits until the
+        #: avoidModule's reader is matched and goes again until echoed (a pass-through arrow key
+        #: sent once was lost on a loaded machine, between discovery's two directions).
+        self.avoid = AvoidProxy(manager)
         self.laser = RangeFinder(laser)
         for obj in (self.commands, self.status):
             manager.register_supplier(obj)
-        for obj in (self.avoid, self.avoid_status, self.laser):
-            manager.register_consumer(obj)
+        manager.register_consumer(self.laser)
         self.poses = PoseSource(manager, base, self._warn, user='moveto and explore steer',
                                 localization_only=grid is not None)
         self.geometry: ScanGeometry | None = None
@@ -146,8 +146,7 @@ class MotionModule:
             element = list(self.status.requests.element.get_value())
             if element and element[0] == 0:
                 self.control.start()
-                self.avoid_status.requests.element.set_value([0])
-                self.avoid_status.publish_request()              # starting motion starts avoid
+                self.avoid.start_activity()                      # starting motion starts avoid
                 self.logger.notice(f'{self.manager.name}: start_activity')
             elif element and element[0] == THREAD_STOPPED:
                 self.control.running = False                     # avoid goes on (Pluto 6.3)
@@ -156,21 +155,16 @@ class MotionModule:
 
     def _take_avoid(self) -> int | None:
         state = None
-        while self.avoid_status.get_next_data():
-            self.avoid_data = list(self.avoid_status.data.data)[:2]
-            self.avoid_element = list(self.avoid_status.data.element)[:2]
+        for message in self.avoid.update():
+            self.avoid_data = [float(v) for v in message.data][:2]
+            self.avoid_element = [int(v) for v in message.element][:2]
             if len(self.avoid_element) > 1:
                 state = self.avoid_element[1]
         return state if state is not None else (self.avoid_element[1] if len(self.avoid_element) > 1 else None)
 
     # -- outputs ---------------------------------------------------------------------------------
     def _send(self, request: AvoidRequest) -> None:
-        req = self.avoid.requests
-        req.cmd_flags.set_value(request.cmd_flags)
-        req.position.set_value(list(request.position))
-        req.velocity.set_value(list(request.velocity))
-        req.force.set_value(list(request.force))
-        self.avoid.publish_request()
+        self.avoid.send(request.cmd_flags, list(request.velocity), list(request.position), list(request.force))
 
     def _echo(self, command: MotionCommand) -> None:
         """The command accepted, on the data channel of ``motion/command`` (the proxy's handshake)."""

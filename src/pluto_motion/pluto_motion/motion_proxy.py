@@ -25,7 +25,8 @@ __all__ = ['MotionProxy']
 
 class MotionProxy(ChainProxy):
     """The motionModule as seen from ``manager``: ``moveto_status`` is element[2], ``motion_status``
-    element[3], ``code`` and ``goto_status`` element[0..1] (the avoidModule's)."""
+    element[3], ``code`` and ``goto_status`` element[0..1] (the avoidModule's).  ``send`` with
+    cmdFlags below 40 goes on to the avoidModule (and stops a running motion)."""
 
     def __init__(self, manager: CommsManager, *, queue_mode: bool = False) -> None:
         super().__init__(manager, COMMAND, STATUS, queue_mode=queue_mode)
@@ -51,11 +52,6 @@ class MotionProxy(ChainProxy):
     def set_rectangle(self, b: float, h: float, x: float = 0.0, y: float = 0.0, theta: float = 0.0) -> bool:
         """Set the rectangle (home x, y, theta; Pluto 6.3's geometry); b = 0 removes it (cmdFlags 46)."""
         return self._send(46, [b, h], [x, y], [theta])
-
-    def send(self, cmd_flags: int, velocity: list[float] = (), position: list[float] = (),
-                force: list[float] = ()) -> bool:
-        """Any command; cmdFlags below 40 go on to the avoidModule (and stop a running motion)."""
-        return self._send(cmd_flags, list(velocity), list(position), list(force))
 
     def stop(self) -> bool:
         """Stop the robot (a velocity 0 through avoid): the motion stops and can be resumed."""

@@ -10,12 +10,15 @@ from __future__ import annotations
 
 import math
 import pathlib
+import time
 
-from motion_fixture import RADIUS, Commander, pluto, pluto_config
+from motion_fixture import RADIUS, Commander, pluto, pluto_config, program
 from nav_msgs.msg import Path
 from wurde_testing.topics import latched
 from wurde_testing.parameters import ParameterTool
 
+from pluto_motion.avoid_command import COMMAND as AVOID_COMMAND
+from pluto_motion.motion_proxy import MotionProxy
 from pluto_motion.task import TaskResult
 
 OFFICE = pathlib.Path(__file__).resolve().parents[3] / 'config' / 'maps' / 'office.xml'
@@ -85,3 +88,50 @@ def test_moveto_across_a_door_and_the_status_codes(ros_domain: int, tmp_path: pa
             c.until(lambda: m.goto_status == -10, 'avoid released too')
     finally:
         c.close()
+
+
+def test_a_passed_down_command_waits_for_the_avoid_module(ros_domain: int, tmp_path: pathlib.Path) -> None:
+    """The motionModule accepts (echoes) a pass-through velocity command while no avoidModule is
+    there; the avoidModule that comes later still gets it, held until its reader was matched
+    (a command published before then is lost: the request channel keeps nothing)."""
+    from wurde_core import CommsManager
+    from wurde_core.interfaces import ActuatorState
+
+    tester = CommsManager('MotionTest')
+    tester.set_no_sleep()
+    motion = MotionProxy(tester)
+    avoid: CommsManager | None = None
+    try:
+        with program('pluto_motion', 'motion_module', tmp_path):
+            def until(test, what: str, timeout: float = 60.0) -> None:
+                deadline = time.monotonic() + timeout
+                while not test():
+                    assert time.monotonic() < deadline, f'{what}: not within {timeout} s'
+                    tester.step()
+                    motion.update()                  # sends what waited for the motionModule
+                    if avoid is not None:
+                        avoid.step()
+                    tester.wait(0.02)
+
+            motion.send(0, velocity=[0.1, 0.0])
+            until(lambda: any(e.cmd_flags == 0 and math.isclose(e.velocity[0], 0.1, abs_tol=1e-4)
+                              for e in motion.echoes()), 'the motionModule\'s echo')
+            avoid = CommsManager('avoidModule')
+            avoid.set_no_sleep()
+            avoid.set_no_heartbeat()
+            command = ActuatorState(AVOID_COMMAND)
+            command.set_queue_mode(True)
+            avoid.register_supplier(command)
+            got: list[tuple[int, list[float]]] = []
+
+            def take() -> bool:
+                while command.get_next_request():
+                    got.append((int(command.requests.cmd_flags.get_value()),
+                                [round(v, 4) for v in command.requests.velocity.get_value()]))
+                return (0, [0.1, 0.0]) in got
+
+            until(take, 'the pass-through command at the late avoidModule')
+    finally:
+        if avoid is not None:
+            avoid.clean_up()
+        tester.clean_up()
