@@ -14,6 +14,7 @@ stream / alias         interface                what
 ``SimpleAvoider``      ObstacleAvoiderTransport supplied (``-s`` renames it; BlindTeleop's mapping names it)
 ``LaserClient``        RangeFinder              the laser
 ``EgoClient``          Egomotion                odometry: relative goals are fixed in its frame when given
+                                                (kept through a restart of the base: :mod:`pluto_nav.continuous_odometry`)
 ``VectorMoverClient``  VectorMoverTransport     the mover (the guide's appendix mapping) ...
 ``NavClient``          NavigatorTransport       ... or its Navigator stream (the chapter-1 mapping)
 ====================== ======================== ===========================================================
@@ -35,6 +36,7 @@ import math
 import sys
 import time
 
+from pluto_nav.continuous_odometry import ContinuousOdometry
 from wurde_core import CommsManager, Logger, Point, PVector
 from wurde_core.interfaces import Egomotion, NavigatorTransport, ObstacleAvoiderTransport, RangeFinder, VectorMover
 from wurde_core.module_loop import run_loop, set_loop
@@ -101,6 +103,9 @@ class LaserAvoider:
         self.limits = (DEFAULT_TV, DEFAULT_RV)
         self.safety = settings.safety
         self.state = BRAKED
+        #: Odometry in one frame through restarts of the base (the goal is fixed in it).
+        self.odometry = ContinuousOdometry()
+        self.resets_seen = 0
         self.pose: tuple[float, float, float] | None = None
         self.pose_at = self.scan_at = -math.inf
         self.fan: tuple[float, float, float, float, float] | None = None
@@ -114,8 +119,11 @@ class LaserAvoider:
     # -- inputs ----------------------------------------------------------------------------------
     def _take_sensors(self, now: float) -> None:
         while self.ego.get_next_data():
-            loc = self.ego.data.location
-            self.pose, self.pose_at = (loc.x(), loc.y(), loc.theta()), now
+            self.pose, self.pose_at = self.odometry.take(self.ego.data), now
+        if self.odometry.resets != self.resets_seen:
+            self.resets_seen = self.odometry.resets
+            self.logger.warn(f'{self.manager.name}: the odometry started again from zero (its base '
+                             'restarted?): the goal is kept where it was')
         while self.laser.get_next_info():
             i = self.laser.info
             self.fan = (float(i.theta_offset.get_value()), float(i.theta_separation.get_value()),

@@ -6,7 +6,8 @@ interface (3) (adjusted robot pose) of the localModule", read through the loc pr
 slamModule updates the localization) the source falls back to Dead-Reckoning (0), with a warning;
 when no localModule is heard at all, to the base's own odometry (``<base>Motion``, whose frame starts
 at the robot's start: the frame Pluto 6.1 first named, "angle defined by baseserver interface
-ATRV2/Drive/Raw"), again with a warning.  A source is used only while it is fresh (a pose taken in
+ATRV2/Drive/Raw", kept through a restart of the base by :mod:`pluto_nav.continuous_odometry`), again
+with a warning.  A source is used only while it is fresh (a pose taken in
 within :data:`FRESH_S` seconds).  Each change of source is logged once.
 """
 
@@ -15,6 +16,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 
+from pluto_nav.continuous_odometry import ContinuousOdometry
 from pluto_nav.loc_proxy import LocProxy
 from pluto_nav.streams import DEAD_RECKONING, NOBODY, POSE
 from wurde_core import CommsManager
@@ -45,6 +47,8 @@ class PoseSource:
         self.loc = LocProxy(manager, (1 << DEAD_RECKONING) | (1 << POSE))
         self.motion = Egomotion(f'{base}Motion')
         manager.register_consumer(self.motion)
+        #: The odometry fall-back in one frame through restarts of the base.
+        self.odometry = ContinuousOdometry()
         self.warn = warn
         self.warnings = {'Localization/Dead-Reckoning': f'no pose setter runs: {user} on '
                                                         'Localization/Dead-Reckoning',
@@ -63,8 +67,7 @@ class PoseSource:
             if poses:
                 self.poses[name], self.heard[name] = poses[-1].xytheta, now
         if self.motion.get_next_data():
-            loc = self.motion.data.location
-            self.poses[ODOMETRY], self.heard[ODOMETRY] = (loc.x(), loc.y(), loc.theta()), now
+            self.poses[ODOMETRY], self.heard[ODOMETRY] = self.odometry.take(self.motion.data), now
 
     def _fresh(self, name: str) -> bool:
         return time.monotonic() - self.heard.get(name, -float('inf')) <= FRESH_S

@@ -17,7 +17,8 @@ stream           interface             what
                                        stop); data: robot pose, goal, goal_set, stop_reason
 ``DriveClient``  RobotDrive (consumer) the base; ``SynchroDrive`` for the ``vectorMover`` program (the
                                        guide's chapter-1 mapping gives VectorMover a SynchroDrive)
-``EgoClient``    Egomotion (consumer)  odometry
+``EgoClient``    Egomotion (consumer)  odometry (in one frame through a restart of the base:
+                                       :mod:`pluto_nav.continuous_odometry`)
 ================ ===================== =================================================================
 
 The consumers are STRAT_ASSIGNED (the MCP maps them, as in the guide's configurations) unless
@@ -35,6 +36,7 @@ import os
 import sys
 import time
 
+from pluto_nav.continuous_odometry import ContinuousOdometry
 from wurde_core import CommsManager, Logger, Point, Pose
 from wurde_core.interfaces import Egomotion, NavigatorTransport, RobotDrive, SynchroDrive, VectorMoverTransport
 from wurde_core.module_loop import run_loop, set_loop
@@ -76,6 +78,9 @@ class SynchroMover:
             manager.register_supplier(obj)
         for obj in (self.drive, self.ego):
             manager.register_consumer(obj)
+        #: Odometry in one frame through restarts of the base (goals are fixed in it).
+        self.odometry = ContinuousOdometry()
+        self.resets_seen = 0
         self.pose: tuple[float, float, float] | None = None
         self.pose_at = -math.inf
         self.brake = True
@@ -129,8 +134,11 @@ class SynchroMover:
 
     def _take_odometry(self, now: float) -> None:
         while self.ego.get_next_data():
-            loc = self.ego.data.location
-            self.pose, self.pose_at = (loc.x(), loc.y(), loc.theta()), now
+            self.pose, self.pose_at = self.odometry.take(self.ego.data), now
+        if self.odometry.resets != self.resets_seen:
+            self.resets_seen = self.odometry.resets
+            self.logger.warn(f'{self.manager.name}: the odometry started again from zero (its base '
+                             'restarted?): the goal is kept where it was')
 
     # -- outputs ---------------------------------------------------------------------------------
     def _command(self, tv: float, rv: float) -> None:

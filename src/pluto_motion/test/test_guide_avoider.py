@@ -17,6 +17,7 @@ import math
 import os
 import pathlib
 import re
+import signal
 import time
 
 import pytest
@@ -124,11 +125,28 @@ def _sim_config(directory: pathlib.Path, base_type: str, base: str, laser: str, 
         (directory / name).write_text(text)
 
 
-def blind_teleop(directory: pathlib.Path, args: list[str], base: str,
-                 goal: tuple[float, float]) -> list[tuple[float, float]]:
+def _child_pid(parent: int, program: str) -> int | None:
+    """The pid of a child of ``parent`` whose command line names ``program`` (None: none)."""
+    for entry in pathlib.Path('/proc').iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            ppid = int((entry / 'stat').read_text().rsplit(')', 1)[1].split()[1])
+            argv = (entry / 'cmdline').read_bytes().split(b'\0')
+        except (OSError, IndexError, ValueError):
+            continue                                 # ended meanwhile
+        if ppid == parent and any(pathlib.Path(a.decode(errors='replace')).name == program for a in argv):
+            return int(entry.name)
+    return None
+
+
+def blind_teleop(directory: pathlib.Path, args: list[str], base: str, goal: tuple[float, float],
+                 kill_base_after: float | None = None) -> list[tuple[float, float]]:
     """Run the MCP with ``args`` in ``directory`` (its config directory), be BlindTeleop: wait for
     the assigned avoider, release its brake by asking for the relative point ``goal``, and wait
-    until it reports the goal reached.  Returns the simulator's true path."""
+    until it reports the goal reached.  With ``kill_base_after`` (m), the base's process is
+    killed (SIGKILL) once the robot has come that far: the MCP restarts it, and the robot must
+    still get there.  Returns the simulator's true path."""
     env = dict(os.environ, WURDE_CONFIG_DIR=str(directory), WURDE_LOG_DIRECTORY=str(directory))
     manager = CommsManager('BlindTeleop')
     manager.set_no_sleep()
@@ -163,6 +181,14 @@ def blind_teleop(directory: pathlib.Path, args: list[str], base: str,
                   and avoider.received('info') > 0, 'the avoider assigned and answering', 120, mcp)
             assert avoider.info.brake.get_value() is True          # it starts braked
             avoider.move_to_relative_point(Point(*goal))           # brake false, as every verb sends
+            if kill_base_after is not None:
+                start = path[0]
+                until(lambda: math.dist(path[-1], start) > kill_base_after, 'the robot under way', 120, mcp)
+                pid = _child_pid(mcp.process.pid, 'dummy_base')
+                assert pid is not None, 'no dummy_base process under the MCP'
+                os.kill(pid, signal.SIGKILL)
+                until(lambda: _child_pid(mcp.process.pid, 'dummy_base') not in (None, pid),
+                      'the base restarted', 60, mcp)
             until(lambda: states[-1] == REACHED, 'goal reached', 120, mcp)
     finally:
         manager.clean_up()
@@ -181,6 +207,19 @@ def test_blind_teleop_moves_round_a_box_through_the_guides_avoider(case: str, ro
     clearance = min(world.distance_to_nearest_wall(p) for p in path)
     assert clearance > RADIUS, f'came within {clearance:.2f} m of a wall'
     assert max(abs(p[1] - 2.0) for p in path) > 0.4            # it went round the box, not through
+
+
+def test_the_goal_stays_put_when_the_base_restarts(ros_domain: int, tmp_path: pathlib.Path) -> None:
+    """The chapter-1 modules while the MCP restarts the critical base half-way (CI saw it restart
+    a starved one): the restarted base counts its odometry from zero again, and the avoider and
+    the mover, which hold the goal in the odometry frame, must keep it where it was in the world
+    (:mod:`pluto_nav.continuous_odometry`).  Before, the robot ended 1.6 m off, at the goal
+    carried along with the new odometry frame."""
+    base_type, base, laser, files, args = CASES['chapter1']
+    _sim_config(tmp_path, base_type, base, laser, files)
+    path = blind_teleop(tmp_path, args, base, (5.0, 0.0), kill_base_after=1.0)
+    assert math.dist(path[-1], (6.2, 2.0)) < 0.2, f'ended at {path[-1]}'
+    assert 'restart 1' in (tmp_path / f'{base}.log').read_text()    # it was resumed, not started anew
 
 
 def test_the_shipped_blind_teleop_configuration_runs(ros_domain: int, tmp_path: pathlib.Path) -> None:
