@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -66,7 +67,9 @@ def test_a_silent_module_that_works_is_left_alone_and_one_asleep_is_a_zombie(tmp
         os.kill(sleepy, signal.SIGUSR2)
         rows = table.until(lambda r: r['Sleepy']['pid'] != sleepy and r['Sleepy']['status'] == ACTIVE,
                            'Sleepy replaced by a live process')
-        assert wait_output(mcp, r'MCP: Sleepy missed its TTL \(1\.000 s\): zombie')
+        verdict = wait_output(mcp, r'MCP: Sleepy missed its TTL \(1\.000 s\): zombie[^\n]*')
+        # The verdict says where the hung process waited: its main thread in time.sleep.
+        assert re.search(r'kernel wait\): [^\n]* S \w*nanosleep', verdict[0]), verdict[0]
         assert rows['Busy']['pid'] == busy and rows['Busy']['restarts'] == 0
         assert 'MCP: Busy missed its TTL' not in mcp.stdout + mcp.stderr
 

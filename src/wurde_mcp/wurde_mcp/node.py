@@ -133,16 +133,20 @@ class Mcp:
         supervisor = self.supervisor
         assert supervisor is not None
         started = []
-        for module in supervisor.modules.values():
-            if module.internal and supervisor.start(module.name, argv_extra=('-r',)):
-                module.wanted = False  # it is meant to exit: no restart
-                started.append(module)
-        deadline = time.monotonic() + REGISTRATION_TIMEOUT_S
-        while time.monotonic() < deadline and any(
-                m.process is not None and m.process.running() for m in started):
-            self.manager.step()
-            supervisor.tick()
-            self.manager.wait(0.02)
+        supervisor.registering = True
+        try:
+            for module in supervisor.modules.values():
+                if module.internal and supervisor.start(module.name, argv_extra=('-r',)):
+                    module.wanted = False  # it is meant to exit: no restart
+                    started.append(module)
+            deadline = time.monotonic() + REGISTRATION_TIMEOUT_S
+            while time.monotonic() < deadline and any(
+                    m.process is not None and m.process.running() for m in started):
+                self.manager.step()
+                supervisor.tick()
+                self.manager.wait(0.02)
+        finally:
+            supervisor.registering = False
         for module in supervisor.modules.values():
             if module.process is not None:
                 if module.process.running():

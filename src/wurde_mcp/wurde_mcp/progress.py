@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 import pathlib
 
-__all__ = ['ProcessState', 'process_state']
+__all__ = ['ProcessState', 'process_state', 'where_threads_wait']
 
 _TICK_S = 1.0 / os.sysconf('SC_CLK_TCK')
 
@@ -44,3 +44,27 @@ def process_state(pid: int) -> ProcessState | None:
         return None
     fields = text.rsplit(')', 1)[1].split()      # the command name may hold spaces and ')'
     return ProcessState(fields[0], (int(fields[11]) + int(fields[12])) * _TICK_S)
+
+
+def where_threads_wait(pid: int) -> str:
+    """Where a process's threads are, for the log of a zombie verdict: per thread its name, state
+    letter and the innermost kernel function it waits in (``/proc/<pid>/task/*/stack``, readable by
+    root; '?' otherwise), so that a module killed as hung says what it hung on.  '' when the
+    process is gone."""
+    threads = []
+    try:
+        tasks = sorted(pathlib.Path(f'/proc/{pid}/task').iterdir(), key=lambda t: int(t.name))
+    except OSError:
+        return ''
+    for task in tasks:
+        try:
+            name = (task / 'comm').read_text().strip()
+            state = (task / 'stat').read_text().rsplit(')', 1)[1].split()[0]
+        except (OSError, IndexError):
+            continue
+        try:
+            frame = (task / 'stack').read_text().split('\n', 1)[0].split()[-1].split('+')[0]
+        except (OSError, IndexError):
+            frame = '?'
+        threads.append(f'{name} {state} {frame}')
+    return '; '.join(threads)

@@ -29,7 +29,7 @@ from .binaries import find_binary
 from .clock import REVIEW_S, SupervisionClock
 from .config import McpConfig, ModuleSpec
 from .process import ModuleProcess
-from .progress import process_state
+from .progress import process_state, where_threads_wait
 from .streams import StreamDesk
 
 #: Restart delays by restart count (s); the last repeats until the cap.
@@ -156,7 +156,10 @@ class Supervisor:
         self.wall_late = 0
         for spec in config.modules.values():
             self._watch(spec)
-        self.streams = StreamDesk(self.mcp, config, self.modules, self.start)
+        #: Set by the MCP node during its registration pass (every internal module runs with -r
+        #: and exits by itself); suppliers asked for meanwhile start with the others.
+        self.registering = False
+        self.streams = StreamDesk(self.mcp, config, self.modules, self._start_on_demand)
 
     def close(self) -> None:
         """Release the MCP's streams and the modules' heartbeat channels (after :meth:`quit_all`)."""
@@ -172,6 +175,15 @@ class Supervisor:
         module = Module(spec=spec, heartbeat=heartbeat)
         self.modules[spec.name] = module
         return module
+
+    def _start_on_demand(self, name: str) -> bool:
+        """Start a supplier a consumer asked for (an assignment or a start request).  During the
+        registration pass the answer is yes without a start: a second process of a module whose
+        -r run is under way kept the pass waiting its whole timeout (15 s) for that module to
+        exit, and was then stopped anyway (a CI log of test_guide_avoider)."""
+        if self.registering:
+            return self.modules[name].internal
+        return self.start(name)
 
     def start(self, name: str, *, argv_extra: tuple[str, ...] = ()) -> bool:
         """Start an internal module (if it is not running); False when it cannot start."""
@@ -462,9 +474,11 @@ class Supervisor:
             return
         else:
             assert module.last_beat is not None and module.last_beat_at is not None
+            threads = where_threads_wait(module.process.pid) if module.process is not None else ''
             g_warn(f'MCP: {module.name} missed its TTL ({module.ttl:.3f} s): zombie (noticed at '
                    f'monotonic {now:.3f}; silent {watched - module.last_beat:.3f} s watched, '
-                   f'{now - module.last_beat_at:.3f} s by the clock)')
+                   f'{now - module.last_beat_at:.3f} s by the clock)'
+                   + (f'; its threads (name, state, kernel wait): {threads}' if threads else ''))
         module.status = StatusMode.ZOMBIE
         self.zombies += 1
         self._changed = True
