@@ -1,6 +1,6 @@
 # The two commands of this workspace:
 #   make demo   build everything, then run the main job
-#   make test   build everything, then run every package's tests (colcon test, two lanes at once:
+#   make test   build everything, then run every package's tests (colcon test, three lanes at once:
 #               tools/test_lanes.sh)
 # Both set themselves up from nothing: virtual environment with pinned wheels, CMake fix, colcon build.
 

@@ -26,7 +26,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from .scan_points import Beams
 
-__all__ = ['ESCAPE_ANGLE', 'AvoidSettings', 'Choice', 'choose', 'clearance', 'free_lengths', 'scan_to_points']
+__all__ = ['ESCAPE_ANGLE', 'AvoidSettings', 'Choice', 'choose', 'clearance', 'free_lengths', 'scan_to_points',
+           'turn_step']
 
 #: A robot too near a point turns until the point is this far (rad) off its heading: 20 degrees
 #: short of beside it, so that a goal beyond the point stays inside the 80-degree fan.
@@ -130,3 +131,31 @@ def _turn_away(points: NDArray, bearing: float) -> float:
     towards = math.atan2(nearest[1], nearest[0])
     side = 1.0 if math.remainder(bearing - towards, math.tau) >= 0 else -1.0
     return math.remainder(towards + side * ESCAPE_ANGLE, math.tau)
+
+
+def turn_step(points: NDArray, turn: float, half_width: float, length: float,
+              resolution: float = AvoidSettings.step) -> float | None:
+    """The heading (robot frame) of a short step of ``length`` m that stands in for a turn on the
+    spot by ``turn``, for a mover that cannot turn on the spot (a Navigator goes to points; the
+    VectorMover turns to face a point before it drives there), or None when no step is free.
+
+    The step goes along ``turn`` when the disc is free along it for the whole ``length``
+    (:func:`free_lengths`), else along the free heading nearest to it (``resolution`` apart,
+    the turn's own direction first).  A step along the escape turn of :func:`choose` itself would
+    not do: it keeps the nearest point :data:`ESCAPE_ANGLE` off the heading, so that each step
+    brings the robot ``length`` x cos 70 degrees nearer to it (a test saw the guide's chapter-1
+    avoider creep so into a box until the bumper stopped the base, for good); along the nearest
+    free heading the point is beside or behind the step, which moves along it or away from it.
+
+    A goal straight beyond a point inside the margin can still hold a Navigator-driven robot
+    turning back and forth where it stands (the escape turn and the turn back to the goal undo
+    each other before the mover, which turns first, has faced the step): it stays clear of the
+    point, but does not get round it."""
+    if len(points) == 0:
+        return turn
+    side = 1.0 if turn >= 0 else -1.0
+    k = np.arange(1, int(math.pi / resolution) + 1)
+    offsets = np.concatenate(([0.0], np.stack([side * k, -side * k], axis=1).ravel() * resolution))
+    headings = np.remainder(turn + offsets + math.pi, math.tau) - math.pi
+    free = free_lengths(points, headings, half_width, length) >= length - 1e-9
+    return float(headings[int(np.argmax(free))]) if free.any() else None

@@ -43,7 +43,7 @@ from wurde_core.module_loop import run_loop, set_loop
 from wurde_core.wrappers import MODE_ANGLE, MODE_POINT, MODE_STOP
 
 from .assigned import consumer
-from .corridor_avoid import AvoidSettings, Choice, choose, clearance, scan_to_points
+from .corridor_avoid import AvoidSettings, Choice, choose, clearance, scan_to_points, turn_step
 from .scan_points import wrap
 
 __all__ = ['LaserAvoider', 'main']
@@ -53,6 +53,9 @@ LOOP_S = 0.05
 #: every ~0.2 s).
 LASER_STALE_S = 1.0
 EGO_STALE_S = 0.5
+#: A turn on the spot asked of a Navigator, which goes to points only, is a step this long (m):
+#: longer than the VectorMover's reach (5 cm), so that it turns to face it first.
+NAV_TURN_STEP = 0.1
 STATUS_PERIOD_S = 1.0
 #: ObstacleAvoiderTransport states (see its interface description).
 IDLE, MOVING, ROTATING, REACHED, BLOCKED, BRAKED, ERROR = 0, 1, 2, 3, 4, 5, -1
@@ -112,6 +115,7 @@ class LaserAvoider:
         self.points = None
         self.closest = math.inf
         self.driving = False
+        self.warned_turn = False
         self.sent: tuple | None = None
         self.sent_at = -math.inf
         self._publish_info()
@@ -123,7 +127,7 @@ class LaserAvoider:
         if self.odometry.resets != self.resets_seen:
             self.resets_seen = self.odometry.resets
             self.logger.warn(f'{self.manager.name}: the odometry started again from zero (its base '
-                             'restarted?): the goal is kept where it was')
+                             f'restarted?): the goal is kept where it was; {self.odometry.describe_bridge()}')
         while self.laser.get_next_info():
             i = self.laser.info
             self.fan = (float(i.theta_offset.get_value()), float(i.theta_separation.get_value()),
@@ -177,9 +181,15 @@ class LaserAvoider:
             self.mover.move(PVector(magnitude, angle))
         if self.nav.is_connected() and self.pose is not None:
             if magnitude < 1e-3 and abs(angle) > 0:
-                self.logger.warn(f'{self.manager.name}: the Navigator cannot turn on the spot; '
-                                 'a rotation is driven as a short step')
-                magnitude = 0.1
+                if not self.warned_turn:
+                    self.logger.warn(f'{self.manager.name}: the Navigator cannot turn on the spot; '
+                                     'a turn is driven as a short step where that is free')
+                    self.warned_turn = True
+                step = turn_step(self.points, angle, self.settings.radius + self.safety, NAV_TURN_STEP)
+                if step is None:
+                    self._halt()
+                    return
+                magnitude, angle = NAV_TURN_STEP, step
             x, y = _to_world(self.pose, magnitude * math.cos(angle), magnitude * math.sin(angle))
             self.nav.requests.goal.set_value(Point(x, y))
             self.nav.requests.autonomous.set_value(True)

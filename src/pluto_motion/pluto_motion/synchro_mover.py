@@ -138,7 +138,7 @@ class SynchroMover:
         if self.odometry.resets != self.resets_seen:
             self.resets_seen = self.odometry.resets
             self.logger.warn(f'{self.manager.name}: the odometry started again from zero (its base '
-                             'restarted?): the goal is kept where it was')
+                             f'restarted?): the goal is kept where it was; {self.odometry.describe_bridge()}')
 
     # -- outputs ---------------------------------------------------------------------------------
     def _command(self, tv: float, rv: float) -> None:

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 from hypothesis import example, given, settings, strategies as st
 
-from pluto_motion.corridor_avoid import ESCAPE_ANGLE, AvoidSettings, choose, free_lengths, scan_to_points
+from pluto_motion.corridor_avoid import (ESCAPE_ANGLE, AvoidSettings, choose, free_lengths, scan_to_points,
+                                         turn_step)
 
 HALF = 0.5
 points_st = st.lists(st.tuples(st.floats(-3, 3), st.floats(-3, 3)), min_size=1, max_size=30)
@@ -64,6 +65,42 @@ def test_a_robot_come_too_near_turns_away_and_then_moves_away() -> None:
     direction = np.array([math.cos(after.heading), math.sin(after.heading)])
     gaps = [np.hypot(*(turned - t * direction).T).min() for t in np.linspace(0, after.length, 20)]
     assert all(b >= a - 1e-9 for a, b in zip(gaps, gaps[1:]))            # it only moves away
+
+
+@settings(max_examples=300, deadline=None)
+@given(points_st, st.floats(-math.pi, math.pi))
+def test_a_turn_driven_as_a_step_never_brings_the_robot_nearer_a_point_it_could_touch(
+        raw: list, turn: float) -> None:
+    """A Navigator's stand-in for a turn (:func:`turn_step`): a point outside the grown disc stays
+    outside over the whole step, and one inside it is not come nearer to."""
+    points = np.array(raw)
+    length = 0.1
+    heading = turn_step(points, turn, HALF, length)
+    if heading is None:
+        return
+    end = length * np.array([math.cos(heading), math.sin(heading)])
+    start = np.hypot(*points.T)
+    along = _segment_distance(points, np.zeros(2), end)
+    assert (along >= np.minimum(start, HALF) - 1e-6).all()
+
+
+def test_the_escape_turn_of_a_navigator_steps_beside_the_box_not_into_it() -> None:
+    """The case a test saw: a box inside the margin, the escape turn asked of a Navigator.  A step
+    along the turn would come 3.4 cm nearer the box each time; the stand-in steps along the free
+    heading nearest to the turn, which leaves the box beside or behind it."""
+    box = np.array([[0.4, y] for y in np.linspace(-0.3, 0.3, 13)])
+    choice = choose(box, (3.0, 0.5))
+    assert choice.rotate
+    along_turn = 0.1 * np.array([math.cos(choice.heading), math.sin(choice.heading)])
+    assert np.hypot(*(box - along_turn).T).min() < np.hypot(*box.T).min() - 0.03
+    step = turn_step(box, choice.heading, 0.5, 0.1)
+    assert choice.heading < step < math.pi                               # on the goal's side, not back
+    end = 0.1 * np.array([math.cos(step), math.sin(step)])
+    assert (_segment_distance(box, np.zeros(2), end) >= np.minimum(np.hypot(*box.T), 0.5) - 1e-9).all()
+    far = box + [2.0, 0.0]
+    assert turn_step(far, 1.2, 0.5, 0.1) == pytest.approx(1.2)           # a free turn goes its way
+    ring = np.array([[0.45 * math.cos(a), 0.45 * math.sin(a)] for a in np.linspace(0, math.tau, 90)])
+    assert turn_step(ring, choice.heading, 0.5, 0.1) is None             # boxed in: no step
 
 
 def test_a_wall_ahead_is_steered_round_and_a_box_is_blocked() -> None:

@@ -158,6 +158,9 @@ def blind_teleop(directory: pathlib.Path, args: list[str], base: str, goal: tupl
         manager.register_consumer(obj)
     path: list[tuple[float, float]] = []
     states: list[int] = []
+    #: What a failure is read from: the true track and the avoider's states, written to the
+    #: directory as ``track.csv`` (stamp, x, y, theta; stamp, state).
+    track: list[str] = []
 
     def until(predicate, what: str, timeout: float, mcp: ChildProcess) -> None:
         deadline = time.monotonic() + timeout
@@ -166,9 +169,13 @@ def blind_teleop(directory: pathlib.Path, args: list[str], base: str, goal: tupl
             assert time.monotonic() < deadline, f'{what}: not within {timeout} s (states {states[-5:]})'
             manager.step()
             while truth.get_next_data():
-                path.append((truth.data.location.x(), truth.data.location.y()))
+                loc = truth.data.location
+                path.append((loc.x(), loc.y()))
+                track.append(f'{truth.data.timestamp.get_seconds():.3f},{loc.x():.3f},{loc.y():.3f},'
+                             f'{loc.theta():.3f}')
             while avoider.get_next_data():
                 states.append(int(avoider.data.state))
+                track.append(f'{time.time():.3f},state,{states[-1]}')
             avoider.get_next_info()
             ego.get_next_data()
             manager.wait(0.05)
@@ -192,6 +199,7 @@ def blind_teleop(directory: pathlib.Path, args: list[str], base: str, goal: tupl
             until(lambda: states[-1] == REACHED, 'goal reached', 120, mcp)
     finally:
         manager.clean_up()
+        (directory / 'track.csv').write_text('\n'.join(track) + '\n')
     return path
 
 

@@ -31,6 +31,9 @@ class ContinuousOdometry:
     def __init__(self) -> None:
         self.pose: tuple[float, float, float] | None = None
         self.resets = 0
+        #: The last restart bridged: (the last pose before it in this frame, the new process's
+        #: first pose in its own frame), for the consumer's log.
+        self.bridge: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
         self._offset = (0.0, 0.0, 0.0)
         self._raw: tuple[float, float, float] | None = None
         self._stamp = -math.inf
@@ -47,6 +50,7 @@ class ContinuousOdometry:
             # Where the new process's zero is in this frame: the robot has not moved meanwhile.
             self._offset = tuple(compose(self.pose, inverse(raw)))
             self.resets += 1
+            self.bridge = (self.pose, raw)
         self._raw, self._stamp, self._sequence = raw, stamp, sequence
         self.pose = tuple(float(v) for v in compose(self._offset, raw))
         return self.pose
@@ -57,3 +61,11 @@ class ContinuousOdometry:
         dx, dy, dtheta = relative(self._raw, raw)
         dt = max(stamp - self._stamp, 1e-6)
         return math.hypot(dx, dy) > MAX_SPEED * dt + 0.05 or abs(dtheta) > MAX_TURN_RATE * dt + 0.05
+
+    def describe_bridge(self) -> str:
+        """The last restart bridged, for a log line: where the old frame ended, where the new began."""
+        if self.bridge is None:
+            return 'no restart bridged'
+        (x, y, theta), (u, v, phi) = self.bridge
+        return (f'last pose ({x:.3f}, {y:.3f}, {theta:.3f}) continued from the new process\'s '
+                f'({u:.3f}, {v:.3f}, {phi:.3f})')
