@@ -573,9 +573,12 @@ class CommsManager:
                 return
             time.sleep(min(remaining, WAIT_SLICE_S))
 
-    def clean_up(self, *, goodbye: bool = True) -> None:
+    def clean_up(self, *, goodbye: bool = True, wait: bool = True) -> None:
         """Say goodbye to the MCP (the Quit state, unless ``goodbye`` is False) and release
-        everything; idempotent, also run at exit."""
+        everything; idempotent, also run at exit.  ``wait`` False sends the goodbye without
+        waiting for its acknowledgement: the MCP's own, whose readers are mostly the modules it
+        has just ended (a loaded machine's DDS still counts them for a while, and the wait for
+        their acknowledgements took the MCP's SIGINT exit past 3 s)."""
         if self._closed:
             return
         self._closed = True
@@ -591,7 +594,7 @@ class CommsManager:
                     # unless the MCP (or a controller) commanded the Quit: it knows, and waits for
                     # the exit.  A reliable writer's acknowledgements can take the DDS heartbeat
                     # period, and every module of an MCP stopping at once must end in seconds.
-                    if not self._told_to_quit:
+                    if wait and not self._told_to_quit:
                         self._heartbeat.obj.wait_delivered(GOODBYE_WAIT_S, channel='info')
                 if self._daemon is not None:
                     self._daemon.close()

@@ -83,6 +83,20 @@ def test_fixes_carry_the_gga_fields_and_frame_position(receiver: GpsEmulator,
     assert gps.stats.telegrams >= 11 and gps.counters['bad_checksum'] == 0
 
 
+def test_fixes_read_together_keep_their_own_times(receiver: GpsEmulator, gps: GpsReceiver) -> None:
+    """A reader late to read (a loaded machine) gets several sentences in one read: each fix is
+    stamped when its last byte arrived, older by the wire time of what came after it, not all
+    with the read's time (two fixes with one stamp reached a test once)."""
+    collect(gps, 1)                                            # the port is open and reading
+    sent = receiver.sentences_sent
+    wait_for(lambda: receiver.sentences_sent >= sent + 10)     # a backlog of five fixes
+    fixes = gps.poll(0.2)
+    assert len(fixes) >= 3
+    stamps = [fix.stamp for fix in fixes]
+    assert all(b > a for a, b in zip(stamps, stamps[1:])), stamps
+    assert stamps[-1] <= time.monotonic()
+
+
 def test_a_given_origin_is_used(receiver: GpsEmulator) -> None:
     origin = (ORIGIN[0] - 0.001, ORIGIN[1] + 0.001)
     gps = GpsReceiver(SerialLink(receiver.path, BAUDRATE), origin=origin)

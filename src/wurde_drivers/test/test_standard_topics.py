@@ -19,7 +19,7 @@ from wurde_core.ros_adaptor import take_stamped
 from wurde_testing import ChildProcess, find_executable
 
 from wurde_drivers.ptu.emulator import Ptu46Emulator
-from wurde_drivers.ros_std_covariance import MIN_VARIANCE, fix_covariance
+from wurde_drivers.ros_std_covariance import MIN_VARIANCE, fix_covariance, lowpass_variance_factor
 from wurde_drivers.sim.config import load_sim_config
 
 #: The simulator's noise for this test: odometry 5 % per sqrt(m), DMU rate noise 0.01 rad/s.
@@ -180,10 +180,22 @@ def test_every_dummy_device_is_on_a_standard_topic_with_its_frame_and_covariance
             (true.location.x, true.location.y), abs=1e-9)
 
         # Imu and NavSatFix: covariances from the DMU's rate noise and the fix's HDOP/quality.
-        imu = topics.messages['/PlutoDMU/imu'][-1]
+        imus = topics.messages['/PlutoDMU/imu']
+        imu = imus[-1]
         assert imu.header.frame_id == 'PlutoDMU'
-        rate_variance = imu.angular_velocity_covariance[8]
-        assert MIN_VARIANCE < rate_variance < RATE_NOISE ** 2    # the low-pass lowers it
+        # The low-pass lowers the rate's variance by the factor of the interval it stepped over:
+        # the DMU's period, or longer where a loaded machine's DMU stepped late (up to the raw
+        # noise, never above).  Exact where two messages came one period apart (none missed).
+        assert all(MIN_VARIANCE < m.angular_velocity_covariance[8] <= (MIN_VARIANCE + RATE_NOISE ** 2) * (1 + 1e-9)
+                   for m in imus), [m.angular_velocity_covariance[8] for m in imus]
+        period, tau = 1.0 / config.dmu.rate, 1.0 / (2.0 * math.pi * config.dmu.cutoff)
+        nominal = [b for a, b in zip(imus, imus[1:]) if abs(stamp(b) - stamp(a) - period) < 1e-4]
+        assert nominal, 'no two DMU messages one period apart'
+        lowered = MIN_VARIANCE + RATE_NOISE ** 2 * lowpass_variance_factor(period, tau)
+        # (rel 1e-3: a stamp near 1.8e9 s carries about 2e-7 s of rounding into the interval)
+        assert all(m.angular_velocity_covariance[8] == pytest.approx(lowered, rel=1e-3) for m in nominal), \
+            (lowered, [m.angular_velocity_covariance[8] for m in nominal])
+        assert lowered < RATE_NOISE ** 2
         assert all(v >= MIN_VARIANCE for v in (imu.orientation_covariance[0], imu.orientation_covariance[8],
                                                imu.linear_acceleration_covariance[0]))
         fix = topics.messages['/PlutoGPS/fix'][0]

@@ -44,7 +44,7 @@ class Fix:
     absent), ``x``/``y`` in m in the local frame (NaN until there is an origin or without a
     position). ``speed`` (m/s), ``course`` (degrees true) and ``date`` come from the most recent
     RMC, which may be one epoch older than the GGA (receivers send GGA first); None before any.
-    ``stamp`` is the monotonic time the sentence was read.
+    ``stamp`` is the monotonic time the sentence's last byte arrived.
     """
 
     latitude: float
@@ -137,22 +137,33 @@ class GpsReceiver:
         self.link.close()
 
     def _take(self, data: bytes) -> list[Fix]:
+        """The fixes in ``data``, each stamped when its sentence's last byte arrived: the read's
+        time less the wire time of the bytes after it.  A read that holds several sentences (a
+        module that was late to read, on a loaded machine) gives each its own, older stamp:
+        stamping them all with the read's time published two fixes with one stamp."""
         if not data:
             return []
         d = self._deframer
         before = (d.bad_checksum + d.no_checksum, d.bytes_skipped, d.sentences + d.ignored)
-        sentences = d.feed(data)
         now = time.monotonic()
+        sentences: list[tuple[GGA | RMC, float]] = []
+        start = 0
+        while start < len(data):
+            end = data.find(b'\n', start)
+            end = len(data) if end < 0 else end + 1
+            after = now - (len(data) - end) * 10.0 / max(self.link.baudrate, 1)
+            sentences += [(sentence, after) for sentence in d.feed(data[start:end])]
+            start = end
         self.link.stats.bad_crc += d.bad_checksum + d.no_checksum - before[0]
         self.link.stats.bytes_skipped += d.bytes_skipped - before[1]
         self.link.stats.telegrams += d.sentences + d.ignored - before[2]
         fixes = []
-        for sentence in sentences:
+        for sentence, stamp in sentences:
             self._last_sentence = now
             if isinstance(sentence, RMC):
                 self._rmc = sentence
             else:
-                fixes.append(self._fix(sentence, now))
+                fixes.append(self._fix(sentence, stamp))
         return fixes
 
     def _fix(self, gga: GGA, now: float) -> Fix:
