@@ -9,7 +9,9 @@ import pytest
 
 from pluto_motion.drive_command import CommandRefused, Mode, parse_command
 from pluto_motion.drive_control import DriveController, DriveSettings
-from pluto_motion.sonar_guard import SIDES, SonarGuard
+from pluto_motion.sonar_guard import FRONT, SIDES, SonarGuard
+from test_sonar_guard import HALF, echo
+from test_sonar_guard import RING as LAYOUT
 
 RING = [2 * math.pi * i / 16 for i in range(16)]
 FAR = [8.0] * 16
@@ -58,6 +60,27 @@ def test_side_sonar_slows_and_code_five() -> None:
     ranges[4] = 0.04                      # closer than the side stop distance
     assert guard.limit(0.5, ranges) == (0.0, SIDES)
     assert guard.limit(0.0, ranges) == (0.0, 0)       # turning in place is never limited
+
+
+def test_a_slow_command_goes_on_to_near_the_stop_distance() -> None:
+    """The sonar slows the robot to the speed the free way allows (the drive's maximum at ``slow``,
+    0 at ``stop``), not to a share of the speed asked for: at 0.1 m/s the robot stopped for good
+    with 0.45 m free, under the creep speed, short of an avoid goto's goal near a wall."""
+    control = DriveController(DriveSettings())
+    control.guard.set_layout(LAYOUT, HALF)
+    control.accept(parse_command(10, [0.1, 0.0], []), now=0.0)          # velocity, sonar on
+    t = 0.0
+    for free in (1.5, 0.6, 0.45, 0.3, 0.2, 0.08):
+        ranges = [echo(s, [('x', 0.35 + free, -0.3, 0.3)]) for s in LAYOUT]
+        for _ in range(10):
+            t += 0.05
+            tv, _ = control.step(t, 0.05, heading=None, sonar=ranges)
+        if free >= 0.3:
+            assert tv == pytest.approx(0.1), free
+        elif free >= 0.2:
+            assert 0.05 <= tv < 0.1 and control.code == FRONT           # slowed, still going
+        else:
+            assert tv == 0.0 and control.code == FRONT
 
 
 def test_bumper_latch_forbids_motion_towards_it_until_a_new_command() -> None:
