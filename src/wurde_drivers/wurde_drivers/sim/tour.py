@@ -64,6 +64,21 @@ NARROW_MIN_M = 0.1
 NARROW_SHARE = 0.25
 
 
+def waypoint_reached(distance: float, covered: float, ahead: float) -> str | None:
+    """Whether the waypoint ``distance`` m away counts as reached ('' or why), after ``covered``
+    (share of its leg driven) with the laser's nearest reading ``ahead`` (m) straight ahead.
+
+    Within :data:`REACHED_M`; or passed along its leg within :data:`PASSED_M`; or within
+    :data:`PASSED_M` while the laser stops the robot (something within :data:`STOP_M` ahead): a
+    generated route may put a waypoint 0.4 m from a wall (its clearance), nearer than the laser
+    lets the robot go, and the tour stood there until its time ran out (`make bench-nav`)."""
+    if distance < REACHED_M or (covered >= 1.0 and distance < PASSED_M):
+        return ''
+    if distance < PASSED_M and ahead <= STOP_M:
+        return f' (as near as the laser allows: {ahead:.2f} m ahead)'
+    return None
+
+
 def _route(text: str) -> list[tuple[float, float]]:
     points = []
     for item in text.split():
@@ -202,15 +217,16 @@ def main(argv: list[str] | None = None) -> int:
         gx, gy = route[target]
         distance = math.hypot(gx - x, gy - y)
         covered, (cx, cy) = _along(leg_start, (gx, gy), (x, y))
-        if distance < REACHED_M or (covered >= 1.0 and distance < PASSED_M):
-            print(f'tour: reached waypoint {target + 1}/{len(route)} ({gx:.1f}, {gy:.1f}) at '
-                  f'({x:.2f}, {y:.2f})', flush=True)
-            target += 1
-            leg_start = (gx, gy)
-            continue
         error = _wrap(math.atan2(cy - y, cx - x) - theta)
         ahead = min((r for i, r in enumerate(last_scan) if abs(i - len(last_scan) // 2) <= len(last_scan) // 12),
                     default=math.inf)
+        why = waypoint_reached(distance, covered, ahead)
+        if why is not None:
+            print(f'tour: reached waypoint {target + 1}/{len(route)} ({gx:.1f}, {gy:.1f}) at '
+                  f'({x:.2f}, {y:.2f}){why}', flush=True)
+            target += 1
+            leg_start = (gx, gy)
+            continue
         now = time.monotonic()
         horizon = _horizon(max(LOOP_S, now - last_command) * config.time_scale)
         # Full speed only when facing the waypoint, none from TURN_FIRST_RAD off: what the robot
