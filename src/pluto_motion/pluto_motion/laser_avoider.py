@@ -16,7 +16,8 @@ stream / alias         interface                what
 ``EgoClient``          Egomotion                odometry: relative goals are fixed in its frame when given
                                                 (kept through a restart of the base: :mod:`pluto_nav.continuous_odometry`)
 ``VectorMoverClient``  VectorMoverTransport     the mover (the guide's appendix mapping) ...
-``NavClient``          NavigatorTransport       ... or its Navigator stream (the chapter-1 mapping)
+``NavClient``          NavigatorTransport       ... or its Navigator stream (the chapter-1 mapping): goals in the
+                                                Navigator's frame (:mod:`pluto_motion.frame_link`)
 ====================== ======================== ===========================================================
 
 The consumers are STRAT_ASSIGNED unless ``-L``, ``-e``, ``-m`` (VectorMoverTransport) or ``-N``
@@ -44,6 +45,7 @@ from wurde_core.wrappers import MODE_ANGLE, MODE_POINT, MODE_STOP
 
 from .assigned import consumer
 from .corridor_avoid import AvoidSettings, Choice, choose, clearance, scan_to_points, turn_step
+from .frame_link import FrameLink
 from .scan_points import wrap
 
 __all__ = ['LaserAvoider', 'main']
@@ -109,6 +111,8 @@ class LaserAvoider:
         #: Odometry in one frame through restarts of the base (the goal is fixed in it).
         self.odometry = ContinuousOdometry()
         self.resets_seen = 0
+        #: The Navigator's frame, measured while the robot stands (its goals are points in it).
+        self.link = FrameLink()
         self.pose: tuple[float, float, float] | None = None
         self.pose_at = self.scan_at = -math.inf
         self.fan: tuple[float, float, float, float, float] | None = None
@@ -128,6 +132,16 @@ class LaserAvoider:
             self.resets_seen = self.odometry.resets
             self.logger.warn(f'{self.manager.name}: the odometry started again from zero (its base '
                              f'restarted?): the goal is kept where it was; {self.odometry.describe_bridge()}')
+        if self.pose is not None:
+            self.link.own(self.pose, now)
+        while self.nav.get_next_data():
+            robot = self.nav.data.robot
+            change = self.link.other((robot.x(), robot.y(), robot.theta()), now)
+            if change is not None and (math.hypot(change[0], change[1]) > 0.01 or abs(change[2]) > 0.01):
+                x, y, theta = self.link.transform
+                self.logger.warn(f'{self.manager.name}: the odometry\'s origin is at ({x:.3f}, {y:.3f}, '
+                                 f'{theta:.3f}) in the Navigator\'s frame (measured while the robot stands): '
+                                 'goals go to the Navigator in its frame')
         while self.laser.get_next_info():
             i = self.laser.info
             self.fan = (float(i.theta_offset.get_value()), float(i.theta_separation.get_value()),
@@ -190,7 +204,8 @@ class LaserAvoider:
                     self._halt()
                     return
                 magnitude, angle = NAV_TURN_STEP, step
-            x, y = _to_world(self.pose, magnitude * math.cos(angle), magnitude * math.sin(angle))
+            x, y = self.link.to_other(*_to_world(self.pose, magnitude * math.cos(angle),
+                                                 magnitude * math.sin(angle)))
             self.nav.requests.goal.set_value(Point(x, y))
             self.nav.requests.autonomous.set_value(True)
             self.nav.publish_request()

@@ -170,9 +170,11 @@ class SynchroMover:
         data.trans_velocity, data.rot_velocity = tv, rv
         data.distance_remaining, data.angle_remaining, data.done = distance, angle, done
         self.mover.publish_data()
+        self.sent, self.sent_at = value, now
+        if self.pose is None:
+            return            # no status from a navigator that has no pose: its robot would read (0, 0, 0)
         nav = self.navigator.data
-        if self.pose is not None:
-            nav.robot = Pose(*self.pose)
+        nav.robot = Pose(*self.pose)
         goal = self.follower.goal
         nav.goal_set = goal is not None
         if goal is not None:
@@ -181,7 +183,6 @@ class SynchroMover:
         nav.stop_reason = self.stop_reason
         nav.plan = [Point(*goal)] if goal is not None else []
         self.navigator.publish_data()
-        self.sent, self.sent_at = value, now
 
     # -- one loop --------------------------------------------------------------------------------
     def step(self) -> None:
