@@ -76,10 +76,12 @@ bench-slam: build
 	$(IN_ENV) python bench/nav_slam.py
 
 # The avoidModule (issue 12): the avoidance computation for a 361-point scan and the laser scan in
-# -> drive command out latency through a real avoid_module, beside a raw rclpy relay (about 1 minute).
+# -> drive command out latency through a real avoid_module, beside a raw rclpy relay (about 1 minute);
+# the guide's LaserAvoider and VectorMover in a kinematic simulation on generated worlds (4 minutes).
 .PHONY: bench-avoid
 bench-avoid: build
 	$(IN_ENV) python bench/avoid_latency.py
+	$(IN_ENV) python bench/guide_avoider.py
 
 # The movement chain (issue 12's table): goto (32) and moveto (42) through motion/command on the
 # shipped and generated maps, 20 random reachable goals each, against the simulator's truth: success,

@@ -56,8 +56,10 @@ LOOP_S = 0.05
 LASER_STALE_S = 1.0
 EGO_STALE_S = 0.5
 #: A turn on the spot asked of a Navigator, which goes to points only, is a step this long (m):
-#: longer than the VectorMover's reach (5 cm), so that it turns to face it first.
-NAV_TURN_STEP = 0.1
+#: more than twice the VectorMover's reach (5 cm), so that it turns to face it first.  At 0.1 m a
+#: step behind the robot was, to rounding, within the mover's "just past it" rule (nearer than
+#: twice the reach and more than 90 degrees off) and taken as done: the robot never moved.
+NAV_TURN_STEP = 0.15
 STATUS_PERIOD_S = 1.0
 #: ObstacleAvoiderTransport states (see its interface description).
 IDLE, MOVING, ROTATING, REACHED, BLOCKED, BRAKED, ERROR = 0, 1, 2, 3, 4, 5, -1
@@ -118,6 +120,8 @@ class LaserAvoider:
         self.fan: tuple[float, float, float, float, float] | None = None
         self.points = None
         self.closest = math.inf
+        #: The side of the goal's bearing the way round goes by (:attr:`Choice.side`).
+        self.side = 0
         self.driving = False
         self.warned_turn = False
         self.sent: tuple | None = None
@@ -167,6 +171,7 @@ class LaserAvoider:
             self.safety = float(r.safety_distance.get_value()) or self.settings.safety
             mode = int(r.mode.get_value())
             self.mode, self.goal, self.heading, self.pending = MODE_STOP, None, None, None
+            self.side = 0
             goal, angle = r.goal.get_value(), float(r.angle.get_value())
             if self.brake or mode == MODE_STOP:
                 pass
@@ -258,7 +263,8 @@ class LaserAvoider:
                 return REACHED, 0.0, 0.0, None
             return ROTATING, 0.0, angle, Choice(angle, 0.0, True, False, False, self.closest)
         gx, gy = _to_robot(self.pose, *self.goal)
-        choice = choose(self.points, (gx, gy), settings)
+        choice = choose(self.points, (gx, gy), settings, self.side)
+        self.side = choice.side
         distance, angle = math.hypot(gx, gy), math.atan2(gy, gx)
         if choice.reached:
             return REACHED, distance, angle, None

@@ -8,6 +8,8 @@ import numpy as np
 import pytest
 from hypothesis import example, given, settings, strategies as st
 
+from avoider_sim import run_avoider
+from goto_sim import box
 from pluto_motion.corridor_avoid import (ESCAPE_ANGLE, AvoidSettings, choose, free_lengths, scan_to_points,
                                          turn_step)
 
@@ -120,6 +122,47 @@ def test_goals_behind_are_turned_to_and_near_goals_are_reached() -> None:
     assert choose(empty, (0.1, 0.0)).reached
     straight = choose(empty, (4.0, 0.0))
     assert straight.heading == 0.0 and straight.length == AvoidSettings().lookahead
+
+
+def test_a_side_once_taken_is_kept_unless_the_other_is_clearly_better() -> None:
+    """Two ways round a wall straight ahead, each as near the goal's bearing as the other: the kept
+    side wins, and the choice says which side it took."""
+    wall = np.array([[1.2, y] for y in np.linspace(-0.6, 0.6, 25)])
+    left, right = choose(wall, (3.0, 0.0), side=1), choose(wall, (3.0, 0.0), side=-1)
+    assert left.heading > 0 and left.side == 1 and right.heading < 0 and right.side == -1
+    # A wall whose right end is just off the bearing (0.35 rad round it), its left 3 m away (0.91
+    # rad): the right is taken although the left was kept; 0.42 rad against 0.91 is kept left.
+    open_right = np.array([[1.5, y] for y in np.linspace(0.0, 3.0, 121)])
+    assert choose(open_right, (3.0, 0.0), side=1).side == -1
+    nearly = np.array([[1.5, y] for y in np.linspace(-0.1, 3.0, 125)])
+    assert choose(nearly, (3.0, 0.0)).side == -1 and choose(nearly, (3.0, 0.0), side=1).side == 1
+    assert choose(np.zeros((0, 2)), (3.0, 0.0), side=1).side == 0        # straight at the goal: none
+
+
+ROBOT_RADIUS = AvoidSettings().radius
+MIDDLE_BOX = box(2.0, -0.3, 2.6, 0.3)
+
+
+def test_the_guides_pair_goes_round_a_box_straight_between_it_and_the_goal() -> None:
+    """Chapter 1's avoider and mover (:mod:`avoider_sim`), the goal 1.4 m beyond the middle of a
+    box: before the kept side, the two ways round tied and the robot turned left and right in
+    turn, in place, until the run's time ran out."""
+    for noise, seed in ((0.0, 0), (0.01, 1), (0.01, 2)):
+        run = run_avoider(MIDDLE_BOX, (0.0, 0.0, 0.0), (4.0, 0.0), noise=noise, seed=seed)
+        assert run.result == 'reached', f'noise {noise}, seed {seed}: ended at {run.path[-1]}'
+        assert run.min_clearance > ROBOT_RADIUS
+        assert max(abs(p[1]) for p in run.path) > 0.3 + ROBOT_RADIUS        # round the box
+
+
+@pytest.mark.parametrize('start', [(1.55, 0.0, 0.0), (1.56, -0.1, 0.25), (1.55, 0.15, -0.2)])
+def test_the_guides_pair_gets_out_of_the_margin_of_a_box_with_the_goal_beyond(start) -> None:
+    """Started 0.1 m from the box, inside the 0.15 m safety margin (late scans let a robot come so
+    near), the goal beyond the box.  Before: a turn driven as a 0.1 m step behind the robot was
+    within the mover's "just past it" rule and taken as done (the robot stood), and with that
+    fixed, the way out and the turn to the goal at the fan's edge undid each other."""
+    run = run_avoider(MIDDLE_BOX, start, (4.0, 0.0), noise=0.01, seed=3)
+    assert run.result == 'reached', f'ended at {run.path[-1]}'
+    assert run.min_clearance > ROBOT_RADIUS
 
 
 def test_scan_points_drop_invalid_readings_and_apply_the_mount() -> None:

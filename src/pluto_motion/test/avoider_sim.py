@@ -1,0 +1,63 @@
+"""A kinematic simulation of chapter 1's pair (guide 1.1.5): the LaserAvoider's choice
+(:func:`pluto_motion.corridor_avoid.choose`, a turn driven as a step for a Navigator) feeding the
+VectorMover's control law (:class:`pluto_motion.vector_follower.VectorFollower`, which turns on the
+spot before it drives), on a round robot among wall segments.  No ROS; deterministic for a seed.
+
+The avoider decides every ``dt`` from a fresh scan and sends the mover a new point each time, as
+the real pair does at the avoider's 20 Hz loop; what it cannot show is message delay."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from goto_sim import LASER, Run, Segment, clearance, raycast
+from pluto_motion.corridor_avoid import AvoidSettings, choose, turn_step
+from pluto_motion.laser_avoider import DEFAULT_RV, DEFAULT_TV, NAV_TURN_STEP
+from pluto_motion.vector_follower import VectorFollower
+
+__all__ = ['run_avoider']
+
+
+def run_avoider(walls: Sequence[Segment], start: tuple[float, float, float], goal: tuple[float, float], *,
+                noise: float = 0.0, seed: int = 0, dt: float = 0.05, limit_s: float = 90.0,
+                settings: AvoidSettings = AvoidSettings()) -> Run:
+    """Drive from ``start`` to the world point ``goal``; ``noise`` is the laser's range noise (m).
+    The result is 'reached' (the avoider's reach) or 'timeout'; nothing else ends a run."""
+    rng = np.random.default_rng(seed)
+    x, y, theta = start
+    mover = VectorFollower()
+    side = 0
+    path = [start]
+    low = clearance(walls, x, y)
+    t = 0.0
+    while t < limit_s:
+        c, s = math.cos(theta), math.sin(theta)
+        ranges = raycast(walls, x + 0.2 * c, y + 0.2 * s, theta + LASER.theta)
+        if noise:
+            ranges = ranges + rng.normal(0.0, noise, ranges.shape)
+        points = LASER.points(ranges)
+        dx, dy = goal[0] - x, goal[1] - y
+        choice = choose(points, (dx * c + dy * s, -dx * s + dy * c), settings, side)
+        side = choice.side
+        if choice.reached:
+            return Run('reached', path, low, t)
+        length, heading = choice.length, choice.heading
+        if choice.blocked:
+            length = 0.0
+        elif length < 1e-3:                        # a turn: a step along the nearest free heading
+            step = turn_step(points, heading, settings.radius + settings.safety, NAV_TURN_STEP)
+            length, heading = (NAV_TURN_STEP, step) if step is not None else (0.0, 0.0)
+        if length > 0.0:
+            mover.set_goal(x + length * math.cos(theta + heading), y + length * math.sin(theta + heading))
+        else:
+            mover.stop()
+        out = mover.step((x, y, theta), DEFAULT_TV, DEFAULT_RV)
+        x, y = x + out.tv * dt * math.cos(theta), y + out.tv * dt * math.sin(theta)
+        theta = math.remainder(theta + out.rv * dt, math.tau)
+        t += dt
+        path.append((x, y, theta))
+        low = min(low, clearance(walls, x, y))
+    return Run('timeout', path, low, t)
