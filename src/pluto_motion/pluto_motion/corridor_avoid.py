@@ -27,8 +27,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from .scan_points import Beams
 
-__all__ = ['ESCAPE_ANGLE', 'AvoidSettings', 'Choice', 'choose', 'clearance', 'free_lengths', 'scan_to_points',
-           'turn_step']
+__all__ = ['ESCAPE_ANGLE', 'AvoidSettings', 'Choice', 'choose', 'clearance', 'free_lengths', 'navigator_move',
+           'scan_to_points', 'turn_step']
 
 #: A robot too near a point turns until the point is this far (rad) off its heading: 20 degrees
 #: short of beside it, so that a goal beyond the point stays inside the 80-degree fan.
@@ -184,3 +184,14 @@ def turn_step(points: NDArray, turn: float, half_width: float, length: float,
     headings = np.remainder(turn + offsets + math.pi, math.tau) - math.pi
     free = free_lengths(points, headings, half_width, length) >= length - 1e-9
     return float(headings[int(np.argmax(free))]) if free.any() else None
+
+
+def navigator_move(points: NDArray, length: float, heading: float, half_width: float,
+                   step: float) -> tuple[float, float] | None:
+    """The move ``(length, heading)`` for a mover that goes to points only: a turn on the spot
+    (``length`` 0) becomes a step of ``step`` m along :func:`turn_step`'s heading; None when no
+    step is free (the robot is to stop)."""
+    if length >= 1e-3 or heading == 0.0:
+        return length, heading
+    free = turn_step(points, heading, half_width, step)
+    return None if free is None else (step, free)

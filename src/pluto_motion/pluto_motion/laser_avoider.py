@@ -44,7 +44,7 @@ from wurde_core.module_loop import run_loop, set_loop
 from wurde_core.wrappers import MODE_ANGLE, MODE_POINT, MODE_STOP
 
 from .assigned import consumer
-from .corridor_avoid import AvoidSettings, Choice, choose, clearance, scan_to_points, turn_step
+from .corridor_avoid import AvoidSettings, Choice, choose, clearance, navigator_move, scan_to_points
 from .frame_link import FrameLink
 from .scan_points import wrap
 
@@ -199,16 +199,15 @@ class LaserAvoider:
             r.max_rot_speed.set_value(self.limits[1])
             self.mover.move(PVector(magnitude, angle))
         if self.nav.is_connected() and self.pose is not None:
-            if magnitude < 1e-3 and abs(angle) > 0:
-                if not self.warned_turn:
-                    self.logger.warn(f'{self.manager.name}: the Navigator cannot turn on the spot; '
-                                     'a turn is driven as a short step where that is free')
-                    self.warned_turn = True
-                step = turn_step(self.points, angle, self.settings.radius + self.safety, NAV_TURN_STEP)
-                if step is None:
-                    self._halt()
-                    return
-                magnitude, angle = NAV_TURN_STEP, step
+            if magnitude < 1e-3 and angle != 0.0 and not self.warned_turn:
+                self.logger.warn(f'{self.manager.name}: the Navigator cannot turn on the spot; '
+                                 'a turn is driven as a short step where that is free')
+                self.warned_turn = True
+            move = navigator_move(self.points, magnitude, angle, self.settings.radius + self.safety, NAV_TURN_STEP)
+            if move is None:
+                self._halt()
+                return
+            magnitude, angle = move
             x, y = self.link.to_other(*_to_world(self.pose, magnitude * math.cos(angle),
                                                  magnitude * math.sin(angle)))
             self.nav.requests.goal.set_value(Point(x, y))

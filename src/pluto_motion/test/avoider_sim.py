@@ -14,7 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from goto_sim import LASER, Run, Segment, clearance, raycast
-from pluto_motion.corridor_avoid import AvoidSettings, choose, turn_step
+from pluto_motion.corridor_avoid import AvoidSettings, choose, navigator_move
 from pluto_motion.laser_avoider import DEFAULT_RV, DEFAULT_TV, NAV_TURN_STEP
 from pluto_motion.vector_follower import VectorFollower
 
@@ -44,13 +44,10 @@ def run_avoider(walls: Sequence[Segment], start: tuple[float, float, float], goa
         side = choice.side
         if choice.reached:
             return Run('reached', path, low, t)
-        length, heading = choice.length, choice.heading
-        if choice.blocked:
-            length = 0.0
-        elif length < 1e-3:                        # a turn: a step along the nearest free heading
-            step = turn_step(points, heading, settings.radius + settings.safety, NAV_TURN_STEP)
-            length, heading = (NAV_TURN_STEP, step) if step is not None else (0.0, 0.0)
-        if length > 0.0:
+        move = None if choice.blocked else navigator_move(
+            points, choice.length, choice.heading, settings.radius + settings.safety, NAV_TURN_STEP)
+        if move is not None and move[0] > 0.0:
+            length, heading = move
             mover.set_goal(x + length * math.cos(theta + heading), y + length * math.sin(theta + heading))
         else:
             mover.stop()
