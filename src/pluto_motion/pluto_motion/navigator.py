@@ -17,7 +17,9 @@ tunable ``base_wait`` seconds (default :data:`BASE_WAIT_S`) since its last sampl
 :data:`FIRST_SAMPLE_S` from the navigator's start or return to Run before a first sample (under
 the MCP a critical base that goes down idles the navigator, so a base the MCP brings back fails
 nothing); a ``go`` then, or a base that goes down while driving, ends with 3 and stops the
-chain.  ``go`` while already at the goal is autonomous for one status and then stops with goal
+chain.  A chain that fails while the base has been silent for :data:`BASE_QUIET_S` (its
+failure may be the base's) is judged when the base is down (failed: the base) or heard again
+(failed: the chain's reason).  ``go`` while already at the goal is autonomous for one status and then stops with goal
 reached, as 4.3 says.  The status goes out on every change and at least every
 :data:`STATUS_PERIOD_S`; ``plan`` is empty (the motionModule's plan is not on its interface).
 """
@@ -56,6 +58,10 @@ BASE_WAIT_S = 5.0
 #: (a new process, after a restart) must be discovered first, which on a loaded machine can take
 #: seconds.  Until then a silent base is down only after the longer of this and ``base_wait``.
 FIRST_SAMPLE_S = 20.0
+#: Seconds of silence of the base's odometry after which a failure of the chain is not judged at
+#: once: a chain whose base died may fail first (its pose stale, its goto stuck, its plan
+#: unreachable), and that failure's reason would hide the cause.  Many odometry periods long.
+BASE_QUIET_S = 1.0
 HELP = ('  -m MAP       the map whose places set_goal_place names (default map.xml of the config directory)\n'
         '  -s STREAM    the NavigatorTransport stream supplied (default Navigator)\n'
         '  -t SECONDS   longest drive to one goal (default 300)\n'
@@ -92,6 +98,7 @@ class NavigatorModule:
         self.autonomous = False
         self.stop_reason = STOP_NONE
         self.task: Task | None = None
+        self._held: str | None = None       # the reason of a chain failure while the base is quiet
         self._sent: tuple | None = None
         self._sent_at = -math.inf
 
@@ -149,6 +156,7 @@ class NavigatorModule:
 
     def _drive(self) -> None:
         assert self.goal is not None
+        self._held = None
         self.motion.start_activity()            # the chain's threads (nothing happens to running ones)
         self.task = self.motion.go_to(*self.goal, timeout=self.timeout, spin=False)
 
@@ -159,7 +167,7 @@ class NavigatorModule:
         self._end(USER_STOPPED, 'stopped by the user')
 
     def _end(self, reason: int, why: str) -> None:
-        self.autonomous, self.stop_reason, self.task = False, reason, None
+        self.autonomous, self.stop_reason, self.task, self._held = False, reason, None, None
         self._say(f'autonomous stopped: {why}')
         self._publish(force=True)
 
@@ -195,11 +203,9 @@ class NavigatorModule:
         return silent if silent > limit else None
 
     def _base_failed(self, silent: float) -> None:
-        why = f'the base is down: no odometry from {self.base} for {silent:.1f} s'
-        self.logger.warn(f'{self.manager.name}: goal {self.goal} not reached: {why}')
         if self.task is not None:
             self.task.cancel()              # the chain stops: nothing drives on when the base is back
-        self._end(STOP_FAILED, why)
+        self._failed(f'the base is down: no odometry from {self.base} for {silent:.1f} s')
 
     def step(self) -> None:
         self.motion.update()
@@ -212,9 +218,17 @@ class NavigatorModule:
             if result is TaskResult.SUCCEEDED:
                 self._end(GOAL_REACHED, 'goal reached')
             elif result is TaskResult.FAILED:
-                self.logger.warn(f'{self.manager.name}: goal {self.goal} not reached: {self.task.reason}')
-                self._end(STOP_FAILED, self.task.reason)
+                if time.monotonic() - self._odometry_at > BASE_QUIET_S:
+                    self._held, self.task = self.task.reason, None      # judged when the base says
+                else:
+                    self._failed(self.task.reason)
+        elif self._held is not None and time.monotonic() - self._odometry_at <= BASE_QUIET_S:
+            self._failed(self._held)                # the base is up: the chain's reason stands
         self._publish()
+
+    def _failed(self, why: str) -> None:
+        self.logger.warn(f'{self.manager.name}: goal {self.goal} not reached: {why}')
+        self._end(STOP_FAILED, why)
 
     def close(self) -> None:
         """Leave the robot stopped when the navigator goes while driving."""

@@ -1,0 +1,126 @@
+"""Which reason a failed drive gets (issue 13).  A chain whose base died can fail before the
+navigator counts the base down — its pose stale, its goto stuck, its plan "unreachable" (make test
+r96: stop reason 3 and "unreachable" in the log, the base killed 5 s before).  The navigator
+judges a chain failure at once while the base's odometry flows; while the base is quiet it holds
+the failure until the base is down (failed: the base) or heard again (failed: the chain's reason).
+
+In process: a NavigatorModule on a real CommsManager, the base's odometry supplied by a second
+manager over real DDS, and the chain's failure as the Task handle a MotionProxy returns."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterator
+
+import pytest
+from rclpy.parameter import Parameter
+from wurde_core import CommsManager, Logger, Pose
+from wurde_core.interfaces import Egomotion
+from wurde_core.wrappers import STOP_FAILED
+
+from pluto_motion.navigator import BASE_QUIET_S, NavigatorModule
+from pluto_motion.task import Task, TaskResult
+
+BASE_WAIT = 2.0
+
+
+class Said(Logger):
+    """The navigator's Logger, keeping what it was told to log."""
+
+    def __init__(self) -> None:
+        super().__init__('navigator', stderr=False, use_syslog=False)
+        self.lines: list[str] = []
+
+    def log(self, level: int | str, message: str) -> bool:
+        self.lines.append(message)
+        return super().log(level, message)
+
+    def failures(self) -> list[str]:
+        return [line for line in self.lines if 'not reached' in line]
+
+
+class Rig:
+    """The navigator under test and a base whose odometry can be switched off."""
+
+    def __init__(self) -> None:
+        self.manager = CommsManager('navigator')
+        self.manager.set_no_sleep()
+        self.manager.set_no_heartbeat()
+        self.logger = Said()
+        self.module = NavigatorModule(self.manager, self.logger, {}, 'JudgedNavigator', 300.0, base='JudgedBase')
+        self.base = CommsManager('JudgedBase')
+        self.base.set_no_sleep()
+        self.base.set_no_heartbeat()
+        self.odometry = Egomotion('JudgedBaseMotion')
+        self.base.register_supplier(self.odometry)
+        self.flowing = True
+
+    def turn(self) -> None:
+        if self.flowing:
+            self.odometry.data.location = Pose(1.0, 2.0, 0.0)
+            self.odometry.publish_data()
+        self.base.step()
+        self.manager.step()
+        self.module.step()
+        self.manager.wait(0.02)
+
+    def until(self, predicate: Callable[[], bool], what: str, timeout: float = 60.0) -> None:
+        deadline = time.monotonic() + timeout
+        while not predicate():
+            assert time.monotonic() < deadline, f'{what}: not within {timeout} s'
+            self.turn()
+
+    def driving(self, result: list[TaskResult]) -> None:
+        """Autonomous towards (3, 3), the chain's task answering ``result[0]`` ('unreachable')."""
+        assert self.module._heard, 'the base was heard before the drive'
+        self.module.goal, self.module.autonomous = (3.0, 3.0), True
+        self.module.task = Task(lambda: (result[0], 'unreachable'), lambda: None)
+
+    def failing_while_quiet(self) -> None:
+        """Driving, the base falls quiet, then the chain fails: the failure is held."""
+        result = [TaskResult.UNKNOWN]
+        self.driving(result)
+        self.flowing = False
+        self.until(lambda: time.monotonic() - self.module._odometry_at > BASE_QUIET_S, 'the base quiet')
+        result[0] = TaskResult.FAILED
+        self.turn()
+        assert self.module.autonomous and self.module.task is None, 'a failure while the base is quiet is held'
+
+    def close(self) -> None:
+        self.base.clean_up()
+        self.manager.clean_up()
+
+
+@pytest.fixture
+def rig(ros_domain: int) -> Iterator[Rig]:
+    r = Rig()
+    try:
+        r.manager.step()
+        assert r.manager.node.set_parameters([Parameter('base_wait', value=BASE_WAIT)])[0].successful
+        r.until(lambda: r.module._heard, 'the base\'s first odometry')
+        yield r
+    finally:
+        r.close()
+
+
+def test_a_chain_failure_while_the_base_flows_is_the_chains(rig: Rig) -> None:
+    rig.driving([TaskResult.FAILED])
+    rig.until(lambda: not rig.module.autonomous, 'the failure judged')
+    assert rig.module.stop_reason == STOP_FAILED
+    assert rig.logger.failures() == ['navigator: goal (3.0, 3.0) not reached: unreachable']
+
+
+def test_a_chain_failure_while_the_base_is_quiet_waits_for_the_base(rig: Rig) -> None:
+    rig.failing_while_quiet()
+    rig.until(lambda: not rig.module.autonomous, 'the base down')
+    assert rig.module.stop_reason == STOP_FAILED
+    said = rig.logger.failures()
+    assert len(said) == 1 and 'not reached: the base is down: no odometry from JudgedBase for' in said[0], said
+
+
+def test_a_held_failure_gets_the_chains_reason_when_the_base_is_heard_again(rig: Rig) -> None:
+    rig.failing_while_quiet()
+    rig.flowing = True
+    rig.until(lambda: not rig.module.autonomous, 'the failure judged')
+    assert rig.module.stop_reason == STOP_FAILED
+    assert rig.logger.failures() == ['navigator: goal (3.0, 3.0) not reached: unreachable']
