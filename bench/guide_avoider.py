@@ -10,8 +10,9 @@ Two sets of runs, each on worlds this script generates from seeds (none is a shi
 
 Each run ends reached or after 90 simulated seconds.  Reported: reached, touched (the robot's
 disc came within its 0.35 m radius of a wall) and the least clearance, for the avoider as it is and,
-in the same run, as it was before the kept side, the fan margin and the 0.15 m Navigator step
-(``side_bias`` = ``fan_margin`` = 0, step 0.1 m).
+in the same run, without its scan memory (:mod:`pluto_motion.scan_memory`), and as it was before
+the kept side, the fan margin and the 0.15 m Navigator step as well (``side_bias`` =
+``fan_margin`` = 0, step 0.1 m, no memory).
 
 Usage: ``python bench/guide_avoider.py [--seeds N]`` inside ``source env.sh`` (also in
 ``make bench-avoid``).
@@ -68,13 +69,15 @@ def main() -> int:
     from pluto_motion.corridor_avoid import AvoidSettings
 
     radius = AvoidSettings().radius
-    variants = {'now': (AvoidSettings(), avoider_sim.NAV_TURN_STEP),
-                'before': (AvoidSettings(side_bias=0.0, fan_margin=0.0), 0.1)}
+    variants = {'now': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, True),
+                'nomemory': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, False),
+                'before': (AvoidSettings(side_bias=0.0, fan_margin=0.0), 0.1, False)}
     print(f'{"worlds":8} {"avoider":8} {"reached":>9} {"touched":>8} {"least clearance":>16}')
     for kind, make in (('clutter', clutter), ('margin', margin)):
-        for name, (settings, step) in variants.items():
+        for name, (settings, step, memory) in variants.items():
             avoider_sim.NAV_TURN_STEP = step
-            runs = [avoider_sim.run_avoider(walls, start, goal, noise=0.01, seed=i, settings=settings)
+            runs = [avoider_sim.run_avoider(walls, start, goal, noise=0.01, seed=i, settings=settings,
+                                            memory=memory)
                     for seed in range(1, args.seeds + 1) for i, (walls, start, goal) in enumerate(make(seed))]
             reached = sum(run.result == 'reached' for run in runs)
             touched = sum(run.min_clearance < radius for run in runs)

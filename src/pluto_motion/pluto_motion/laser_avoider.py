@@ -4,7 +4,8 @@
 VectorMover, a source of Egomotion, and a source of RangeFinder (should be laser)" (7.7).  Consumers
 use :class:`wurde_core.wrappers.ObstacleAvoider` (``stop()``, ``move_to_relative_point(p)``,
 ``rotate_to_relative_angle(a)``, ``info.brake``), as the guide's BlindTeleop does (1.1.5).  The
-algorithm is :mod:`pluto_motion.corridor_avoid`.
+algorithm is :mod:`pluto_motion.corridor_avoid`, on the last scan and what earlier scans saw near
+the robot where the laser cannot see now (:mod:`pluto_motion.scan_memory`).
 
 Streams (module ``laserAvoider``):
 
@@ -37,6 +38,7 @@ import math
 import sys
 import time
 
+import numpy as np
 from pluto_nav.continuous_odometry import ContinuousOdometry
 from wurde_core import CommsManager, Logger, Point, PVector
 from wurde_core.interfaces import Egomotion, NavigatorTransport, ObstacleAvoiderTransport, RangeFinder, VectorMover
@@ -46,6 +48,7 @@ from wurde_core.wrappers import MODE_ANGLE, MODE_POINT, MODE_STOP
 from .assigned import consumer
 from .corridor_avoid import AvoidSettings, Choice, choose, clearance, navigator_move, scan_to_points
 from .frame_link import FrameLink
+from .scan_memory import LaserView, ScanMemory
 from .scan_points import wrap
 
 __all__ = ['LaserAvoider', 'main']
@@ -119,6 +122,11 @@ class LaserAvoider:
         self.pose_at = self.scan_at = -math.inf
         self.fan: tuple[float, float, float, float, float] | None = None
         self.points = None
+        #: The last scan and what earlier scans saw near the robot that it cannot see now
+        #: (:mod:`pluto_motion.scan_memory`): what the avoider keeps clear of.
+        self.memory = ScanMemory()
+        self.view: LaserView | None = None
+        self.around = None
         self.closest = math.inf
         #: The side of the goal's bearing the way round goes by (:attr:`Choice.side`).
         self.side = 0
@@ -161,6 +169,11 @@ class LaserAvoider:
             self.points = scan_to_points(ranges, first, separation, x_offset=x0, y_offset=y0,
                                          max_range=max_range)
             self.scan_at = now
+            self.view = LaserView(x0, y0, first, first + separation * (len(ranges) - 1), max_range)
+            if self.pose is not None:
+                self.memory.add(self.pose, self.points, now, self.view)
+        if self.points is not None and self.pose is not None and self.view is not None:
+            self.around = np.concatenate((self.points, self.memory.unseen(self.pose, now, self.view)))
 
     def _take_requests(self) -> None:
         while self.avoider.get_next_request():
@@ -203,7 +216,7 @@ class LaserAvoider:
                 self.logger.warn(f'{self.manager.name}: the Navigator cannot turn on the spot; '
                                  'a turn is driven as a short step where that is free')
                 self.warned_turn = True
-            move = navigator_move(self.points, magnitude, angle, self.settings.radius + self.safety, NAV_TURN_STEP)
+            move = navigator_move(self.around, magnitude, angle, self.settings.radius + self.safety, NAV_TURN_STEP)
             if move is None:
                 self._halt()
                 return
@@ -255,14 +268,14 @@ class LaserAvoider:
         if self.pending is not None or now - self.pose_at > EGO_STALE_S or now - self.scan_at > LASER_STALE_S:
             return ERROR, 0.0, 0.0, None
         settings = dataclasses.replace(self.settings, safety=self.safety)
-        self.closest = clearance(self.points, settings.radius)
+        self.closest = clearance(self.around, settings.radius)
         if self.mode == MODE_ANGLE:
             angle = wrap(self.heading - self.pose[2])
             if abs(angle) < 0.03:
                 return REACHED, 0.0, 0.0, None
             return ROTATING, 0.0, angle, Choice(angle, 0.0, True, False, False, self.closest)
         gx, gy = _to_robot(self.pose, *self.goal)
-        choice = choose(self.points, (gx, gy), settings, self.side)
+        choice = choose(self.around, (gx, gy), settings, self.side)
         self.side = choice.side
         distance, angle = math.hypot(gx, gy), math.atan2(gy, gx)
         if choice.reached:

@@ -16,6 +16,7 @@ import numpy as np
 from goto_sim import LASER, Run, Segment, clearance, raycast
 from pluto_motion.corridor_avoid import AvoidSettings, choose, navigator_move
 from pluto_motion.laser_avoider import DEFAULT_RV, DEFAULT_TV, NAV_TURN_STEP
+from pluto_motion.scan_memory import LaserView, ScanMemory
 from pluto_motion.vector_follower import VectorFollower
 
 __all__ = ['run_avoider']
@@ -23,12 +24,14 @@ __all__ = ['run_avoider']
 
 def run_avoider(walls: Sequence[Segment], start: tuple[float, float, float], goal: tuple[float, float], *,
                 noise: float = 0.0, seed: int = 0, dt: float = 0.05, limit_s: float = 90.0,
-                settings: AvoidSettings = AvoidSettings()) -> Run:
-    """Drive from ``start`` to the world point ``goal``; ``noise`` is the laser's range noise (m).
+                settings: AvoidSettings = AvoidSettings(), memory: bool = True) -> Run:
+    """Drive from ``start`` to the world point ``goal``; ``noise`` is the laser's range noise (m);
+    ``memory`` False: the avoider looks at the last scan only (as before :mod:`pluto_motion.scan_memory`).
     The result is 'reached' (the avoider's reach) or 'timeout'; nothing else ends a run."""
     rng = np.random.default_rng(seed)
     x, y, theta = start
     mover = VectorFollower()
+    kept, view = ScanMemory(), LaserView(float(LASER.x[0]), 0.0, float(LASER.theta[0]), float(LASER.theta[-1]))
     side = 0
     path = [start]
     low = clearance(walls, x, y)
@@ -39,6 +42,9 @@ def run_avoider(walls: Sequence[Segment], start: tuple[float, float, float], goa
         if noise:
             ranges = ranges + rng.normal(0.0, noise, ranges.shape)
         points = LASER.points(ranges)
+        if memory:
+            kept.add((x, y, theta), points, t, view)
+            points = np.concatenate((points, kept.unseen((x, y, theta), t, view)))
         dx, dy = goal[0] - x, goal[1] - y
         choice = choose(points, (dx * c + dy * s, -dx * s + dy * c), settings, side)
         side = choice.side

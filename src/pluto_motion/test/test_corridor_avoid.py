@@ -165,6 +165,22 @@ def test_the_guides_pair_gets_out_of_the_margin_of_a_box_with_the_goal_beyond(st
     assert run.min_clearance > ROBOT_RADIUS
 
 
+@pytest.mark.parametrize('far, half, start, goal, seed', [
+    (2.74, 0.29, (1.61, -0.16, -0.17), (5.37, 0.12), 7),
+    (2.91, 0.17, (1.61, -0.15, 0.24), (5.45, 0.17), 10),
+    (3.0, 0.2, (1.6, 0.05, -0.17), (5.5, -0.12), 10),
+    (2.61, 0.24, (1.62, 0.12, -0.02), (5.3, 0.29), 8)])
+def test_the_guides_pair_keeps_clear_of_a_box_it_no_longer_sees(far, half, start, goal, seed) -> None:
+    """Started 0.03-0.05 m from a box's face (``bench/guide_avoider.py``'s margin runs that
+    touched): turning away, the laser, ahead of the robot's centre, lost the box while the disc
+    was still beside it, and the avoider, looking at the last scan only, drove the disc into the
+    corner it had just seen (up to 2.7 cm deep).  The scan memory keeps such points."""
+    walls = box(2.0, -half, far, half) + box(-1.0, -3.0, 7.0, 3.0)
+    run = run_avoider(walls, start, goal, noise=0.01, seed=seed)
+    assert run.result == 'reached', f'ended at {run.path[-1]}'
+    assert run.min_clearance > ROBOT_RADIUS, f'came within {run.min_clearance - ROBOT_RADIUS:+.3f} m of the box'
+
+
 def test_scan_points_drop_invalid_readings_and_apply_the_mount() -> None:
     points = scan_to_points([1.0, -1.0, math.inf, 9.0, 2.0], -math.pi / 2, math.pi / 4, x_offset=0.2,
                             max_range=8.0)
