@@ -195,10 +195,11 @@ def main() -> int:
     parser.add_argument('--pairs', type=int, default=20, help='start/goal pairs per map')
     parser.add_argument('--generated', type=int, default=3, help='generated maps (one per kind, cycling)')
     parser.add_argument('--seed', type=int, default=21, help='first seed of generated maps and goals')
+    parser.add_argument('--kinds', default='', help='kinds of generated maps, comma-separated (default all)')
     parser.add_argument('--shipped', default='office,corridor-loop,outdoor', help='shipped maps to run')
     parser.add_argument('--modes', default='moveto,goto', help='moveto, goto or both')
     args = parser.parse_args()
-    work, maps = nav_run.bench_setup('make bench-motion', args.shipped, args.generated, args.seed)
+    work, maps = nav_run.bench_setup('make bench-motion', args.shipped, args.generated, args.seed, args.kinds)
     table = []
     for i, (name, path) in enumerate(maps):
         goals = pick_goals(path, args.pairs, args.seed + i)

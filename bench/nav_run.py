@@ -22,7 +22,6 @@ import dataclasses
 import math
 import os
 import pathlib
-import subprocess
 import sys
 import time
 from collections.abc import Sequence
@@ -36,6 +35,8 @@ POSE_STREAM = 'Localization/Pose'
 DR_STREAM = 'Localization/Dead-Reckoning'
 RECOVERED_M = 0.10
 MOVEMENT_CHAIN = ('driveModule', 'avoidModule', 'motionModule', 'navigator', 'map_server')
+#: The benchmark's ROS domain, claimed by :func:`bench_setup` and held until the process ends.
+_CLAIM = None
 
 
 @dataclasses.dataclass
@@ -215,11 +216,12 @@ def run(name: str, map_file: pathlib.Path, route: Sequence[tuple[float, float]],
                      compare(raw, truth), time.monotonic() - started, tour_output)
 
 
-def bench_setup(command: str, shipped: str, generated: int, seed: int
+def bench_setup(command: str, shipped: str, generated: int, seed: int, kinds: str = ''
                 ) -> tuple[pathlib.Path, list[tuple[str, pathlib.Path]]]:
     """What both navigation benchmarks do first: refuse to run without DDS on loopback, claim a
     domain id, make a work directory, and list the maps: the ``shipped`` ones (comma-separated
-    names in config/maps) and ``generated`` generated ones (kinds in turn, seeds from ``seed``)."""
+    names in config/maps) and ``generated`` generated ones (``kinds``, comma-separated, default
+    every kind, in turn; seeds from ``seed``)."""
     if os.environ.get('ROS_AUTOMATIC_DISCOVERY_RANGE') != 'LOCALHOST':
         raise SystemExit(f'bench: run it through `{command}` or env.sh (DDS on loopback only)')
     import tempfile
@@ -227,11 +229,19 @@ def bench_setup(command: str, shipped: str, generated: int, seed: int
     from wurde_drivers.sim.generate import KINDS, random_map
     from wurde_drivers.sim.mapfile import save_map
     from wurde_testing import claim_domain_id
-    os.environ['ROS_DOMAIN_ID'] = str(claim_domain_id().domain_id)
+    global _CLAIM
+    # Held for the whole run: a claim dropped at once (its lock freed when the object went) let a
+    # test claim the same domain, and its robot's odometry mixed with the benchmark's (2026-12-04).
+    _CLAIM = claim_domain_id()
+    os.environ['ROS_DOMAIN_ID'] = str(_CLAIM.domain_id)
     work = pathlib.Path(tempfile.mkdtemp(prefix='wurde-nav-bench-'))
     maps = [(name, ROOT / 'config' / 'maps' / f'{name}.xml') for name in shipped.split(',') if name]
+    chosen = [kind for kind in kinds.split(',') if kind] or list(KINDS)
+    unknown = sorted(set(chosen) - set(KINDS))
+    if unknown:
+        raise SystemExit(f'bench: no map kind {", ".join(unknown)} (kinds: {", ".join(KINDS)})')
     for i in range(generated):
-        kind = KINDS[i % len(KINDS)]
+        kind = chosen[i % len(chosen)]
         path = work / f'generated-{kind}-{seed + i}.xml'
         save_map(random_map(seed + i, kind), path)
         maps.append((f'generated {kind} #{seed + i}', path))
