@@ -34,17 +34,6 @@ def test_a_restart_gets_what_the_last_process_saved_and_a_first_start_does_not(m
     assert not list(tmp_path.glob('*.tmp'))                      # replaced, not left half-written
 
 
-def test_saves_can_count_on_a_simulations_clock(monkeypatch, tmp_path) -> None:
-    """A simulation catching up runs many steps in a moment of wall time: counted on its own
-    clock, every ``every_s`` of simulated time is saved however fast the steps come."""
-    path = tmp_path / 'Base.resume'
-    monkeypatch.setenv(STATE_ENV, str(path))
-    kept = ResumeState(every_s=5.0)       # simulated seconds; the steps come at once
-    saved = [step for step in range(100) if kept.save({'step': step}, now=1000.0 + step)]
-    assert saved == list(range(0, 100, 5))
-    assert json.loads(path.read_text()) == {'step': 95}
-
-
 @pytest.mark.parametrize('content, reason', [
     (None, 'no state saved by the last process'),
     ('{"x": 1.0', 'unreadable'),

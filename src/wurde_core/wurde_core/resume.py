@@ -77,14 +77,12 @@ class ResumeState:
             return None, f'{self.path}: not a JSON object'
         return state, f'restart {restart_count()}, state of {self.path}'
 
-    def save(self, state: dict[str, Any], *, force: bool = False, now: float | None = None) -> bool:
+    def save(self, state: dict[str, Any], *, force: bool = False) -> bool:
         """Write ``state`` (JSON-able) if it is time to (or ``force``); whether it was written.
-        ``now`` is the clock ``every_s`` counts on (default: the monotonic clock; a simulation
-        passes its own, so that a burst of catching-up steps does not outrun the saves).
         A failure is kept in :attr:`failure`, never raised: the module goes on."""
         if self.path is None:
             return False
-        now = time.monotonic() if now is None else now
+        now = time.monotonic()
         if not force and now - self._saved_at < self.every_s:
             return False
         self._saved_at = now

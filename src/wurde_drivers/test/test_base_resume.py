@@ -105,3 +105,46 @@ def test_a_restart_with_a_bad_state_file_starts_at_the_start_and_says_why(
             said(restarted, 'no pose in the saved state')
     finally:
         observer.close()
+
+
+def test_a_base_killed_while_turning_resumes_at_its_last_odometry(ros_domain: int, tmp_path: pathlib.Path) -> None:
+    """Killed while it drives and turns (1 rad/s), the base comes back where its last odometry
+    sample put the robot: the consumers bridge the restart on that sample
+    (pluto_nav.continuous_odometry), so the robot must not have moved from it.  A pose saved on
+    a clock of its own came back up to 0.066 rad off that sample, and the guide's avoider ended
+    0.33 m from its goal.  config/sim's odometry is exact (no noise): the odometry is the truth
+    in the frame of the start place."""
+    path = sim_config(tmp_path)
+    state = tmp_path / 'PlutoBase.resume'
+    observer = Observer({'PlutoBaseTruth': 'Egomotion', 'PlutoBaseMotion': 'Egomotion',
+                         'PlutoBaseDrive/SynchroDrive': 'SynchroDrive'})
+    try:
+        with base(path, state, 0) as first:
+            first_truth(observer, 0)
+            observer.until(lambda o: o.obj('PlutoBaseDrive/SynchroDrive').peers() > 0, 'the drive', WAIT_S)
+
+            def turning(o: Observer) -> bool:
+                o.request('PlutoBaseDrive/SynchroDrive', trans=0.3, angular=1.0)
+                return bool(o.events['PlutoBaseMotion']) and o.events['PlutoBaseMotion'][-1][1].rv > 0.9
+            observer.until(turning, 'the robot turning at 1 rad/s', WAIT_S)
+
+            def between_samples(o: Observer) -> bool:
+                """Killed just after an odometry sample, the pose saved with it is the last
+                one: the kill comes between two (10 Hz), past the middle."""
+                since = o.stamps('PlutoBaseTruth')[-1] - o.stamps('PlutoBaseMotion')[-1]
+                return 0.055 < since < 0.095
+            observer.until(between_samples, 'the simulation between two odometry samples', WAIT_S)
+            first.process.send_signal(signal.SIGKILL)
+            first.process.wait(timeout=WAIT_S)
+        seen = len(observer.events['PlutoBaseTruth'])
+        with base(path, state, 1) as restarted:
+            resumed = first_truth(observer, seen)        # what the dead process sent has come by now
+            said(restarted, 'resumed: restart 1')
+        last = truth(observer.events['PlutoBaseMotion'][-1][1])
+        sx, sy, st = START
+        expected = (sx + last[0] * math.cos(st) - last[1] * math.sin(st),
+                    sy + last[0] * math.sin(st) + last[1] * math.cos(st), st + last[2])
+        assert resumed[:2] == pytest.approx(expected[:2], abs=1e-6)
+        assert math.remainder(resumed[2] - expected[2], math.tau) == pytest.approx(0.0, abs=1e-6)
+    finally:
+        observer.close()

@@ -48,11 +48,6 @@ MAX_CATCH_UP = 200
 LOOP_S = 0.01
 #: Longest (simulated) time the base is given to come to rest when it goes Idle.
 MAX_STOP_S = 10.0
-#: How often the robot's true pose is saved for a restart (simulated s): at most this much of its
-#: travel is undone when the MCP restarts the base.  Counted on the simulation's clock: counted
-#: on the wall's, a loaded machine's catching-up steps ran several times this between saves, and
-#: a restart undid 0.1 m and more (the avoider's goal then seemed moved: make test r96).
-SAVE_S = 0.05
 
 
 def _every(rate: float, step: float) -> int:
@@ -63,7 +58,7 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('PlutoBase')
     path = sim_config_path(manager, argv)
-    kept = ResumeState(every_s=SAVE_S)
+    kept = ResumeState()
     resumed, why = _resumed(kept)
     try:
         config, world, start = load_sim(path)
@@ -146,15 +141,22 @@ def main(argv: list[str] | None = None) -> int:
                             'pressed: stopped')
             _publish(truth, truth_std, robot.truth, clock.now)
             clock_topic.publish(clock.now)
-            if kept.save({'x': robot.truth.x, 'y': robot.truth.y, 'theta': robot.truth.theta},
-                         now=clock.now) is False \
-                    and kept.failure:
-                logger.warn(f'{manager.name}: {kept.failure}; the robot would restart at the start')
-                kept.path = None
             n = clock.steps
             if n % odometry_every == 0:
                 o = robot.odometry
                 streams.publish_motion(o.x, o.y, o.theta, o.tv, o.rv, o.acceleration, clock.now)
+                # The pose to restart at is the truth of the odometry just published (after it:
+                # killed in between, the message may not have left either).  Consumers bridge a
+                # restart on the assumption that the robot stood since their last sample
+                # (pluto_nav.continuous_odometry); a pose saved on a clock of its own was up to a
+                # save period and an odometry period away from that sample, and a robot turning at
+                # 1 rad/s came back 0.066 rad off its odometry: 0.3 m off after 4 m.  The robot is
+                # taken to stop the moment its driver stops reporting (a real base coasts on until
+                # its watchdog stops it, which nothing but a localiser could bridge).
+                if not kept.save({'x': robot.truth.x, 'y': robot.truth.y, 'theta': robot.truth.theta},
+                                 force=True) and kept.failure:
+                    logger.warn(f'{manager.name}: {kept.failure}; the robot would restart at the start')
+                    kept.path = None
             if n % odometry_every == 0 or robot.bumpers != last_bumpers:
                 streams.publish_bumpers(robot.bumpers, clock.now)
                 last_bumpers = robot.bumpers
