@@ -8,8 +8,8 @@ wrong frame: in a CI run the MCP restarted a starved base 1.2 m into a 5 m move,
 drove on to a goal 1.6 m off its true one.
 
 The rule is the localModule's (:mod:`pluto_nav.dead_reckoning`): the first sample of a new base
-process (its messages are numbered from 1 again), or an increment no robot could make, is a
-restart of the odometry and counts as no motion.  The poses of the new process are composed onto
+process (another ``header.session``, :class:`wurde_core.sender_watch.SenderWatch`), or an
+increment no robot could make, is a restart of the odometry and counts as no motion.  The poses of the new process are composed onto
 the last pose of the old one, so that the consumer's frame stays the one it started in.
 """
 
@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import math
 from typing import Any
+
+from wurde_core.sender_watch import SenderWatch
 
 from .dead_reckoning import MAX_SPEED, MAX_TURN_RATE
 from .geometry import compose, inverse, relative
@@ -37,27 +39,25 @@ class ContinuousOdometry:
         self._offset = (0.0, 0.0, 0.0)
         self._raw: tuple[float, float, float] | None = None
         self._stamp = -math.inf
-        self._sequence = 0
+        self._sender = SenderWatch()
 
     def take(self, data: Any) -> tuple[float, float, float]:
         """Take one Egomotion data sample (``location``, ``timestamp``, a numbered header);
         returns the pose in this consumer's frame."""
         location = data.location
         raw = (float(location.x()), float(location.y()), float(location.theta()))
-        sequence = int(data.ros_message().header.sequence)
+        new_sender = self._sender.take(data.ros_message().header)
         stamp = float(data.timestamp.get_seconds())
-        if self._raw is not None and self.pose is not None and self._restarted(raw, sequence, stamp):
+        if self._raw is not None and self.pose is not None and (new_sender or self._jumped(raw, stamp)):
             # Where the new process's zero is in this frame: the robot has not moved meanwhile.
             self._offset = tuple(compose(self.pose, inverse(raw)))
             self.resets += 1
             self.bridge = (self.pose, raw)
-        self._raw, self._stamp, self._sequence = raw, stamp, sequence
+        self._raw, self._stamp = raw, stamp
         self.pose = tuple(float(v) for v in compose(self._offset, raw))
         return self.pose
 
-    def _restarted(self, raw: tuple[float, float, float], sequence: int, stamp: float) -> bool:
-        if 0 < sequence < self._sequence:
-            return True                     # a new base process numbers its messages from 1
+    def _jumped(self, raw: tuple[float, float, float], stamp: float) -> bool:
         dx, dy, dtheta = relative(self._raw, raw)
         dt = max(stamp - self._stamp, 1e-6)
         return math.hypot(dx, dy) > MAX_SPEED * dt + 0.05 or abs(dtheta) > MAX_TURN_RATE * dt + 0.05

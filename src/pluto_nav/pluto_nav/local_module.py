@@ -53,6 +53,7 @@ import numpy as np
 from wurde_core import CommsManager, Logger
 from wurde_core.heartbeat import restart_count
 from wurde_core.resume import state_path
+from wurde_core.sender_watch import SenderWatch
 from wurde_core.interfaces import ActuatorState, DMUState, Egomotion, FVectorState, LocalizationPose, RangeFinder
 from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, set_loop
 from wurde_idl.errors import ConfigError
@@ -139,9 +140,12 @@ class LocalModule:
         self.last_status_wall = -np.inf
         self.stale = True                     # no odometry yet
         self.resets_seen = 0
-        self.odometry_sequence = self.dmu_sequence = 0
-        if resume is not None:          # a base restarted meanwhile numbers its messages lower
-            self.odometry_sequence = resume.odometry_sequence
+        # Who sends the DMU's and the base's messages: a new process starts its count again
+        # (wurde_core.sender_watch); a base restarted while this module was down is told from
+        # the one it last heard by what its resume state saved.
+        self.dmu_sender = SenderWatch()
+        self.odometry_sender = SenderWatch() if resume is None else SenderWatch(
+            resume.odometry_session, resume.odometry_sequence)
         self._publish_start(start, resume)
 
     def _publish_start(self, start: tuple[float, float, float], resume: ResumeState | None) -> None:
@@ -166,20 +170,16 @@ class LocalModule:
         while self.dmu.get_next_data():
             d = self.dmu.data
             self.last_dmu_wall = time.monotonic()
-            sequence = d.ros_message().header.sequence      # from 1 again: a new DMU process
-            restarted = 0 < sequence < self.dmu_sequence
-            self.dmu_sequence = sequence
+            restarted = self.dmu_sender.take(d.ros_message().header)      # a new DMU process
             completed += self.dr.add_dmu(d.timestamp.get_seconds(), d.theta, d.phi, d.psi, restarted=restarted)
         while self.odometry.get_next_data():
             d = self.odometry.data
             self.last_odometry_wall = time.monotonic()
             self.tv, self.rv = d.tv, d.rv
             location = d.location
-            # A new base process numbers its messages from 1 again, and its odometry starts again
-            # from zero however long it was down (too slow a jump for the speed rule to see).
-            sequence = d.ros_message().header.sequence
-            restarted = 0 < sequence < self.odometry_sequence
-            self.odometry_sequence = sequence
+            # A new base process's odometry starts again from zero however long it was down (too
+            # slow a jump for the speed rule to see).
+            restarted = self.odometry_sender.take(d.ros_message().header)
             completed += self.dr.add_odometry(d.timestamp.get_seconds(), location.x(), location.y(),
                                               location.theta(), restarted=restarted)
         if self.dr.odometry_resets != self.resets_seen:
@@ -213,7 +213,8 @@ class LocalModule:
                             dead_reckoning=tuple(latest.pose), dead_reckoning_covariance=latest.covariance,  # type: ignore[arg-type]
                             pose=tuple(self.adjuster.pose(latest)),  # type: ignore[arg-type]
                             pose_covariance=self.adjuster.covariance, setter=self.adjuster.setter,
-                            holder=self.adjuster.holder, odometry_sequence=self.odometry_sequence)
+                            holder=self.adjuster.holder, odometry_sequence=self.odometry_sender.sequence,
+                            odometry_session=self.odometry_sender.session)
         try:
             write_resume(self.resume_file, state)
         except OSError as error:

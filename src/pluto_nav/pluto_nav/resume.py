@@ -9,14 +9,17 @@ The file is JSON, one object (metres, radians, seconds; covariances 3x3 over (x,
 row as 9 numbers)::
 
     {"format": "pluto_nav.resume", "version": 1,
-     "odometry": {"stamp": 1764718000.12, "x": 1.5, "y": -0.2, "theta": 0.3, "sequence": 812},
+     "odometry": {"stamp": 1764718000.12, "x": 1.5, "y": -0.2, "theta": 0.3, "sequence": 812,
+                  "session": 4711},
      "dead_reckoning": {"x": 4.4, "y": 7.9, "theta": 0.3, "covariance": [9 numbers]},
      "pose": {"x": 4.5, "y": 7.8, "theta": 0.31, "covariance": [9 numbers] or null,
               "setter": 1, "holder": "poseModule"}}
 
 ``odometry`` is the base's odometry reading (its own frame, its stamp) that the poses correspond
-to, and the number of the last odometry message taken (``sequence``, optional: a restarted
-localModule whose first odometry message is numbered lower knows the base restarted too); ``dead_reckoning`` is stream (0) then, ``pose`` stream (3) (dead reckoning adjusted by the
+to, and the number and the sender's session of the last odometry message taken (``sequence``,
+``session``, both optional: a restarted localModule whose first odometry message comes from
+another session, or without sessions is numbered lower, knows the base restarted too,
+:class:`wurde_core.sender_watch.SenderWatch`); ``dead_reckoning`` is stream (0) then, ``pose`` stream (3) (dead reckoning adjusted by the
 accepted Post_Pose writes) with the setter and the module holding it; its covariance is null while
 no write was accepted (stream (3)'s covariance is then dead reckoning's).  It is written to a
 temporary file beside it (``<file>.<pid>.tmp``) and renamed over it (``os.replace``), so a reader (or a process killed
@@ -54,6 +57,8 @@ class ResumeState:
     #: The number of the base's odometry message (its header.sequence, from 1 per base process):
     #: a first sample numbered lower comes from a base restarted since (its odometry from zero).
     odometry_sequence: int = 0
+    #: The base process's header.session (0: not known).
+    odometry_session: int = 0
 
 
 class _Refused(Exception):
@@ -76,7 +81,8 @@ def to_json(state: ResumeState) -> str:
             'setter': int(state.setter), 'holder': state.holder}
     document = {'format': FORMAT, 'version': VERSION,
                 'odometry': {'stamp': float(state.odometry_stamp), **_xyt(state.odometry),
-                             'sequence': int(state.odometry_sequence)},
+                             'sequence': int(state.odometry_sequence),
+                             'session': int(state.odometry_session)},
                 'dead_reckoning': {**_xyt(state.dead_reckoning),
                                    'covariance': _matrix(state.dead_reckoning_covariance)},
                 'pose': pose}
@@ -146,13 +152,16 @@ def _parse(text: str) -> ResumeState:
     sequence = odometry.get('sequence', 0)
     if isinstance(sequence, bool) or not isinstance(sequence, int) or sequence < 0:
         raise _Refused(f'odometry.sequence: not a count ({sequence!r})')
+    session = odometry.get('session', 0)
+    if isinstance(session, bool) or not isinstance(session, int) or session < 0:
+        raise _Refused(f'odometry.session: not a session number ({session!r})')
     return ResumeState(
         odometry_stamp=_number(odometry, 'stamp', 'odometry'), odometry=_pose(odometry, 'odometry'),
         dead_reckoning=_pose(dead, 'dead_reckoning'),
         dead_reckoning_covariance=_covariance(dead, 'dead_reckoning'),
         pose=_pose(pose, 'pose'),
         pose_covariance=None if pose.get('covariance') is None else _covariance(pose, 'pose'),
-        setter=setter, holder=holder, odometry_sequence=sequence)
+        setter=setter, holder=holder, odometry_sequence=sequence, odometry_session=session)
 
 
 def read_resume(path: str | os.PathLike[str]) -> tuple[ResumeState | None, str]:

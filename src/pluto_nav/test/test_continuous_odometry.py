@@ -13,11 +13,12 @@ from wurde_core import Pose, Time
 from wurde_core.interfaces import Egomotion
 
 
-def _sample(pose: tuple[float, float, float], stamp: float, sequence: int):
+def _sample(pose: tuple[float, float, float], stamp: float, sequence: int, session: int = 0):
     data = Egomotion('Base').data
     data.location = Pose(*pose)
     data.timestamp = Time(stamp)
     data.ros_message().header.sequence = sequence
+    data.ros_message().header.session = session
     return data
 
 
@@ -40,6 +41,24 @@ def test_a_new_base_process_from_zero_goes_on_from_the_last_pose() -> None:
     # 0.5 m ahead of the restarted base is 0.5 m along +y of the old frame (it faced +y).
     assert odometry.take(_sample((0.5, 0.0, 0.0), 61.0, 2)) == pytest.approx((1.0, 0.7, math.pi / 2))
     assert odometry.resets == 1
+
+
+def test_a_new_process_is_known_by_its_session_whatever_its_count() -> None:
+    """The make-test failure: the consumer was held Idle while the base restarted, and the first
+    sample it took of the new process (standing where the old one stopped, 4 s later) was numbered
+    past the old process's last one, a jump slow enough for a robot.  The session tells."""
+    odometry = ContinuousOdometry()
+    for i in range(1, 40):
+        odometry.take(_sample((0.025 * i, 0.0, -0.017 * i), 0.1 * i, i, session=77))
+    last = odometry.pose
+    assert odometry.take(_sample((0.0, 0.0, 0.0), 8.0, 41, session=5)) == pytest.approx(last)
+    assert odometry.resets == 1
+    # Without sessions (a sender that does not say), the same samples are taken for motion.
+    blind = ContinuousOdometry()
+    for i in range(1, 40):
+        blind.take(_sample((0.025 * i, 0.0, -0.017 * i), 0.1 * i, i))
+    assert blind.take(_sample((0.0, 0.0, 0.0), 8.0, 41)) == pytest.approx((0.0, 0.0, 0.0))
+    assert blind.resets == 0
 
 
 def test_a_jump_no_robot_could_make_is_a_restart_too() -> None:

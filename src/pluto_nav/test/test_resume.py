@@ -20,12 +20,13 @@ def _state(pose_covariance: np.ndarray | None = COV * 2) -> ResumeState:
     return ResumeState(odometry_stamp=1764718000.125, odometry=(1.5, -0.25, 0.3),
                        dead_reckoning=(4.4, 7.9, 0.31), dead_reckoning_covariance=COV,
                        pose=(4.5, 7.8, -3.1), pose_covariance=pose_covariance, setter=1, holder='poseModule',
-                       odometry_sequence=812)
+                       odometry_sequence=812, odometry_session=2 ** 63 - 1)
 
 
 def _same(a: ResumeState, b: ResumeState) -> None:
-    assert (a.odometry_stamp, a.odometry, a.dead_reckoning, a.pose, a.setter, a.holder, a.odometry_sequence) == \
-        (b.odometry_stamp, b.odometry, b.dead_reckoning, b.pose, b.setter, b.holder, b.odometry_sequence)
+    assert (a.odometry_stamp, a.odometry, a.dead_reckoning, a.pose, a.setter, a.holder, a.odometry_sequence,
+            a.odometry_session) == (b.odometry_stamp, b.odometry, b.dead_reckoning, b.pose, b.setter, b.holder,
+                                    b.odometry_sequence, b.odometry_session)
     np.testing.assert_array_equal(a.dead_reckoning_covariance, b.dead_reckoning_covariance)
     if a.pose_covariance is None:
         assert b.pose_covariance is None

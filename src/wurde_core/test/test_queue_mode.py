@@ -5,7 +5,8 @@ from __future__ import annotations
 from conftest import until
 from wurde_core import CommsManager
 from wurde_core.interfaces import Foo
-from wurde_core.qos import QUEUE_CAPACITY
+from wurde_core.naming import relative_topic
+from wurde_core.qos import QUEUE_CAPACITY, stream_qos
 
 
 def test_a_burst_of_info_events_reaches_a_queue_mode_consumer(
@@ -73,3 +74,30 @@ def test_switching_to_queue_mode_after_registration_takes_effect_and_keeps_what_
         return seen[-1:] == [49.0]
     until(manager, collect, what='every event of the burst')
     assert [v for v in seen if v >= 0] == [float(v) for v in range(50)]
+
+
+def test_a_restarted_supplier_first_heard_late_is_no_loss(manager: CommsManager) -> None:
+    """Drops are gaps in one sender's count, and a sender is a process (``header.session``): a
+    restarted supplier that the consumer first hears at its 40th message (the consumer was
+    Idle, say) is a new sender joined late, not 34 lost events of the old one."""
+    consumer = Foo('restarted')
+    consumer.set_queue_mode(True)
+    manager.register_consumer(consumer)
+    writer = manager.node.create_publisher(consumer.data_type, relative_topic('restarted', 'data'),
+                                           stream_qos(True))
+    until(manager, lambda: writer.get_subscription_count() > 0, what='the consumer matched')
+    sent = [(11, n) for n in range(1, 6)] + [(12, n) for n in range(40, 46)] + [(12, 48)]
+    for session, sequence in sent:
+        message = consumer.data_type()
+        message.header.source, message.header.session, message.header.sequence = 'Base', session, sequence
+        writer.publish(message)
+    taken: list[tuple[int, int]] = []
+
+    def collect() -> bool:
+        while consumer.get_next_data():
+            header = consumer.data.ros_message().header
+            taken.append((header.session, header.sequence))
+        return len(taken) == len(sent)
+    until(manager, collect, what='every message')
+    assert taken == sent
+    assert consumer.data_drops == 2             # 46 and 47 of the new process: lost

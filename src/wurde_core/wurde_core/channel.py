@@ -5,7 +5,8 @@ loop takes what arrived).  In latest mode it keeps the newest event (older ones 
 overwritten, so nothing is counted).  In queue mode it keeps up to
 :data:`~wurde_core.qos.QUEUE_CAPACITY` events, drops the oldest beyond that and counts every loss,
 including events DDS itself dropped because the consumer fell more than the history depth behind:
-those show as gaps in a sender's ``header.sequence``.  At first contact with a sender, a gap counts
+those show as gaps in a sender's ``header.sequence``.  A sender is a source's process (its
+``header.session``: a restarted supplier counts from 1 again).  At first contact with one, a gap counts
 only if that drain found the history full (it overflowed); otherwise the consumer simply joined a
 running stream late and what was sent before it existed is not a loss.
 """
@@ -13,6 +14,7 @@ running stream late and what was sent before it existed is not a loss.
 from __future__ import annotations
 
 import collections
+import secrets
 from collections.abc import Callable
 from typing import Any
 
@@ -20,8 +22,13 @@ from .qos import QUEUE_CAPACITY
 from .ros_adaptor import publish, take
 
 
+#: This process's ``header.session`` (:mod:`wurde_core.sender_watch`): drawn once, never 0.
+SESSION = secrets.randbits(63) | 1
+
+
 class Outbox:
-    """A publisher that numbers what it sends (``header.sequence``)."""
+    """A publisher that numbers what it sends (``header.sequence``) and says which process sent
+    it (``header.session``)."""
 
     __slots__ = ('publisher', '_handle', 'sequence')
 
@@ -34,6 +41,7 @@ class Outbox:
         """Publish ``message`` with the next sequence number."""
         self.sequence += 1
         message.header.sequence = self.sequence
+        message.header.session = SESSION
         publish(self._handle, message)
 
     def subscribers(self) -> int:
@@ -58,7 +66,7 @@ class Inbox:
         self.fresh = False
         self.drops = 0
         self.received = 0
-        self._last_seq: dict[str, int] = {}
+        self._last_seq: dict[tuple[str, int], int] = {}
         self.accept = accept
 
     def set_queue_mode(self, queue_mode: bool) -> None:
@@ -115,8 +123,9 @@ class Inbox:
                 header = message.header
                 sequence = header.sequence
                 if sequence:
-                    last = last_seq.get(header.source)
-                    last_seq[header.source] = sequence
+                    sender = (header.source, header.session)
+                    last = last_seq.get(sender)
+                    last_seq[sender] = sequence
                     if last is None:
                         first_gaps += sequence - 1
                     elif sequence > last + 1:

@@ -34,6 +34,10 @@ _SUPPORT = {
         '# sequence: counts the events one publisher sent on this channel, from 1; a receiver sees\n'
         '# lost events as gaps (queue mode counts them).  0 when the sender does not count.\n'
         'uint64 sequence\n'
+        '# session: the sending process, a random number it drew when it started; 0 when the sender\n'
+        '# does not say.  A receiver tells a restarted sender from the one before by it, however\n'
+        '# far the new one\'s sequence has counted by the time the receiver looks.\n'
+        'uint64 session\n'
     ),
     'Lock': (
         '# A lock on a Writable info member (guide 3.2.4): who may change it.\n'
