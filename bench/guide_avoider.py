@@ -12,7 +12,11 @@ Each run ends reached or after 90 simulated seconds.  Reported: reached, touched
 disc came within its 0.35 m radius of a wall) and the least clearance, for the avoider as it is and,
 in the same run, without its scan memory (:mod:`pluto_motion.scan_memory`), and as it was before
 the kept side, the fan margin and the 0.15 m Navigator step as well (``side_bias`` =
-``fan_margin`` = 0, step 0.1 m, no memory).
+``fan_margin`` = 0, step 0.1 m, no memory).  These three have a fresh scan at every 20 Hz loop;
+``late`` has the SICK's at 38400 baud (every 0.2 s, 0.2 s old) and ``slow`` at 9600 baud (every
+0.75 s, 0.75 s old), placed at the pose of their stamps as the LaserAvoider does; ``-arr`` the
+same scans taken for scans of where the robot is when it looks (the avoider before
+:mod:`pluto_nav.pose_history`).
 
 Usage: ``python bench/guide_avoider.py [--seeds N]`` inside ``source env.sh`` (also in
 ``make bench-avoid``).
@@ -60,6 +64,13 @@ def margin(seed: int) -> list:
     return cases
 
 
+#: The SICK at 38400 baud (chapter 1's and config/pluto's laser): a scan every 0.19 s, reaching
+#: the avoider 0.2 s after its centre time (wurde_drivers.sick.facts), both rounded to the loop.
+LATE = {'scan_period': 0.2, 'latency': 0.2}
+#: The SICK at 9600 baud: every 0.76 s, 0.77 s old.
+SLOW = {'scan_period': 0.75, 'latency': 0.75}
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('--seeds', type=int, default=3, help='worlds sets per kind (40 clutter, 20 margin each)')
@@ -69,20 +80,24 @@ def main() -> int:
     from pluto_motion.corridor_avoid import AvoidSettings
 
     radius = AvoidSettings().radius
-    variants = {'now': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, True),
-                'nomemory': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, False),
-                'before': (AvoidSettings(side_bias=0.0, fan_margin=0.0), 0.1, False)}
-    print(f'{"worlds":8} {"avoider":8} {"reached":>9} {"touched":>8} {"least clearance":>16}')
+    # name: settings, the Navigator step, run_avoider's keywords
+    variants = {'now': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, {}),
+                'nomemory': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, {'memory': False}),
+                'before': (AvoidSettings(side_bias=0.0, fan_margin=0.0), 0.1, {'memory': False}),
+                'late': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, LATE),
+                'late-arr': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, {**LATE, 'stamped': False}),
+                'slow': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, SLOW),
+                'slow-arr': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, {**SLOW, 'stamped': False})}
+    print(f'{"worlds":8} {"avoider":10} {"reached":>9} {"touched":>8} {"least clearance":>16}')
     for kind, make in (('clutter', clutter), ('margin', margin)):
-        for name, (settings, step, memory) in variants.items():
+        for name, (settings, step, options) in variants.items():
             avoider_sim.NAV_TURN_STEP = step
-            runs = [avoider_sim.run_avoider(walls, start, goal, noise=0.01, seed=i, settings=settings,
-                                            memory=memory)
+            runs = [avoider_sim.run_avoider(walls, start, goal, noise=0.01, seed=i, settings=settings, **options)
                     for seed in range(1, args.seeds + 1) for i, (walls, start, goal) in enumerate(make(seed))]
             reached = sum(run.result == 'reached' for run in runs)
             touched = sum(run.min_clearance < radius for run in runs)
             least = min(run.min_clearance for run in runs) - radius
-            print(f'{kind:8} {name:8} {reached:>4}/{len(runs):<4} {touched:>8} {least:>+13.3f} m', flush=True)
+            print(f'{kind:8} {name:10} {reached:>4}/{len(runs):<4} {touched:>8} {least:>+13.3f} m', flush=True)
     return 0
 
 

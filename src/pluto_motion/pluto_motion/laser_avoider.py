@@ -5,7 +5,9 @@ VectorMover, a source of Egomotion, and a source of RangeFinder (should be laser
 use :class:`wurde_core.wrappers.ObstacleAvoider` (``stop()``, ``move_to_relative_point(p)``,
 ``rotate_to_relative_angle(a)``, ``info.brake``), as the guide's BlindTeleop does (1.1.5).  The
 algorithm is :mod:`pluto_motion.corridor_avoid`, on the last scan and what earlier scans saw near
-the robot where the laser cannot see now (:mod:`pluto_motion.scan_memory`).
+the robot where the laser cannot see now (:mod:`pluto_motion.scan_memory`), both placed at the
+odometry's pose at the scan's stamp (:mod:`pluto_nav.pose_history`) and moved to where the robot
+is now: at 38400 baud a scan is 0.2 s old when it arrives.
 
 Streams (module ``laserAvoider``):
 
@@ -40,6 +42,7 @@ import time
 
 import numpy as np
 from pluto_nav.continuous_odometry import ContinuousOdometry
+from pluto_nav.pose_history import PoseHistory
 from wurde_core import CommsManager, Logger, Point, PVector
 from wurde_core.interfaces import Egomotion, NavigatorTransport, ObstacleAvoiderTransport, RangeFinder, VectorMover
 from wurde_core.module_loop import run_loop, set_loop
@@ -48,7 +51,7 @@ from wurde_core.wrappers import MODE_ANGLE, MODE_POINT, MODE_STOP
 from .assigned import consumer
 from .corridor_avoid import AvoidSettings, Choice, choose, clearance, navigator_move, scan_to_points
 from .frame_link import FrameLink
-from .scan_memory import LaserView, ScanMemory
+from .scan_memory import LaserView, ScanMemory, moved
 from .scan_points import wrap
 
 __all__ = ['LaserAvoider', 'main']
@@ -120,6 +123,11 @@ class LaserAvoider:
         self.link = FrameLink()
         self.pose: tuple[float, float, float] | None = None
         self.pose_at = self.scan_at = -math.inf
+        #: Odometry poses by their stamps: where the robot was when a scan was taken.
+        self.history = PoseHistory()
+        #: The pose the last scan was taken at (odometry frame).
+        self.scan_pose: tuple[float, float, float] | None = None
+        self.warned_stamps = False
         self.fan: tuple[float, float, float, float, float] | None = None
         self.points = None
         #: The last scan and what earlier scans saw near the robot that it cannot see now
@@ -140,6 +148,7 @@ class LaserAvoider:
     def _take_sensors(self, now: float) -> None:
         while self.ego.get_next_data():
             self.pose, self.pose_at = self.odometry.take(self.ego.data), now
+            self.history.add(self.ego.data.timestamp.get_seconds(), self.pose)
         if self.odometry.resets != self.resets_seen:
             self.resets_seen = self.odometry.resets
             self.logger.warn(f'{self.manager.name}: the odometry started again from zero (its base '
@@ -170,10 +179,26 @@ class LaserAvoider:
                                          max_range=max_range)
             self.scan_at = now
             self.view = LaserView(x0, y0, first, first + separation * (len(ranges) - 1), max_range)
-            if self.pose is not None:
-                self.memory.add(self.pose, self.points, now, self.view)
-        if self.points is not None and self.pose is not None and self.view is not None:
-            self.around = np.concatenate((self.points, self.memory.unseen(self.pose, now, self.view)))
+            self.scan_pose = self._pose_at(self.laser.data.timestamp.get_seconds())
+            if self.scan_pose is not None:
+                self.memory.add(self.scan_pose, self.points, now, self.view)
+        if self.points is not None and self.pose is not None and self.scan_pose is not None:
+            seen = np.concatenate((self.points, self.memory.unseen(self.scan_pose, now, self.view)))
+            self.around = moved(seen, self.scan_pose, self.pose)
+
+    def _pose_at(self, stamp: float) -> tuple[float, float, float] | None:
+        """The odometry's pose at a scan's ``stamp``; the latest pose when the odometry's stamps
+        do not reach it (a scan from before the first odometry; one from another clock is said,
+        once)."""
+        pose = self.history.at(stamp)
+        if pose is None and self.pose is not None:
+            if not self.warned_stamps and abs(stamp - self.history.latest) > self.history.keep_s:
+                self.logger.warn(f'{self.manager.name}: a scan stamped {stamp:.3f} is outside the '
+                                 f'odometry\'s stamps ({len(self.history)} kept): scans are placed at the '
+                                 'pose of their arrival until they meet')
+                self.warned_stamps = True
+            return self.pose
+        return pose
 
     def _take_requests(self) -> None:
         while self.avoider.get_next_request():

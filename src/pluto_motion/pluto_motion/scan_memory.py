@@ -21,7 +21,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ['LaserView', 'ScanMemory']
+__all__ = ['LaserView', 'ScanMemory', 'moved']
 
 
 @dataclasses.dataclass(frozen=True)
@@ -59,6 +59,12 @@ def _to_robot(pose: tuple[float, float, float], points: NDArray) -> NDArray:
     c, s = math.cos(theta), math.sin(theta)
     dx, dy = points[:, 0] - x, points[:, 1] - y
     return np.column_stack((c * dx + s * dy, -s * dx + c * dy))
+
+
+def moved(points: NDArray, before: tuple[float, float, float], after: tuple[float, float, float]) -> NDArray:
+    """``points`` of the robot frame at the pose ``before`` in the robot frame at ``after`` (both
+    poses in one frame): a scan taken at ``before`` as the robot at ``after`` has it."""
+    return _to_robot(after, _to_frame(before, points)) if len(points) else points
 
 
 class ScanMemory:

@@ -186,3 +186,18 @@ def test_scan_points_drop_invalid_readings_and_apply_the_mount() -> None:
                             max_range=8.0)
     assert points.shape == (2, 2)
     assert np.allclose(points[0], [0.2, -1.0]) and np.allclose(points[1], [0.2 + 2.0 * math.cos(math.pi / 2), 2.0])
+
+
+@pytest.mark.parametrize('far, half, start, goal, seed', [
+    (2.447, 0.26, (1.501, 0.042, 0.052), (5.223, 0.169), 16),
+    (2.645, 0.2425, (1.547, -0.038, -0.058), (5.323, -0.247), 17)])
+def test_late_scans_placed_at_their_stamps_keep_the_robot_clear(far, half, start, goal, seed) -> None:
+    """A SICK at 9600 baud: a scan every 0.75 s, 0.75 s old when it arrives (``bench/guide_avoider.py``'s
+    margin runs).  Taken for scans of where the robot is when it looks, they showed the box where
+    it had been relative to the robot before its last turn, and the robot drove into it (5.5 cm
+    and 0.9 cm deep, neither reached its goal); placed at the pose of their stamps and moved to where the robot is now
+    (:mod:`pluto_nav.pose_history`, as the LaserAvoider does), it keeps clear."""
+    walls = box(2.0, -half, far, half) + box(-1.0, -3.0, 7.0, 3.0)
+    run = run_avoider(walls, start, goal, noise=0.01, seed=seed, scan_period=0.75, latency=0.75)
+    assert run.result == 'reached', f'ended at {run.path[-1]}'
+    assert run.min_clearance > ROBOT_RADIUS, f'came within {run.min_clearance - ROBOT_RADIUS:+.3f} m of the box'

@@ -10,11 +10,12 @@ manager over real DDS, and the chain's failure as the Task handle a MotionProxy 
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 
 import pytest
 from rclpy.parameter import Parameter
-from wurde_core import CommsManager, Logger, Pose
+import in_process
+from wurde_core import CommsManager, Pose
 from wurde_core.interfaces import Egomotion
 from wurde_core.wrappers import STOP_FAILED
 
@@ -24,22 +25,17 @@ from pluto_motion.task import Task, TaskResult
 BASE_WAIT = 2.0
 
 
-class Said(Logger):
+class Said(in_process.Said):
     """The navigator's Logger, keeping what it was told to log."""
 
     def __init__(self) -> None:
-        super().__init__('navigator', stderr=False, use_syslog=False)
-        self.lines: list[str] = []
-
-    def log(self, level: int | str, message: str) -> bool:
-        self.lines.append(message)
-        return super().log(level, message)
+        super().__init__('navigator')
 
     def failures(self) -> list[str]:
         return [line for line in self.lines if 'not reached' in line]
 
 
-class Rig:
+class Rig(in_process.ModuleRig):
     """The navigator under test and a base whose odometry can be switched off."""
 
     def __init__(self) -> None:
@@ -48,27 +44,17 @@ class Rig:
         self.manager.set_no_heartbeat()
         self.logger = Said()
         self.module = NavigatorModule(self.manager, self.logger, {}, 'JudgedNavigator', 300.0, base='JudgedBase')
-        self.base = CommsManager('JudgedBase')
-        self.base.set_no_sleep()
-        self.base.set_no_heartbeat()
+        self.peer = CommsManager('JudgedBase')
+        self.peer.set_no_sleep()
+        self.peer.set_no_heartbeat()
         self.odometry = Egomotion('JudgedBaseMotion')
-        self.base.register_supplier(self.odometry)
+        self.peer.register_supplier(self.odometry)
         self.flowing = True
 
-    def turn(self) -> None:
+    def feed(self) -> None:
         if self.flowing:
             self.odometry.data.location = Pose(1.0, 2.0, 0.0)
             self.odometry.publish_data()
-        self.base.step()
-        self.manager.step()
-        self.module.step()
-        self.manager.wait(0.02)
-
-    def until(self, predicate: Callable[[], bool], what: str, timeout: float = 60.0) -> None:
-        deadline = time.monotonic() + timeout
-        while not predicate():
-            assert time.monotonic() < deadline, f'{what}: not within {timeout} s'
-            self.turn()
 
     def driving(self, result: list[TaskResult]) -> None:
         """Autonomous towards (3, 3), the chain's task answering ``result[0]`` ('unreachable')."""
@@ -87,7 +73,7 @@ class Rig:
         assert self.module.autonomous and self.module.task is None, 'a failure while the base is quiet is held'
 
     def close(self) -> None:
-        self.base.clean_up()
+        self.peer.clean_up()
         self.manager.clean_up()
 
 

@@ -6,9 +6,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from hypothesis import given, strategies as st
 
-from pluto_motion.scan_memory import LaserView, ScanMemory
+from pluto_motion.scan_memory import LaserView, ScanMemory, moved
 
 #: A 180-degree laser 0.2 m ahead of the centre, as chapter 1's robot has.
 VIEW = LaserView(0.2, 0.0, -math.pi / 2, math.pi / 2, 8.0)
@@ -61,3 +62,11 @@ def test_the_view_sees_a_bearing_when_it_is_within_the_fan_whatever_the_turns(mi
     off = abs(math.remainder(bearing - middle, math.tau))
     if abs(off - half) > 1e-9:
         assert bool(view.sees(point)[0]) == (off < half)
+
+
+def test_a_scan_taken_before_a_turn_is_moved_to_where_the_robot_is_now() -> None:
+    """A box 1 m ahead when the scan was taken, the robot since turned 0.2 rad left (a 0.2 s old
+    scan at 1 rad/s) and moved 0.1 m on: the box is now right of its heading, not ahead."""
+    now = moved(np.array([[1.0, 0.0]]), (0.0, 0.0, 0.0), (0.1, 0.0, 0.2))[0]
+    assert now == pytest.approx((0.9 * math.cos(0.2), -0.9 * math.sin(0.2)))
+    assert len(moved(np.empty((0, 2)), (0.0, 0.0, 0.0), (1.0, 2.0, 3.0))) == 0
