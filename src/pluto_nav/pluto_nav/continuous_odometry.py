@@ -9,8 +9,9 @@ drove on to a goal 1.6 m off its true one.
 
 The rule is the localModule's (:mod:`pluto_nav.dead_reckoning`): the first sample of a new base
 process (another ``header.session``, :class:`wurde_core.sender_watch.SenderWatch`), or an
-increment no robot could make, is a restart of the odometry and counts as no motion.  The poses of the new process are composed onto
-the last pose of the old one, so that the consumer's frame stays the one it started in.
+increment no robot could make, is a restart of the odometry and counts as no motion.  The poses
+of the new process are composed onto the last pose of the old one, so that the consumer's frame
+stays the one it started in.
 """
 
 from __future__ import annotations
