@@ -125,8 +125,10 @@ class LaserAvoider:
         self.pose_at = self.scan_at = -math.inf
         #: Odometry poses by their stamps: where the robot was when a scan was taken.
         self.history = PoseHistory()
-        #: The pose the last scan was taken at (odometry frame).
+        #: The pose the last scan was taken at (odometry frame; None until there is odometry)
+        #: and its stamp.
         self.scan_pose: tuple[float, float, float] | None = None
+        self.scan_stamp = -math.inf
         self.warned_stamps = False
         self.fan: tuple[float, float, float, float, float] | None = None
         self.points = None
@@ -179,10 +181,15 @@ class LaserAvoider:
                                          max_range=max_range)
             self.scan_at = now
             self.view = LaserView(x0, y0, first, first + separation * (len(ranges) - 1), max_range)
-            self.scan_pose = self._pose_at(self.laser.data.timestamp.get_seconds())
+            self.scan_stamp = self.laser.data.timestamp.get_seconds()
+            self.scan_pose = self._pose_at(self.scan_stamp)
             if self.scan_pose is not None:
                 self.memory.add(self.scan_pose, self.points, now, self.view)
-        if self.points is not None and self.pose is not None and self.scan_pose is not None:
+        if self.points is not None and self.scan_pose is None and self.pose is not None:
+            # The scan came before the first odometry: placed now that there is a pose.
+            self.scan_pose = self._pose_at(self.scan_stamp)
+            self.memory.add(self.scan_pose, self.points, now, self.view)
+        if self.points is not None and self.scan_pose is not None:
             seen = np.concatenate((self.points, self.memory.unseen(self.scan_pose, now, self.view)))
             self.around = moved(seen, self.scan_pose, self.pose)
 

@@ -13,11 +13,11 @@ from collections.abc import Iterator
 import numpy as np
 import pytest
 from in_process import ModuleRig, Said
-from wurde_core import CommsManager, Pose, Time
-from wurde_core.interfaces import Egomotion, RangeFinder
+from wurde_core import CommsManager, Point, Pose, Time
+from wurde_core.interfaces import Egomotion, ObstacleAvoider, RangeFinder
 
 from pluto_motion.corridor_avoid import AvoidSettings
-from pluto_motion.laser_avoider import LaserAvoider
+from pluto_motion.laser_avoider import MOVING, LaserAvoider
 
 T0 = 1_800_000_000.0            # the robot's clock: seconds since the epoch
 BEAMS = 181
@@ -42,6 +42,8 @@ class Rig(ModuleRig):
         for obj in (self.odometry, self.laser):
             obj.set_auto_timestamp(False)         # the stamps are the robot's, set below
             self.peer.register_supplier(obj)
+        self.client = ObstacleAvoider('StampAvoider')      # BlindTeleop's side
+        self.peer.register_consumer(self.client)
         info = self.laser.info
         info.theta_offset.set_value(-math.pi / 2)
         info.theta_separation.set_value(math.pi / (BEAMS - 1))
@@ -111,3 +113,19 @@ def test_a_scan_on_another_clock_is_placed_at_the_latest_pose_and_said_once(rig:
     rig.until(lambda: rig.module.laser.received() >= 2, 'the second scan taken')
     said = [line for line in rig.logger.lines if 'outside the odometry' in line]
     assert len(said) == 1, said
+
+
+def test_a_scan_from_before_the_first_odometry_is_placed_when_the_odometry_comes(rig: Rig) -> None:
+    """The shipped blind-teleop set-up: the laser was heard before the base, and the goal was
+    asked for before either.  The avoider crashed at the first odometry (no scan placed: the
+    scan had no pose to be placed at), and the MCP's restart forgot the goal."""
+    rig.until(lambda: rig.client.peers('request') > 0, 'the avoider answering requests')
+    rig.scan(T0, 3.0)
+    rig.until(lambda: rig.module.points is not None, 'the scan taken')
+    assert rig.module.scan_pose is None and rig.module.around is None
+    rig.client.move_to_relative_point(Point(2.0, 0.0))
+    rig.until(lambda: rig.module.pending is not None, 'the goal taken')
+    rig.pose(T0 + 0.1, 0.0)
+    rig.until(lambda: rig.module.state == MOVING, 'moving to the goal')
+    assert rig.module.scan_pose == pytest.approx((0.0, 0.0, 0.0))
+    assert rig.module.around[0] == pytest.approx((3.2, 0.0), abs=1e-6)
