@@ -132,8 +132,12 @@ class AvoidController:
         self.sonar = (self.sonar[0], self.sonar[1], None)
 
     # -- one loop --------------------------------------------------------------------------------
-    def step(self, now: float, pose: tuple[float, float, float] | None) -> DriveOrder | None:
-        """The drive command to write now (None: write nothing)."""
+    def step(self, now: float, pose: tuple[float, float, float] | None,
+             frame: tuple[float, float, float] | None = None) -> DriveOrder | None:
+        """The drive command to write now (None: write nothing).  ``pose`` is the robot's, the
+        goto's frame; ``frame`` the robot's pose in the frame the readings were placed in (None:
+        ``pose``'s): a continuous one, so that a correction of ``pose`` is not taken for motion."""
+        frame = pose if frame is None else frame
         self.laser_code, self.slowed = 0, None
         if not self.running:
             if self.stop_sent:
@@ -145,7 +149,8 @@ class AvoidController:
             return None
         fresh, self.fresh = self.fresh, False
         self.failure = self.watch.failure(now)
-        laser_points = _relative(self.laser[0], self.laser[1], pose) if self.failure is None else np.zeros((0, 2))
+        laser_points = _relative(self.laser[0], self.laser[1], frame) if self.failure is None else np.zeros((0, 2))
+        sonar_points = _relative(self.sonar[0], self.sonar[2], frame)
         if c.laser and self.failure is not None or c.kind is Kind.WALL_FOLLOW and self.failure is not None:
             self.laser_code, self.slowed = LASER_FATAL, (0.0, 0.0)
             return _stop(c.sonar)
@@ -155,7 +160,7 @@ class AvoidController:
             tv, rv = wall_follow_step(laser_points, c.tv, c.distance, radius=self.field.radius)
             tv = self._guarded(c, tv, rv, laser_points)
             return DriveOrder(10 if c.sonar else 0, (tv, rv))
-        return self._goto(c, now, pose, laser_points)
+        return self._goto(c, now, pose, laser_points, sonar_points)
 
     def _guarded(self, c: AvoidCommand, tv: float, rv: float, points: np.ndarray,
                  wanted: float | None = None) -> float:
@@ -178,10 +183,9 @@ class AvoidController:
         return None
 
     def _goto(self, c: AvoidCommand, now: float, pose: tuple[float, float, float] | None,
-              laser_points: np.ndarray) -> DriveOrder:
+              laser_points: np.ndarray, sonar_points: np.ndarray) -> DriveOrder:
         if self.goto_code in (GOTO_REACHED, GOTO_STUCK) or pose is None:
             return _stop(c.sonar)
-        sonar_points = _relative(self.sonar[0], self.sonar[2], pose)
         points = np.concatenate((laser_points, sonar_points))
         cones = np.concatenate((np.zeros(len(laser_points)), self.sonar[1][:len(sonar_points)]))
         step = goto_step(pose, c.goal, points, max_tv=c.max_tv, max_rv=c.max_rv, strength=c.strength,

@@ -5,7 +5,9 @@ driveModule's, ``drive/command``, "after possibly modifying the command" (Pluto 
 ``drive/status`` comes back up as ``avoidance/status``.  It reads the laser (``-L``, default
 PlutoLaser: the RangeFinder of config/pluto's dummy SICK), the base's sonar ``<base>Sonar`` and the
 pose (:class:`pluto_motion.pose_source.PoseSource`: Localization/Pose, else Dead-Reckoning, else the
-base odometry, each fall-back warned once).
+base odometry, each fall-back warned once).  Each laser scan and sonar reading is placed at the pose
+of its stamp in a frame that never jumps (:meth:`~pluto_motion.pose_source.PoseSource.frame`) and
+moved with the robot in it.
 
 ``avoidance/command`` (requests): cmdFlags = 10*A + T (:mod:`pluto_motion.avoid_command`):
 
@@ -132,7 +134,8 @@ class AvoidModule:
             manager.register_consumer(obj)
         for trigger in (Trigger(self.laser), Trigger(self.link.commands), Trigger(self.link.status), Every(LOOP_S)):
             manager.register_trigger(trigger)
-        self.pose_source: str | None = None
+        #: The source readings are placed and moved in (:meth:`PoseSource.frame`).
+        self.frame_source: str | None = None
         self.pose = PoseSource(manager, base, lambda text: logger.warn(f'{manager.name}: {text}'),
                                user='the goto and the regulator steer')
         self.laser_info = self.sonar_info = False
@@ -142,6 +145,7 @@ class AvoidModule:
         self.drive_data: list[float] = []
         self.drive_element: list[int] = []
         self.laser_dead = False
+        self.warned_stamps = False
 
     # -- inputs ----------------------------------------------------------------------------------
     def _accept(self, command: AvoidCommand, now: float) -> None:
@@ -153,7 +157,7 @@ class AvoidModule:
             self.drive_status.requests.element.set_value([0])     # the drive's start_activity
             self.drive_status.publish_request()
 
-    def _take_sensors(self, now: float, pose: tuple[float, float, float] | None) -> None:
+    def _take_sensors(self, now: float) -> None:
         while self.laser.get_next_info():
             self.laser_info, self.laser_beams = True, None
         while self.sonar.get_next_info():
@@ -163,20 +167,37 @@ class AvoidModule:
             if self.laser_beams is None or len(self.laser_beams) != len(ranges):
                 self.laser_beams = _beams(self.laser.info, len(ranges))
             stamp = self.laser.data.timestamp.get_seconds()
-            self.control.set_laser(ranges, self.laser_beams.points(ranges), stamp, now, pose)
+            self.control.set_laser(ranges, self.laser_beams.points(ranges), stamp, now, self._taken_at(stamp))
         if self.sonar.get_next_data() and self.sonar_info:
             ranges = np.asarray(self.sonar.data.ranges, dtype=float)
             if self.sonar_beams is None or len(self.sonar_beams) != len(ranges):
                 self.sonar_beams = _beams(self.sonar.info, len(ranges))
             points = self.sonar_beams.points(ranges)
             cones = np.full(len(points), self.sonar_beams.half_angle)
-            self.control.set_sonar(points, cones, pose)
+            self.control.set_sonar(points, cones, self._taken_at(self.sonar.data.timestamp.get_seconds()))
             self.sonar_at = now
         elif now - self.sonar_at > SONAR_FRESH_S:
             self.control.set_sonar(np.zeros((0, 2)), np.zeros(0), None)
         if self.drive_status.get_next_data():
             self.drive_data = list(self.drive_status.data.data)
             self.drive_element = list(self.drive_status.data.element)
+
+    def _taken_at(self, stamp: float) -> tuple[float, float, float] | None:
+        """The pose in the readings' frame (:meth:`PoseSource.frame`) a reading stamped ``stamp``
+        was taken at (a SICK scan is 0.2 s old when it arrives at 38400 baud, 0.77 s at 9600:
+        :mod:`wurde_drivers.sick.facts`); the latest pose when the poses kept do not reach the
+        stamp (a reading on another clock is said, once); None without a frame."""
+        frame = self.frame_source
+        if frame is None:
+            return None
+        taken = self.pose.pose_at(frame, stamp)
+        if taken is not None:
+            return taken
+        if not self.warned_stamps and self.pose.beyond(frame, stamp):
+            self.logger.warn(f'{self.manager.name}: a reading stamped {stamp:.3f} is outside the stamps of '
+                             f'{frame}: readings are placed at the pose of their arrival')
+            self.warned_stamps = True
+        return self.pose.poses[frame]
 
     # -- outputs ---------------------------------------------------------------------------------
     def _write_drive(self, order: DriveOrder) -> None:
@@ -202,15 +223,16 @@ class AvoidModule:
         now = time.monotonic()
         self._take_commands(now)
         pose = self.pose.pose()
-        if self.pose.source != self.pose_source:
-            # The pose source changed (the base odometry, then Dead-Reckoning, then Pose): its frame
-            # may be another, so the readings kept are not moved by the difference of two frames
-            # (that put a wall inside the robot and ended a goto as stuck at its start).
-            self.pose_source = self.pose.source
+        frame = self.pose.frame()
+        if frame != self.frame_source:
+            # The readings' frame changed (the base odometry, then Dead-Reckoning): the readings
+            # kept are not moved by the difference of two frames (that put a wall inside the robot
+            # and ended a goto as stuck at its start).
+            self.frame_source = frame
             self.control.forget_poses()
-        self._take_sensors(now, pose)
+        self._take_sensors(now)
         before = self.control.goto_code
-        order = self.control.step(now, pose)
+        order = self.control.step(now, pose, None if frame is None else self.pose.poses[frame])
         if self.control.goto_code != before and self.control.goto_code == GOTO_STUCK:
             self.logger.warn(f'{self.manager.name}: {self.control.stuck_reason}')
         elif self.control.goto_code != before and self.control.goto_code == GOTO_REACHED:

@@ -199,7 +199,7 @@ class LaserAvoider:
         once)."""
         pose = self.history.at(stamp)
         if pose is None and self.pose is not None:
-            if not self.warned_stamps and abs(stamp - self.history.latest) > self.history.keep_s:
+            if not self.warned_stamps and self.history.beyond(stamp):
                 self.logger.warn(f'{self.manager.name}: a scan stamped {stamp:.3f} is outside the '
                                  f'odometry\'s stamps ({len(self.history)} kept): scans are placed at the '
                                  'pose of their arrival until they meet')

@@ -125,7 +125,11 @@ class MotionModule:
         if self.laser.get_next_info():
             self.geometry = geometry_from_info(self.laser.info)
         if self.laser.get_next_data() and self.geometry is not None and pose is not None:
-            self.recent.append(scan_points(list(self.laser.data.ranges), pose, self.geometry))
+            # Placed where the robot was when the scan was taken (0.2 s before it arrives at 38400
+            # baud), by the pose source in use; where the robot is when the stamp is not kept.
+            source, stamp = self.poses.source, self.laser.data.timestamp.get_seconds()
+            taken = self.poses.pose_at(source, stamp) if source is not None else None
+            self.recent.append(scan_points(list(self.laser.data.ranges), taken or pose, self.geometry))
 
     def _take_commands(self, pose: tuple[float, float, float] | None) -> None:
         while self.commands.get_next_request():

@@ -9,6 +9,11 @@ at the robot's start: the frame Pluto 6.1 first named, "angle defined by baseser
 ATRV2/Drive/Raw", kept through a restart of the base by :mod:`pluto_nav.continuous_odometry`), again
 with a warning.  A source is used only while it is fresh (a pose taken in
 within :data:`FRESH_S` seconds).  Each change of source is logged once.
+
+Each source's poses of the last seconds are kept by their stamps (:class:`pluto_nav.pose_history.
+PoseHistory`, the robot's clock, which the laser and the sonar stamp their readings with too), so
+that :meth:`PoseSource.pose_at` can say where the robot was when a reading was taken, in the frame
+of :meth:`PoseSource.frame`.
 """
 
 from __future__ import annotations
@@ -18,6 +23,7 @@ from collections.abc import Callable
 
 from pluto_nav.continuous_odometry import ContinuousOdometry
 from pluto_nav.loc_proxy import LocProxy
+from pluto_nav.pose_history import PoseHistory
 from pluto_nav.streams import DEAD_RECKONING, NOBODY, POSE
 from wurde_core import CommsManager
 from wurde_core.interfaces import Egomotion
@@ -44,8 +50,10 @@ class PoseSource:
             the base did and is not the map's: a module that plans on a map waits for the
             localModule instead."""
         self.localization_only = localization_only
-        self.loc = LocProxy(manager, (1 << DEAD_RECKONING) | (1 << POSE))
+        # Queue mode: every sample reaches the histories, not one per loop of the module.
+        self.loc = LocProxy(manager, (1 << DEAD_RECKONING) | (1 << POSE), queue_mode=True)
         self.motion = Egomotion(f'{base}Motion')
+        self.motion.set_queue_mode(True)
         manager.register_consumer(self.motion)
         #: The odometry fall-back in one frame through restarts of the base.
         self.odometry = ContinuousOdometry()
@@ -56,6 +64,7 @@ class PoseSource:
                          None: ('no fresh pose from the localModule: waiting for one' if localization_only
                                 else 'no fresh pose: the robot stops until one comes')}
         self.poses: dict[str, tuple[float, float, float]] = {}
+        self.histories = {name: PoseHistory() for name in ('Localization/Pose', 'Localization/Dead-Reckoning', ODOMETRY)}
         self.heard: dict[str, float] = {}
         self.source: str | None = None
 
@@ -64,10 +73,13 @@ class PoseSource:
         now = time.monotonic()
         for name, n in _STREAMS:
             poses = self.loc.get_poses(n)
+            for sample in poses:
+                self.histories[name].add(sample.stamp, sample.xytheta)
             if poses:
                 self.poses[name], self.heard[name] = poses[-1].xytheta, now
-        if self.motion.get_next_data():
+        while self.motion.get_next_data():
             self.poses[ODOMETRY], self.heard[ODOMETRY] = self.odometry.take(self.motion.data), now
+            self.histories[ODOMETRY].add(self.motion.data.timestamp.get_seconds(), self.poses[ODOMETRY])
 
     def _fresh(self, name: str) -> bool:
         return time.monotonic() - self.heard.get(name, -float('inf')) <= FRESH_S
@@ -89,3 +101,23 @@ class PoseSource:
                 self.warn(self.warnings[chosen])
             self.source = chosen
         return None if chosen is None else self.poses[chosen]
+
+    def frame(self) -> str | None:
+        """The fresh source that never jumps, to move readings with the robot by: Dead-Reckoning,
+        else the base odometry (Localization/Pose jumps when a pose setter corrects it, and a
+        correction is not motion); None when neither is fresh."""
+        self.update()
+        for name in ('Localization/Dead-Reckoning', ODOMETRY):
+            if self._fresh(name):
+                return name
+        return None
+
+    def pose_at(self, source: str, stamp: float) -> tuple[float, float, float] | None:
+        """Where ``source`` had the robot at ``stamp`` (the robot's clock), interpolated; None
+        when its kept poses do not reach ``stamp``."""
+        return self.histories[source].at(stamp)
+
+    def beyond(self, source: str, stamp: float) -> bool:
+        """Whether ``stamp`` is further from ``source``'s stamps than they are kept: a reading on
+        another clock, not just one a little before the first pose."""
+        return self.histories[source].beyond(stamp)

@@ -12,20 +12,16 @@ from collections.abc import Iterator
 
 import numpy as np
 import pytest
-from in_process import ModuleRig, Said
-from wurde_core import CommsManager, Point, Pose, Time
-from wurde_core.interfaces import Egomotion, ObstacleAvoider, RangeFinder
+from in_process import T0, Said, StampedRig
+from wurde_core import CommsManager, Point
+from wurde_core.interfaces import ObstacleAvoider
 
 from pluto_motion.corridor_avoid import AvoidSettings
 from pluto_motion.laser_avoider import MOVING, LaserAvoider
 
-T0 = 1_800_000_000.0            # the robot's clock: seconds since the epoch
-BEAMS = 181
-MIDDLE = 90                     # the beam straight ahead
 
-
-class Rig(ModuleRig):
-    """The avoider under test and a robot that supplies stamped odometry and scans."""
+class Rig(StampedRig):
+    """The avoider under test, the robot and BlindTeleop's side of the avoider."""
 
     def __init__(self) -> None:
         self.manager = CommsManager('laserAvoider')
@@ -34,40 +30,9 @@ class Rig(ModuleRig):
         self.logger = Said('laserAvoider')
         self.module = LaserAvoider(self.manager, self.logger, AvoidSettings(), stream='StampAvoider',
                                    laser='StampLaser', ego='StampMotion', mover='StampMover', nav='StampNav')
-        self.peer = CommsManager('StampRobot')
-        self.peer.set_no_sleep()
-        self.peer.set_no_heartbeat()
-        self.odometry = Egomotion('StampMotion')
-        self.laser = RangeFinder('StampLaser')
-        for obj in (self.odometry, self.laser):
-            obj.set_auto_timestamp(False)         # the stamps are the robot's, set below
-            self.peer.register_supplier(obj)
-        self.client = ObstacleAvoider('StampAvoider')      # BlindTeleop's side
+        super().__init__('StampRobot', 'StampMotion', 'StampLaser')
+        self.client = ObstacleAvoider('StampAvoider')
         self.peer.register_consumer(self.client)
-        info = self.laser.info
-        info.theta_offset.set_value(-math.pi / 2)
-        info.theta_separation.set_value(math.pi / (BEAMS - 1))
-        info.x_offset.set_value(0.2)
-        info.y_offset.set_value(0.0)
-        info.max_range.set_value(8.0)
-        self.laser.publish_info()
-
-    def pose(self, stamp: float, theta: float) -> None:
-        self.odometry.data.location = Pose(0.0, 0.0, theta)
-        self.odometry.data.timestamp = Time(stamp)
-        self.odometry.publish_data()
-
-    def scan(self, stamp: float, ahead: float) -> None:
-        """A scan with one point, ``ahead`` m straight ahead of the laser."""
-        ranges = [9.0] * BEAMS
-        ranges[MIDDLE] = ahead
-        self.laser.data.ranges = ranges
-        self.laser.data.timestamp = Time(stamp)
-        self.laser.publish_data()
-
-    def close(self) -> None:
-        self.peer.clean_up()
-        self.manager.clean_up()
 
 
 @pytest.fixture

@@ -43,6 +43,11 @@ class PoseHistory:
         """The latest stamp (-inf: none)."""
         return self._stamps[-1] if self._stamps else -math.inf
 
+    def beyond(self, stamp: float) -> bool:
+        """Whether ``stamp`` is further from the latest stamp than poses are kept: a reading on
+        another clock, not one a little before the first pose or after the latest."""
+        return bool(self._stamps) and abs(stamp - self._stamps[-1]) > self.keep_s
+
     def clear(self) -> None:
         self._stamps.clear()
         self._poses.clear()

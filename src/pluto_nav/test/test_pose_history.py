@@ -37,6 +37,16 @@ def test_outside_the_history_is_unknown_but_a_little_after_the_latest_is_the_lat
     assert history.latest == pytest.approx(104.9)
 
 
+def test_a_stamp_beyond_what_is_kept_is_another_clock() -> None:
+    history = PoseHistory(keep_s=2.0)
+    assert not history.beyond(1000.0)                  # nothing to compare with
+    for i in range(3):
+        history.add(100.0 + 0.1 * i, (0.1 * i, 0.0, 0.0))
+    assert history.at(99.9) is None and not history.beyond(99.9)     # a reading just before the first
+    assert not history.beyond(102.1) and history.beyond(102.3)
+    assert history.beyond(1000.0) and history.beyond(0.0)
+
+
 def test_an_earlier_stamp_starts_again_and_the_same_stamp_replaces() -> None:
     history = PoseHistory()
     history.add(5.0, (1.0, 0.0, 0.0))
