@@ -94,6 +94,29 @@ def test_emulator_answers_the_manuals_examples(unit: Ptu46Emulator) -> None:
             assert line == expected + b'\r\n'
 
 
+
+def test_a_query_reads_where_the_axis_is_when_it_is_asked() -> None:
+    """The emulator's thread stalled on a loaded machine (its last tick long ago): a query read
+    the axis where that tick left it, and the next, after the catch-up, read a jump (the driver
+    computed a speed 34 % too high in CI).  A real unit reads its position when asked.  The test
+    is the emulator's thread here (not started): it ticks the unit to cruise, then lets 80 ms
+    pass unticked before asking."""
+    unit = Ptu46Emulator()
+    try:
+        unit.on_bytes(b'ps600 pp3000 ')
+        t = time.monotonic() - 10.0
+        for _ in range(200):                       # 1 s: 0.3 s up to 600 positions/s, then cruise
+            unit.tick(t)
+            t += unit.tick_s
+        before, asked = unit.pan, time.monotonic()
+        unit.tick(asked - 0.08)                    # the last tick: 80 ms ago (the step capped at 0.1 s)
+        moved = unit.pan - before
+        unit.on_bytes(b'pp ')
+        late = unit.pan - before - moved           # what the query moved it on
+        assert 0.08 * 600 - 2 * unit.tick_s * 600 <= late <= 0.1 * 600 + 1, (moved, late)
+    finally:
+        unit.stop()
+
 # -- connect ------------------------------------------------------------------------------------
 def test_connect_replays_players_init_and_reads_limits(unit: Ptu46Emulator, ptu: Ptu46) -> None:
     assert bytes(unit.received).startswith(
