@@ -32,7 +32,9 @@ def test_avoid_i_goto_typed_at_its_prompt(ros_domain: int, tmp_path: pathlib.Pat
                 terminal.expect('goto x y')
                 terminal.press('8.5 3\n')
                 terminal.expect(r'goto 8\.50 3\.00')
-                terminal.expect(r'goto 1 \(reached\)', 120)
+                # Waited on the avoidModule's status while the truth is recorded (track.csv).
+                test.until(lambda: test.avoid.goto_status == 1, 'the goto reached', timeout=120)
+                terminal.expect(r'goto 1 \(reached\)', 30)
                 test.until(lambda: test.pose is not None and math.dist(test.pose[:2], (8.5, 3.0)) < 0.3,
                            'the truth at the goal')
                 terminal.press('q')
@@ -41,6 +43,9 @@ def test_avoid_i_goto_typed_at_its_prompt(ros_domain: int, tmp_path: pathlib.Pat
                 terminal.close()
     finally:
         test.close()
+        (tmp_path / 'track.csv').write_text(''.join(          # what a failure is read from
+            f'{t.header.stamp.sec + t.header.stamp.nanosec * 1e-9:.3f},{t.location.x:.3f},{t.location.y:.3f},'
+            f'{t.location.theta:.3f}\n' for t in test.truths))
 
 
 def test_motion_i_moveto_typed_at_its_prompt(ros_domain: int, tmp_path: pathlib.Path) -> None:
