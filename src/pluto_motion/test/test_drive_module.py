@@ -215,11 +215,16 @@ def test_the_limits_follow_carmen_s_parameter_daemon(ros_domain: int, tmp_path: 
     tool: ParameterTool | None = None
 
     def capped(limit: float) -> None:
+        """Asked for 0.5 m/s, the drive commands ``limit``: coming down from a higher limit it
+        brakes to it (at its deceleration: never faster again), then holds it."""
         first = len(driver.statuses)
-        driver.until(lambda: any(len(m.data) == 2 and m.data[0] > limit - 0.01
+        driver.until(lambda: any(len(m.data) == 2 and limit - 0.01 < m.data[0] <= limit + 1e-6
                                  for m in driver.statuses[first:]),
                      f'driving at {limit} m/s', every=lambda: d.velocity(0.5, 0.0))
-        assert max(m.data[0] for m in driver.statuses[first:] if len(m.data) == 2) <= limit + 1e-6
+        speeds = [m.data[0] for m in driver.statuses[first:] if len(m.data) == 2]
+        held = next(i for i, v in enumerate(speeds) if v <= limit + 1e-6)
+        assert all(a >= b - 1e-6 for a, b in zip(speeds[:held], speeds[1:held + 1])), speeds
+        assert max(speeds[held:]) <= limit + 1e-6, speeds
 
     try:
         with robot(directory, '-g', str(directory / 'role-config.xml')) as processes:

@@ -209,3 +209,27 @@ def test_a_module_stuck_after_sigterm_writes_where_it_is(manager) -> None:
         assert stuck.process.poll() is None
         stuck.process.kill()
     assert 'Timeout' in stuck.stderr and 'File "<string>", line' in stuck.stderr
+
+
+HUNG_TEARDOWN = '''
+import os, signal, time
+from wurde_core import CommsManager
+manager = CommsManager('HungTeardown')
+manager.run_update()
+os.kill(os.getpid(), signal.SIGINT)             # Ctrl-C: the loop ends
+assert manager.run_update().name == 'QUIT'
+manager.node.destroy_node = lambda: time.sleep(60)  # DDS's teardown hangs (holding the GIL or not)
+manager.clean_up()
+print('cleaned up', flush=True)
+'''
+
+
+def test_a_quitting_module_whose_teardown_hangs_exits_with_where_it_was(manager) -> None:
+    """A DDS teardown that hangs (Fast DDS's participant deletion on a loaded machine) does not
+    keep a quitting module alive until the MCP's SIGKILL: it dumps every thread and exits with
+    status 1 after SLOW_CLEANUP_DUMP_S."""
+    with Peer(['-c', HUNG_TEARDOWN]) as hung:
+        assert hung.process.wait(timeout=30) == 1, hung.stderr[-2000:]
+    assert 'Timeout' in hung.stderr and 'in <lambda>' in hung.stderr
+    assert 'cleaned up' not in hung.stdout
+

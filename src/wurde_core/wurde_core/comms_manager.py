@@ -73,8 +73,11 @@ GOODBYE_WAIT_S = 1.0
 #: its SIGKILL, and the log then says where the exit was stuck.  Not on SIGINT: a user's Ctrl-C
 #: may rightly be followed by seconds of work (a mission's summary).
 SLOW_EXIT_DUMP_S = 0.5
-#: The same dump when a quitting module's clean-up (goodbye, node and context shutdown, normally
-#: well under a second) takes this long: a hang inside DDS runs no Python signal handler.
+#: A quitting module's clean-up (goodbye, node and context shutdown, normally well under a second)
+#: still running this long is stuck: the same dump, then the process exits with status 1.  A hang
+#: inside DDS runs no Python (make test saw Fast DDS's participant deletion hang past 2 s on a
+#: loaded machine, and the MCP SIGKILLed the module at 4 s, past its 3 s bound for a SIGINT);
+#: the process is on its way out, and the dump says where it was.
 SLOW_CLEANUP_DUMP_S = 2.0
 
 StateCallback = Callable[[], None]
@@ -584,7 +587,7 @@ class CommsManager:
         self._closed = True
         ending = self.state == RunState.QUIT
         if ending:
-            faulthandler.dump_traceback_later(SLOW_CLEANUP_DUMP_S)
+            faulthandler.dump_traceback_later(SLOW_CLEANUP_DUMP_S, exit=True)
         if self.node is not None:
             try:
                 if self._heartbeat is not None and goodbye:
