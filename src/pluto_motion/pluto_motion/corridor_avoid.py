@@ -8,7 +8,9 @@ goal, when nearer) the one closest to the goal's bearing wins; when none is, of 
 least ``min_step``; the step is the free length, capped at the look-ahead and the goal's distance.
 Nothing free is *blocked*.  The side of the bearing a way round went by is kept unless the other
 side is better by ``side_bias``.  A goal outside the ``fan`` of candidate headings is turned to on
-the spot first (a disc turns safely); while going round something, only ``fan_margin`` beyond it.
+the spot first (a disc turns safely), unless the robot is going round something (a side kept): then
+the free heading in view nearest the goal is taken, which turns the robot towards the goal through
+headings it sees free (``fan_margin``).
 
 A point already within the safety distance (a late command or scan let the robot come nearer than
 it would have stopped) blocks only the headings that bring the robot nearer to it; moving away is
@@ -52,9 +54,13 @@ class AvoidSettings:
     #: more (rad): the way round an obstacle is kept unless the other way is clearly shorter.
     side_bias: float = math.radians(30)
     #: While going round something (a side kept), a goal out of view is turned to only when it is
-    #: this much beyond the fan (rad): at the fan's edge the way round and the turn to the goal
-    #: undid each other, each before a mover that turns first had faced it.
-    fan_margin: float = math.radians(30)
+    #: this much beyond the fan (rad); by default never, as a bearing is at most pi.  At the fan's
+    #: edge (a margin of 0) the way round and the turn to the goal undid each other, each before a
+    #: mover that turns first had faced it; with a margin of 30 degrees they did the same at the
+    #: margin: a goal behind and a way round away from it held the robot turning back and forth
+    #: where it stood (``bench/guide_avoider.py``: 2 of 120 cluttered rooms not reached, and at
+    #: 9600 baud a standstill long enough for the scan memory to forget a box, which was touched).
+    fan_margin: float = math.pi
 
 
 @dataclasses.dataclass(frozen=True)
@@ -119,7 +125,7 @@ def choose(points: NDArray, goal: tuple[float, float], settings: AvoidSettings =
     ways round of nearly the same cost, and which is nearer the bearing on the heading grid changes
     as the robot turns: the robot turned left and right in turn for good (a kinematic simulation
     of the guide's avoider and mover, goal 4 m beyond the middle of a 0.6 m box).  With a side
-    kept, a goal is turned to only beyond :attr:`AvoidSettings.fan_margin` outside the fan."""
+    kept, a goal out of view is not turned to (:attr:`AvoidSettings.fan_margin`)."""
     half_width = settings.radius + settings.safety
     closest = clearance(points, settings.radius)
     distance = math.hypot(*goal)

@@ -184,13 +184,13 @@ class LaserAvoider:
             self.scan_stamp = self.laser.data.timestamp.get_seconds()
             self.scan_pose = self._pose_at(self.scan_stamp)
             if self.scan_pose is not None:
-                self.memory.add(self.scan_pose, self.points, now, self.view)
+                self.memory.add(self.scan_pose, self.points, self.view)
         if self.points is not None and self.scan_pose is None and self.pose is not None:
             # The scan came before the first odometry: placed now that there is a pose.
             self.scan_pose = self._pose_at(self.scan_stamp)
-            self.memory.add(self.scan_pose, self.points, now, self.view)
+            self.memory.add(self.scan_pose, self.points, self.view)
         if self.points is not None and self.scan_pose is not None:
-            seen = np.concatenate((self.points, self.memory.unseen(self.scan_pose, now, self.view)))
+            seen = np.concatenate((self.points, self.memory.unseen(self.scan_pose, self.view)))
             self.around = moved(seen, self.scan_pose, self.pose)
 
     def _pose_at(self, stamp: float) -> tuple[float, float, float] | None:

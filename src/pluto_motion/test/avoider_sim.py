@@ -54,7 +54,7 @@ def run_avoider(walls: Sequence[Segment], start: tuple[float, float, float], goa
             placed = (px, py, pt) if stamped else (x, y, theta)
             scan = (LASER.points(ranges), placed)
             if memory:
-                kept.add(placed, scan[0], t, view)
+                kept.add(placed, scan[0], view)
             centre += period
         if scan is None:                    # no scan yet: the avoider stops the robot
             mover.stop()
@@ -65,7 +65,7 @@ def run_avoider(walls: Sequence[Segment], start: tuple[float, float, float], goa
         if not stamped:
             placed = (x, y, theta)          # the scan taken for one from where the robot is now
         if memory:
-            points = np.concatenate((points, kept.unseen(placed, t, view)))
+            points = np.concatenate((points, kept.unseen(placed, view)))
         if placed != (x, y, theta):
             points = moved(points, placed, (x, y, theta))
         c, s = math.cos(theta), math.sin(theta)
