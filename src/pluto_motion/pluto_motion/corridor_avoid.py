@@ -116,16 +116,25 @@ def clearance(points: NDArray, radius: float) -> float:
 
 
 def choose(points: NDArray, goal: tuple[float, float], settings: AvoidSettings = AvoidSettings(),
-           side: int = 0) -> Choice:
+           side: int = 0, heading: float = 0.0) -> Choice:
     """The next move towards ``goal`` (robot frame, m) among the scan ``points`` (robot frame);
-    ``side`` is the last choice's :attr:`Choice.side`.
+    ``side`` is the last choice's :attr:`Choice.side`; ``heading`` the robot's in the odometry
+    frame.
 
     The side is kept: headings on the other side of the goal's bearing cost
     :attr:`AvoidSettings.side_bias` more.  Without it, a goal straight beyond an obstacle has two
     ways round of nearly the same cost, and which is nearer the bearing on the heading grid changes
     as the robot turns: the robot turned left and right in turn for good (a kinematic simulation
     of the guide's avoider and mover, goal 4 m beyond the middle of a 0.6 m box).  With a side
-    kept, a goal out of view is not turned to (:attr:`AvoidSettings.fan_margin`)."""
+    kept, a goal out of view is not turned to (:attr:`AvoidSettings.fan_margin`).
+
+    The candidate headings are fixed in the odometry frame (multiples of
+    :attr:`AvoidSettings.step` there), so that a robot turning on the spot weighs the same
+    directions.  With a grid fixed to the robot, a narrow way free for the whole look-ahead was
+    on the grid at one heading and between two of its headings 2 degrees on: the choice went from
+    it to a way nearer the goal free for part of the look-ahead and back, each turning the robot a
+    little towards itself, and the robot turned back and forth where it stood
+    (``bench/guide_avoider.py``, 2 of 120 rooms at 38400 baud)."""
     half_width = settings.radius + settings.safety
     closest = clearance(points, settings.radius)
     distance = math.hypot(*goal)
@@ -135,7 +144,8 @@ def choose(points: NDArray, goal: tuple[float, float], settings: AvoidSettings =
     if abs(bearing) > settings.fan + (settings.fan_margin if side else 0.0):
         return Choice(bearing, 0.0, True, False, False, closest, side)
     want = min(distance, settings.lookahead)
-    grid = np.arange(-settings.fan, settings.fan + 1e-9, settings.step)
+    first = math.ceil((heading - settings.fan) / settings.step - 1e-9) * settings.step - heading
+    grid = np.arange(first, settings.fan + 1e-9, settings.step)
     headings = np.concatenate(([bearing], grid))
     free = free_lengths(points, headings, half_width, want)
     clear = free >= want - 1e-9                          # the whole look-ahead is free

@@ -307,7 +307,7 @@ class LaserAvoider:
                 return REACHED, 0.0, 0.0, None
             return ROTATING, 0.0, angle, Choice(angle, 0.0, True, False, False, self.closest)
         gx, gy = _to_robot(self.pose, *self.goal)
-        choice = choose(self.around, (gx, gy), settings, self.side)
+        choice = choose(self.around, (gx, gy), settings, self.side, self.pose[2])
         self.side = choice.side
         distance, angle = math.hypot(gx, gy), math.atan2(gy, gx)
         if choice.reached:

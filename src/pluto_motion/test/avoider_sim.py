@@ -70,7 +70,7 @@ def run_avoider(walls: Sequence[Segment], start: tuple[float, float, float], goa
             points = moved(points, placed, (x, y, theta))
         c, s = math.cos(theta), math.sin(theta)
         dx, dy = goal[0] - x, goal[1] - y
-        choice = choose(points, (dx * c + dy * s, -dx * s + dy * c), settings, side)
+        choice = choose(points, (dx * c + dy * s, -dx * s + dy * c), settings, side, theta)
         side = choice.side
         if choice.reached:
             return Run('reached', path, low, t)
