@@ -68,13 +68,9 @@ REGISTRATION_WAIT_S = 10.0
 RESTART_TTL_S = 30.0
 #: Bound on waiting for the goodbye heartbeat to be acknowledged at clean-up.
 GOODBYE_WAIT_S = 1.0
-#: A module still running this long after a SIGTERM writes every thread's traceback to stderr
-#: (faulthandler's "Timeout" dump, into the MCP's module log): the MCP sends SIGTERM 1 s before
-#: its SIGKILL, and the log then says where the exit was stuck.  Not on SIGINT: a user's Ctrl-C
-#: may rightly be followed by seconds of work (a mission's summary).
-SLOW_EXIT_DUMP_S = 0.5
 #: A quitting module's clean-up (goodbye, node and context shutdown, normally well under a second)
-#: still running this long is stuck: the same dump, then the process exits with status 1.  A hang
+#: still running this long is stuck: every thread's traceback to stderr (faulthandler's
+#: "Timeout" dump), then the process exits with status 1.  A hang
 #: inside DDS runs no Python (make test saw Fast DDS's participant deletion hang past 2 s on a
 #: loaded machine, and the MCP SIGKILLed the module at 4 s, past its 3 s bound for a SIGINT);
 #: the process is on its way out, and the dump says where it was.
@@ -345,11 +341,19 @@ class CommsManager:
             return
         for signum in (signal.SIGINT, signal.SIGTERM):
             self._previous_handlers[signum] = signal.signal(signum, self._on_signal)
+        # A SIGTERM writes every thread's traceback to stderr (the MCP's module log) as it comes,
+        # from faulthandler's C handler, then goes on to ours: the MCP sends it 3 s into a Quit
+        # that has not ended, 1 s before its SIGKILL, so the log says where the exit was stuck —
+        # also when the main thread is held in C and runs no Python handler (make test r111: a
+        # DMU driver SIGKILLed with nothing in its log).  Not on SIGINT: a user's Ctrl-C may
+        # rightly be followed by seconds of work (a mission's summary).
+        try:
+            faulthandler.register(signal.SIGTERM, all_threads=True, chain=True)
+        except (ValueError, RuntimeError, AttributeError):      # no usable stderr
+            pass
 
     def _on_signal(self, signum: int, _frame: Any) -> None:
         self._signals += 1
-        if signum == signal.SIGTERM:
-            faulthandler.dump_traceback_later(SLOW_EXIT_DUMP_S)
         if self._signals > 1 and signum == signal.SIGINT:
             raise KeyboardInterrupt
         self.state = RunState.QUIT
@@ -607,6 +611,8 @@ class CommsManager:
             finally:
                 if self._context is not None:
                     self._context.try_shutdown()
+        if self._previous_handlers:
+            faulthandler.unregister(signal.SIGTERM)
         for signum, handler in self._previous_handlers.items():
             # A module that quit (told to, or by a signal) is on its way out: a SIGINT/SIGTERM
             # now (the MCP escalating because the exit is slow on a loaded machine) must not turn
