@@ -214,24 +214,33 @@ def test_a_module_stuck_after_sigterm_writes_where_it_is(manager) -> None:
 
 
 HUNG_TEARDOWN = '''
-import os, signal, time
+import ctypes, os, signal, sys
 from wurde_core import CommsManager
 manager = CommsManager('HungTeardown')
 manager.run_update()
 os.kill(os.getpid(), signal.SIGINT)             # Ctrl-C: the loop ends
 assert manager.run_update().name == 'QUIT'
-manager.node.destroy_node = lambda: time.sleep(60)  # DDS's teardown hangs (holding the GIL or not)
-manager.clean_up()
+hang = lambda: ctypes.PyDLL(None).sleep(60)      # a C call that holds the GIL, as DDS's can
+if sys.argv[1] == 'ours':
+    manager._system_objects[0]._disconnect = hang  # our own part of the clean-up hangs
+else:
+    manager.node.destroy_node = hang             # DDS's teardown hangs
+manager.clean_up(exiting=sys.argv[2] == 'exiting')
 print('cleaned up', flush=True)
 '''
 
 
-def test_a_quitting_module_whose_teardown_hangs_exits_with_where_it_was(manager) -> None:
-    """A DDS teardown that hangs (Fast DDS's participant deletion on a loaded machine) does not
-    keep a quitting module alive until the MCP's SIGKILL: it dumps every thread and exits with
-    status 1 after SLOW_CLEANUP_DUMP_S."""
-    with Peer(['-c', HUNG_TEARDOWN]) as hung:
-        assert hung.process.wait(timeout=30) == 1, hung.stderr[-2000:]
+@pytest.mark.parametrize('where, exiting, status', [('dds', 'exiting', 0), ('dds', 'staying', 1),
+                                                   ('ours', 'exiting', 1)])
+def test_a_quitting_module_whose_clean_up_hangs_exits_with_where_it_was(manager, where, exiting,
+                                                                         status) -> None:
+    """A clean-up that hangs (Fast DDS's node deletion on a loaded machine, inside one C call
+    that holds the GIL) does not keep a quitting module alive until the MCP's SIGKILL: it dumps
+    every thread after SLOW_CLEANUP_DUMP_S and exits — with status 0 when it is the DDS
+    teardown of a program that ends after its clean-up (``exiting``: the module has said goodbye
+    and released its own resources), otherwise with status 1."""
+    with Peer(['-c', HUNG_TEARDOWN, where, exiting]) as hung:
+        assert hung.process.wait(timeout=30) == status, hung.stderr[-2000:]
     assert 'Timeout' in hung.stderr and 'in <lambda>' in hung.stderr
     assert 'cleaned up' not in hung.stdout
 

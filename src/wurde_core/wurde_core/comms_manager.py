@@ -46,6 +46,7 @@ from rclpy.node import Node
 from . import options as _options
 from .enums import ConnectionStrategy, RunState
 from .errors import ConfigError, InvalidTypeError, InvalidValueError, OptionError, RegistrationError
+from .exit_timer import ExitTimer
 from .heartbeat import ModuleHeartbeat
 from .mcp_client import McpClient
 from .naming import stream_segment_path
@@ -68,15 +69,28 @@ REGISTRATION_WAIT_S = 10.0
 RESTART_TTL_S = 30.0
 #: Bound on waiting for the goodbye heartbeat to be acknowledged at clean-up.
 GOODBYE_WAIT_S = 1.0
-#: A quitting module's clean-up (goodbye, node and context shutdown, normally well under a second)
-#: still running this long is stuck: every thread's traceback to stderr (faulthandler's
-#: "Timeout" dump), then the process exits with status 1.  A hang
-#: inside DDS runs no Python (make test saw Fast DDS's participant deletion hang past 2 s on a
-#: loaded machine, and the MCP SIGKILLed the module at 4 s, past its 3 s bound for a SIGINT);
-#: the process is on its way out, and the dump says where it was.
+#: A quitting module's clean-up (goodbye, node and context shutdown, normally well under a second;
+#: at most 1.26 s over the 760 clean-ups of a make test, 2026-12-05) still running this long is
+#: stuck: every thread's traceback to stderr (faulthandler's "Timeout" dump), then the process
+#: exits — with status 1 if it was in our own part (goodbye, daemon, objects), with status 0 if
+#: it was in the DDS teardown of an exiting program (``clean_up(exiting=True)``: make test r107
+#: and the CI of e7b6197 saw Fast DDS's node deletion take past 2 s on a loaded machine; the
+#: module had done all it owed).  A hang inside DDS runs no Python: both timers are C-level.
 SLOW_CLEANUP_DUMP_S = 2.0
+#: An abandoned DDS teardown's exit comes this long after its dump, for the dump to be written.
+ABANDON_AFTER_DUMP_S = 0.2
 
 StateCallback = Callable[[], None]
+
+
+def _abandon_teardown_at(deadline: float) -> ExitTimer:
+    """Bound an exiting module's DDS teardown by ``deadline`` (monotonic): faulthandler dumps
+    every thread then — replacing the clean-up's dump-and-exit-1 timer, which bounds our own part
+    — and the process exits 0 ABANDON_AFTER_DUMP_S later unless the teardown has returned and
+    cancelled it.  C-level both: the teardown is one C call that may hold the GIL."""
+    left = max(deadline - time.monotonic(), 0.001)
+    faulthandler.dump_traceback_later(left, exit=False)
+    return ExitTimer(left + ABANDON_AFTER_DUMP_S, 0)
 
 
 class CommsManager:
@@ -580,18 +594,24 @@ class CommsManager:
                 return
             time.sleep(min(remaining, WAIT_SLICE_S))
 
-    def clean_up(self, *, goodbye: bool = True, wait: bool = True) -> None:
+    def clean_up(self, *, goodbye: bool = True, wait: bool = True, exiting: bool = False) -> None:
         """Say goodbye to the MCP (the Quit state, unless ``goodbye`` is False) and release
         everything; idempotent, also run at exit.  ``wait`` False sends the goodbye without
         waiting for its acknowledgement: the MCP's own, whose readers are mostly the modules it
         has just ended (a loaded machine's DDS still counts them for a while, and the wait for
-        their acknowledgements took the MCP's SIGINT exit past 3 s)."""
+        their acknowledgements took the MCP's SIGINT exit past 3 s).  ``exiting`` True says the
+        program ends right after (a module's main): a quitting module whose goodbye is sent
+        and whose own resources are released then gives the DDS teardown until
+        SLOW_CLEANUP_DUMP_S from the start, and if it is still running, dumps every thread
+        (where it was) and exits with status 0, abandoning it to the kernel (exit_timer)."""
         if self._closed:
             return
         self._closed = True
         ending = self.state == RunState.QUIT
+        deadline = time.monotonic() + SLOW_CLEANUP_DUMP_S
         if ending:
             faulthandler.dump_traceback_later(SLOW_CLEANUP_DUMP_S, exit=True)
+        abandon = None
         if self.node is not None:
             try:
                 if self._heartbeat is not None and goodbye:
@@ -607,10 +627,14 @@ class CommsManager:
                     self._daemon.close()
                 for obj in self._objects + self._system_objects:
                     obj._disconnect()
+                if ending and exiting:
+                    abandon = _abandon_teardown_at(deadline)
                 self.node.destroy_node()
             finally:
                 if self._context is not None:
                     self._context.try_shutdown()
+                if abandon is not None:
+                    abandon.cancel()
         if self._previous_handlers:
             faulthandler.unregister(signal.SIGTERM)
         for signum, handler in self._previous_handlers.items():

@@ -49,7 +49,7 @@ def set_loop(manager: CommsManager, sleep_s: float, ttl_s: float = MODULE_TTL_S)
 def run_loop(manager: CommsManager, step: Callable[[], None], close: Callable[[], None]) -> int:
     """The guide's loop: ``step()`` while in Run (``run_update`` keeps the module alive through
     Idle), then ``close()`` the device and clean up, also on an exception.  Returns the exit
-    status (0)."""
+    status (0): the program ends after it (``clean_up(exiting=True)``)."""
     try:
         while manager.run_update() == RunState.RUN:
             step()
@@ -57,5 +57,5 @@ def run_loop(manager: CommsManager, step: Callable[[], None], close: Callable[[]
         try:
             close()
         finally:
-            manager.clean_up()
+            manager.clean_up(exiting=True)
     return 0

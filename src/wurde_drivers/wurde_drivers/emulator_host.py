@@ -55,5 +55,5 @@ def run_emulator(device: str, make: Callable[[dict[str, str]], PtyDevice], *, us
         if link.is_symlink() and os.readlink(link) == emulator.path:
             link.unlink()
         emulator.stop()
-        manager.clean_up()
+        manager.clean_up(exiting=True)
     return 0

@@ -235,7 +235,7 @@ def main(argv: list[str] | None = None) -> int:
         if mcp.supervisor is not None:
             g_info(mcp.supervisor.summary())
         mcp.quit_all()
-        manager.clean_up(wait=False)    # its modules, the readers of its goodbye, have ended
+        manager.clean_up(wait=False, exiting=True)  # its modules, its goodbye's readers, have ended
     return 0
 
 

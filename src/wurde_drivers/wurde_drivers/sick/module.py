@@ -325,7 +325,7 @@ def main(argv: list[str] | None = None) -> int:
     finally:
         runner.close()
         log.close()
-        manager.clean_up()
+        manager.clean_up(exiting=True)
     return 0
 
 

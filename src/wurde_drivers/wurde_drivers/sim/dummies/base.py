@@ -166,7 +166,7 @@ def main(argv: list[str] | None = None) -> int:
                 streams.publish_power(voltage=b.voltage, current=b.current, power=b.power_w, charge=b.charge,
                                       energy=b.energy_j, low=b.low_voltage, critical=b.critical_voltage,
                                       stamp=clock.now)
-    manager.clean_up()
+    manager.clean_up(exiting=True)
     return 0
 
 

@@ -56,7 +56,7 @@ def main(argv: list[str] | None = None) -> int:
             if stamp >= next_publish - 1e-6:
                 streams.publish(reading, stamp)
                 next_publish += period * max(1, int((stamp - next_publish) / period) + 1)
-    manager.clean_up()
+    manager.clean_up(exiting=True)
     return 0
 
 

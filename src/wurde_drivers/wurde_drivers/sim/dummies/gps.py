@@ -54,7 +54,7 @@ def main(argv: list[str] | None = None) -> int:
                                 satellites=fix.satellites, quality=fix.quality, hdop=fix.hdop,
                                 fix_time=stamp % 86400.0, x=fix.x, y=fix.y, stamp=stamp)
             next_fix += period * max(1, int((stamp - next_fix) / period) + 1)
-    manager.clean_up()
+    manager.clean_up(exiting=True)
     return 0
 
 

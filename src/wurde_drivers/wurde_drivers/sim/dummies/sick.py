@@ -105,7 +105,7 @@ def main(argv: list[str] | None = None) -> int:
             ranges = model.scan(world, x, y, theta)
             streams.publish_scan(ranges, centre_stamp=next_centre, arrival_stamp=next_centre + delay)
             next_centre += geometry.scan_period_s
-    manager.clean_up()
+    manager.clean_up(exiting=True)
     return 0
 
 

@@ -124,7 +124,7 @@ def main(argv: list[str] | None = None) -> int:
                 wrist.publish_data()
                 joints.publish(pan=axes[0].position, tilt=axes[1].position, pan_velocity=axes[0].velocity,
                                tilt_velocity=axes[1].velocity, stamp=clock.now)
-    manager.clean_up()
+    manager.clean_up(exiting=True)
     return 0
 
 
