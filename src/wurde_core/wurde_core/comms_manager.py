@@ -83,14 +83,20 @@ ABANDON_AFTER_DUMP_S = 0.2
 StateCallback = Callable[[], None]
 
 
-def _abandon_teardown_at(deadline: float) -> ExitTimer:
+def _abandon_teardown_at(deadline: float) -> ExitTimer | None:
     """Bound an exiting module's DDS teardown by ``deadline`` (monotonic): faulthandler dumps
     every thread then — replacing the clean-up's dump-and-exit-1 timer, which bounds our own part
     — and the process exits 0 ABANDON_AFTER_DUMP_S later unless the teardown has returned and
-    cancelled it.  C-level both: the teardown is one C call that may hold the GIL."""
+    cancelled it.  C-level both: the teardown is one C call that may hold the GIL.  Without a
+    POSIX timer (the system refuses one) the dump-and-exit-1 timer stays: None."""
     left = max(deadline - time.monotonic(), 0.001)
+    try:
+        timer = ExitTimer(left + ABANDON_AFTER_DUMP_S, 0)
+    except OSError as error:
+        print(f'wurde_core: no exit timer for the DDS teardown ({error})', file=sys.stderr, flush=True)
+        return None
     faulthandler.dump_traceback_later(left, exit=False)
-    return ExitTimer(left + ABANDON_AFTER_DUMP_S, 0)
+    return timer
 
 
 class CommsManager:
