@@ -23,5 +23,8 @@ setup(
         'pose_module = pluto_nav.pose_module:main',
         'pose_i = pluto_nav.pose_i:main',
         'slam_module = pluto_nav.slam_module:main',
+        'offline_nav = pluto_nav.offline_nav:main',
+        'slam_score = pluto_nav.slam_score:main',
+        'carmen_log = pluto_nav.carmen_log:main',
     ]},
 )

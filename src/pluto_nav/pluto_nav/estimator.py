@@ -2,10 +2,11 @@
 setter, the status stream and the scan-by-scan predict/update cycle against the localModule.
 
 Per scan: the Laser_Dead-Reckoning (1) increment since the last scan and its covariance drive the
-filter's predict step, the lines of the scan taken at that time (:func:`pluto_nav.lines.extract_lines`;
-scan and stream (1) are paired by their stamps, the scan's centre time) drive its update, and the
-laser pose goes to Post_Pose (2) with the estimator's setter, stamped with the scan's time.  A scan
-of the laser's fatal-error values (-1, Pluto 8.1) is not used: the filter only predicts.
+method's predict step, the scan taken at that time (scan and stream (1) are paired by their stamps,
+the scan's centre time) drives its update (:class:`pluto_nav.estimation.ScanCycle`, which
+``offline_nav`` runs on recordings too), and the laser pose goes to Post_Pose (2) with the
+estimator's setter, stamped with the scan's time.  A scan of the laser's fatal-error values (-1,
+Pluto 8.1) is not used: the method only predicts.
 
 The thread (the estimation activity of the module's loop): when it starts it reads the pose from
 Laser_Pose (4) and takes the setter; it does not start while another estimator holds the setter;
@@ -21,18 +22,16 @@ from __future__ import annotations
 
 import collections
 import time
-from typing import Any, Protocol
 
 import numpy as np
 
 from wurde_core import CommsManager, Logger
 from wurde_core.interfaces import FVectorState, LocalizationPose, RangeFinder
 
-from .geometry import relative
-from .lines import LineFeature, extract_lines
+from .estimation import Method, Scan, ScanCycle
 from .streams import LASER_DEAD_RECKONING, LASER_POSE, NOBODY, POST_POSE, STREAMS, LocPose, read_pose, write_pose
 
-__all__ = ['Estimator', 'PoseEstimate']
+__all__ = ['Estimator']
 
 LOOP_S = 0.02
 #: Scans kept while their Laser_Dead-Reckoning pose has not arrived (and the other way round).
@@ -42,33 +41,19 @@ SAME_SCAN_S = 1e-4
 #: Seconds between two publications of an unchanged status: data channels are volatile, and a
 #: status (Pluto's CORBA status interface could be read at any time) must reach late consumers.
 STATUS_PERIOD_S = 1.0
-#: Covariance used for an increment that comes without one.
-DEFAULT_INCREMENT_COV = np.diag([1e-4, 1e-4, 1e-4])
-
-
-class PoseEstimate(Protocol):
-    """The filter an estimator runs (:class:`pluto_nav.pose_filter.PoseFilter`, the SLAM filter)."""
-
-    pose: Any
-    covariance: Any
-
-    def set_pose(self, pose: Any, covariance: Any) -> None: ...
-    def predict(self, increment: Any, increment_covariance: Any) -> None: ...
-
 
 class Estimator:
-    """One estimator module; subclasses say what the filter is and what ``element[1] = 2`` does."""
+    """One estimator module; subclasses say what the method is and what ``element[1] = 2`` does."""
 
     #: The setter this estimator writes with (Pluto 3: 1 pose, 2 slam).
     SETTER = 1
     #: Uncertainty added to Laser_Pose's own when the thread starts (m, m, rad).
     START_SIGMA = (0.3, 0.3, np.radians(8.0))
-    #: Keyword arguments of :func:`pluto_nav.lines.extract_lines` beyond the laser's geometry.
-    LINE_OPTIONS: dict[str, float] = {}
 
-    def __init__(self, manager: CommsManager, logger: Logger, filter_: PoseEstimate, *, status: str,
+    def __init__(self, manager: CommsManager, logger: Logger, method: Method, *, status: str,
                  laser: str, start_running: bool) -> None:
-        self.manager, self.logger, self.filter = manager, logger, filter_
+        self.manager, self.logger = manager, logger
+        self.cycle = ScanCycle(method)
         self.laser_dr = LocalizationPose(STREAMS[LASER_DEAD_RECKONING])
         self.laser_pose = LocalizationPose(STREAMS[LASER_POSE])
         self.post = LocalizationPose(STREAMS[POST_POSE])
@@ -86,7 +71,6 @@ class Estimator:
         self.scans: collections.deque[tuple[float, np.ndarray]] = collections.deque()
         self.dr_poses: collections.deque[LocPose] = collections.deque()
         self.adjusted: collections.deque[LocPose] = collections.deque()
-        self.previous_dr: LocPose | None = None
         self.want_running = start_running
         self.running = False
         self.setter: int | None = None
@@ -99,12 +83,12 @@ class Estimator:
     def command(self) -> None:
         """``element[1] = 2`` was requested."""
 
-    def on_scan(self, stamp: float, lines: list[LineFeature]) -> None:
-        """Every good scan's lines, whether the thread runs or not (e.g. the find-wall)."""
+    @property
+    def method(self) -> Method:
+        return self.cycle.method
 
-    def update(self, lines: list[LineFeature]) -> bool:
-        """The filter's update with a scan's lines; True when something matched."""
-        raise NotImplementedError
+    def on_scan(self, scan: Scan) -> None:
+        """Every good scan, whether the thread runs or not (e.g. the find-wall)."""
 
     def on_stop(self) -> None:
         """The thread is stopping: called while it still holds the setter, which is released after."""
@@ -160,7 +144,7 @@ class Estimator:
         if self.setter is not None and self.setter > NOBODY and self.setter != self.SETTER:
             return                       # another estimator holds the setter: wait for it
         self.running = True
-        self.previous_dr = None          # the next scan initialises the filter from Laser_Pose
+        self.cycle.restart()             # the next scan initialises the method from Laser_Pose
         self.element[0] = 1
         self.logger.notice(f'{self.manager.name}: thread started')
         self.publish_status()
@@ -198,39 +182,30 @@ class Estimator:
     def _scan(self, stamp: float, ranges: np.ndarray, dr: LocPose, adjusted: LocPose | None) -> None:
         if self.angles is None:
             return
-        if np.all(ranges == -1.0):       # Pluto 8.1: no laser data; dead reckoning only
-            if self.running and self.previous_dr is not None:
-                self._predict(dr)
-            return
-        lines = extract_lines(ranges, angles=self.angles, max_range=self.max_range, **self.LINE_OPTIONS)
-        self.on_scan(stamp, lines)
+        scan = Scan(stamp, ranges, self.angles, self.max_range)
+        if not scan.fatal:
+            self.on_scan(scan)
         if not self.running:
             return
-        if self.previous_dr is None:
+        start = None
+        if not self.cycle.started:
             if adjusted is None:
                 return                   # wait for a scan whose Laser_Pose arrived too
-            self.filter.set_pose(np.array(adjusted.xytheta), self.start_covariance(adjusted))
-            self.previous_dr = dr
-        else:
-            self._predict(dr)
+            start = (np.array(adjusted.xytheta), self.start_covariance(adjusted))
+        matched = self.cycle.step(scan, dr.xytheta, dr.covariance, start=start)
+        if matched is None:
+            return                       # Pluto 8.1: no laser data; dead reckoning only
         self.element[2] += 1
-        if not self.update(lines):
+        if not matched:
             self.element[3] += 1
         self.write_post(self.estimate(dr, stamp, self.SETTER))
 
     def estimate(self, dr: LocPose, stamp: float, setter: int) -> LocPose:
-        """The filter's laser pose as a Post_Pose value (z, attitude, pan and tilt from (1))."""
-        pose = self.filter.pose
+        """The method's laser pose as a Post_Pose value (z, attitude, pan and tilt from (1))."""
+        pose = self.method.pose
         return LocPose(pose=(pose[0], pose[1], dr.pose[2], pose[2], dr.pose[4], dr.pose[5]), pan=dr.pan,
-                       tilt=dr.tilt, covariance=np.asarray(self.filter.covariance)[:3, :3], setter=setter,
+                       tilt=dr.tilt, covariance=np.asarray(self.method.covariance)[:3, :3], setter=setter,
                        stamp=stamp)
-
-    def _predict(self, dr: LocPose) -> None:
-        assert self.previous_dr is not None
-        increment = relative(self.previous_dr.xytheta, dr.xytheta)
-        cov = dr.covariance if np.all(np.isfinite(dr.covariance)) else DEFAULT_INCREMENT_COV
-        self.filter.predict(increment, cov)
-        self.previous_dr = dr
 
     def publish_status(self) -> None:
         self.status.data.element = list(self.element)

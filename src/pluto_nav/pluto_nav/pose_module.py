@@ -19,7 +19,9 @@ from the start unless ``-x``.
 - element[2], element[3] (ours): scans used, scans whose lines matched no wall.
 
 Options: ``-m MAP`` (default ``map.xml`` in the config directory: Pluto's "default mapfile"),
-``-s LASER`` (default PlutoLaser), ``-x`` (do not start the thread).
+``-s LASER`` (default PlutoLaser), ``-x`` (do not start the thread), ``-e METHOD``: ``lines``
+(default, Pluto 7.1's line features in a Kalman filter) or ``scans`` (every laser point matched to
+the map, for real buildings' clutter; :mod:`pluto_nav.localizers` says which suits what).
 
 Tunables (ROS 2 parameters, :data:`MATCH_TUNABLES`): the matcher's gates and ranges,
 ``match.<field>`` of :class:`pluto_nav.matching.MatchSettings`, taken at the next scan.
@@ -37,9 +39,10 @@ from wurde_core.parameters import TunedSettings
 from wurde_idl.errors import ConfigError
 from wurde_idl.mapfile import load_map_data
 
+from .estimation import Method, Scan
 from .estimator import LOOP_S, Estimator
 from .find_wall import find_wall
-from .lines import LineFeature
+from .localizers import LineLocalizer, ScanLocalizer, wall_points
 from .pose_filter import PoseFilter
 from .streams import POSE_SETTER
 from .wall_map import WallMap
@@ -49,7 +52,9 @@ __all__ = ['PoseModule', 'main']
 STATUS = 'pose/status'
 HELP = ('  -m MAP    the a-priori map (default map.xml in the config directory)\n'
         '  -s LASER  the laser module (default PlutoLaser)\n'
-        '  -x        do not start the thread at launch')
+        '  -x        do not start the thread at launch\n'
+        '  -e METHOD lines (default: line features, Pluto 7.1) or scans (every laser point)')
+METHODS = ('lines', 'scans')
 #: The matcher's settings a user may tune while it runs (``match.<field>``).
 MATCH_TUNABLES = {
     'gate_probability': ('probability mass of the chi-square gate matching a line to a wall', 0.5, 0.999999),
@@ -61,21 +66,18 @@ MATCH_TUNABLES = {
 
 
 class PoseModule(Estimator):
-    """The poseModule: PoseFilter against an a-priori map; ``element[1] = 2`` is the find-wall."""
+    """The poseModule: a localizer against an a-priori map; ``element[1] = 2`` is the find-wall."""
 
     SETTER = POSE_SETTER
 
     def __init__(self, manager: CommsManager, logger: Logger, wall_map: WallMap, *, laser: str,
-                 start_running: bool) -> None:
+                 start_running: bool, method: str = 'lines') -> None:
         self.wall_map = wall_map
         self.find_wall_pending = False
-        filter_ = PoseFilter()
-        self.tuned = TunedSettings(manager, filter_.settings, MATCH_TUNABLES, 'match.')
-        super().__init__(manager, logger, filter_, status=STATUS, laser=laser, start_running=start_running)
-
-    def update(self, lines: list[LineFeature]) -> bool:
-        self.filter.settings = self.tuned.current()  # type: ignore[attr-defined]
-        return self.filter.update(lines, self.wall_map).matches > 0  # type: ignore[attr-defined]
+        self.tuned = TunedSettings(manager, PoseFilter().settings, MATCH_TUNABLES, 'match.')
+        localizer: Method = (LineLocalizer(wall_map, self.tuned.current) if method == 'lines'
+                             else ScanLocalizer(wall_points(wall_map.walls)))
+        super().__init__(manager, logger, localizer, status=STATUS, laser=laser, start_running=start_running)
 
     def command(self) -> None:
         """Start the find-wall: -1 while searching (the next good scan)."""
@@ -83,11 +85,11 @@ class PoseModule(Estimator):
         self.element[1] = -1
         self.publish_status()
 
-    def on_scan(self, stamp: float, lines: list[LineFeature]) -> None:
+    def on_scan(self, scan: Scan) -> None:
         if not self.find_wall_pending:
             return
         self.find_wall_pending = False
-        wall = find_wall(lines)
+        wall = find_wall(scan.lines())
         if wall is None:
             self.element[1], self.data = 0, []
         else:
@@ -99,9 +101,12 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('poseModule')
     manager.set_help_string(HELP)
-    opts = manager.parse_options(argv, 'm:s:x').user
+    opts = manager.parse_options(argv, 'm:s:xe:').user
     map_file = config_file(manager, opts.get('m'), 'map.xml')
+    method = opts.get('e', 'lines')
     try:
+        if method not in METHODS:
+            raise ConfigError(argv[0], None, f'-e {method}: the methods are {", ".join(METHODS)}')
         data = load_map_data(map_file)
         if not data.walls:
             raise ConfigError(map_file, None, 'the map has no walls to localize against')
@@ -110,9 +115,9 @@ def main(argv: list[str] | None = None) -> int:
     logger = Logger(manager.name)
     manager.register_supplier(logger)
     module = PoseModule(manager, logger, WallMap(np.asarray(data.walls, dtype=float)),
-                        laser=opts.get('s', 'PlutoLaser'), start_running='x' not in opts)
+                        laser=opts.get('s', 'PlutoLaser'), start_running='x' not in opts, method=method)
     set_loop(manager, LOOP_S)
-    logger.notice(f'{manager.name}: map {data.name} ({len(data.walls)} walls)')
+    logger.notice(f'{manager.name}: map {data.name} ({len(data.walls)} walls), method {method}')
     return run_loop(manager, module.step, lambda: None)
 
 

@@ -19,9 +19,14 @@ lines matched no landmark; data = [confirmed walls, landmarks in the filter, map
 
 The map is saved in the simulator's map format (config/maps/README.md, :mod:`wurde_idl.mapfile`)
 with the place ``start``, the robot's pose where the thread started, so a poseModule can load it
-next run (``-m``) and a localModule start at that place (its ``-m``).  Options: ``-f FILE``
-(default ``slam-map.xml``; a relative path is in the data directory, WURDE_DATA_DIR; ``-o`` is
-WURDE's namespace option), ``-s LASER`` (default PlutoLaser), ``-a`` (start the thread at launch).
+next run (``-m``) and a localModule start at that place (its ``-m``); a method that builds an
+occupancy grid also writes it beside, as a ROS map_server pair (``FILE`` with ``.yaml`` and
+``.pgm``, :mod:`wurde_idl.gridmap`).  Options: ``-f FILE`` (default ``slam-map.xml``; a relative
+path is in the data directory, WURDE_DATA_DIR; ``-o`` is WURDE's namespace option), ``-s LASER``
+(default PlutoLaser), ``-a`` (start the thread at launch), ``-e METHOD``: ``lines`` (default,
+Pluto's line landmarks in a compressed EKF) or ``scans`` (scan-matching graph SLAM with loop
+closure, for real robots' data; :mod:`pluto_nav.slam_methods`).  With ``scans``, data[0] is the
+number of walls of the last map saved and data[1] the nodes of the pose graph.
 """
 
 from __future__ import annotations
@@ -33,13 +38,13 @@ import sys
 import numpy as np
 
 from wurde_core import CommsManager, Logger
-from wurde_core.module_loop import run_loop, set_loop
+from wurde_core.module_loop import exit_on_config_error, run_loop, set_loop
 from wurde_idl.errors import ConfigError
+from wurde_idl.gridmap import save_grid_map
 from wurde_idl.mapfile import save_map_data
 
 from .estimator import LOOP_S, Estimator
-from .lines import LineFeature
-from .slam_filter import LINE_EXTRACTION, SlamFilter
+from .slam_methods import METHODS, SlamMethod
 from .streams import SLAM_SAVING, SLAM_SETTER, LocPose
 
 __all__ = ['SlamModule', 'main']
@@ -47,46 +52,43 @@ __all__ = ['SlamModule', 'main']
 STATUS = 'slam/status'
 HELP = ('  -f FILE   where to save the map (default slam-map.xml; relative: in the data directory)\n'
         '  -s LASER  the laser module (default PlutoLaser)\n'
-        '  -a        start the thread at launch')
-#: Scans between two counts of the confirmed walls for the status (walls() resolves every extent).
-WALL_COUNT_EVERY = 10
+        '  -a        start the thread at launch\n'
+        '  -e METHOD lines (default: line landmarks, Pluto 7.2) or scans (scan matching, real data)')
 
 
 class SlamModule(Estimator):
-    """The slamModule: SlamFilter; ``element[1] = 2`` saves the map."""
+    """The slamModule: a SLAM method; ``element[1] = 2`` saves the map."""
 
     SETTER = SLAM_SETTER
-    LINE_OPTIONS = LINE_EXTRACTION
 
     def __init__(self, manager: CommsManager, logger: Logger, output: pathlib.Path, *, laser: str,
-                 start_running: bool) -> None:
+                 start_running: bool, method: str = 'lines') -> None:
         self.output = output
+        self.method_name = method
         self.last: LocPose | None = None
         self.saves = 0
-        self.walls = 0
         self.mapped = False                # the current map has had a scan
-        super().__init__(manager, logger, SlamFilter(), status=STATUS, laser=laser, start_running=start_running)
+        super().__init__(manager, logger, METHODS[method](), status=STATUS, laser=laser,
+                         start_running=start_running)
         self.data = [0.0, 0.0, 0.0]
+
+    @property
+    def slam(self) -> SlamMethod:
+        return self.cycle.method  # type: ignore[return-value]
 
     def _start(self) -> None:
         super()._start()
         if self.running:                   # a new map, its frame set by the first scan
-            self.filter = SlamFilter()
+            self.cycle.method = METHODS[self.method_name]()
             self.last, self.mapped = None, False
 
     def start_covariance(self, adjusted: LocPose) -> np.ndarray:
         """Zero: the map's frame *is* the Laser_Pose the thread started at."""
         return np.zeros((3, 3))
 
-    def update(self, lines: list[LineFeature]) -> bool:
-        result = self.filter.update(lines)  # type: ignore[attr-defined]
-        self.mapped = True
-        if self.element[2] % WALL_COUNT_EVERY == 0:
-            self.walls = len(self.filter.walls())  # type: ignore[attr-defined]
-        self.data = [float(self.walls), float(result.landmarks), float(self.saves)]
-        return bool(result.matched > 0)
-
     def estimate(self, dr: LocPose, stamp: float, setter: int) -> LocPose:
+        self.mapped = True
+        self.data = [*self.slam.status(), float(self.saves)]
         self.last = super().estimate(dr, stamp, setter)
         return self.last
 
@@ -119,20 +121,24 @@ class SlamModule(Estimator):
             assert self.last is not None
             self.write_post(self.last)
         self.element[1] = 0
-        self.data = [float(self.walls), float(len(self.filter)), float(self.saves)]  # type: ignore[arg-type]
+        self.data = [*self.slam.status(), float(self.saves)]
         self.publish_status()
 
     def _write_map(self) -> None:
-        data = self.filter.to_map_data(f'slam-{self.manager.name}', mount=self._mount())  # type: ignore[attr-defined]
-        self.walls = len(data.walls)
+        data = self.slam.map_data(f'slam-{self.manager.name}', mount=self._mount())
+        grid = self.slam.grid()
         try:
             self.output.parent.mkdir(parents=True, exist_ok=True)
             save_map_data(data, self.output)
-        except (OSError, ConfigError) as error:
+            if grid is not None:
+                save_grid_map(self.output.with_suffix('.yaml'), grid.cells, origin=grid.origin,
+                              resolution=grid.resolution)
+        except (OSError, ConfigError, ValueError) as error:
             self.logger.error(f'{self.manager.name}: could not save the map to {self.output}: {error}')
             return
         self.saves += 1
-        self.logger.notice(f'{self.manager.name}: map saved to {self.output} ({len(data.walls)} walls)')
+        beside = f' and {self.output.with_suffix(".yaml").name}' if grid is not None else ''
+        self.logger.notice(f'{self.manager.name}: map saved to {self.output}{beside} ({len(data.walls)} walls)')
 
     def _mount(self) -> np.ndarray:
         """The laser's mounting on the robot (its RangeFinder info): the map's start is a robot pose."""
@@ -144,14 +150,19 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('slamModule')
     manager.set_help_string(HELP)
-    opts = manager.parse_options(argv, 'f:s:a').user
+    opts = manager.parse_options(argv, 'f:s:ae:').user
     output = pathlib.Path(manager.config.get_data_directory()) / opts.get('f', 'slam-map.xml')
+    method = opts.get('e', 'lines')
+    if method not in METHODS:
+        return exit_on_config_error(argv[0], ConfigError(argv[0], None, f'-e {method}: the methods are '
+                                                                      f'{", ".join(METHODS)}'))
     logger = Logger(manager.name)
     manager.register_supplier(logger)
-    module = SlamModule(manager, logger, output, laser=opts.get('s', 'PlutoLaser'), start_running='a' in opts)
+    module = SlamModule(manager, logger, output, laser=opts.get('s', 'PlutoLaser'), start_running='a' in opts,
+                        method=method)
     set_loop(manager, LOOP_S)
     when = 'now' if 'a' in opts else 'when asked (slam/status element[0] = 1)'
-    logger.notice(f'{manager.name}: the map goes to {output}; the thread starts {when}')
+    logger.notice(f'{manager.name}: method {method}; the map goes to {output}; the thread starts {when}')
     return run_loop(manager, module.step, module.close)
 
 

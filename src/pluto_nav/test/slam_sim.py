@@ -100,6 +100,8 @@ class Scan:
     truth: np.ndarray              # true laser pose
     dead_reckoning: np.ndarray     # laser pose from odometry alone
     distance: float                # m driven (odometry's count)
+    ranges: np.ndarray | None = None   # the noisy scan itself (m, robot order, -90 to +90 degrees)
+    odometry: tuple = (0.0, 0.0, 0.0)  # the base's odometry reading at the scan
 
 
 def drive(world: World, route: np.ndarray, *, seed: int, length_m: float = math.inf,
@@ -120,10 +122,11 @@ def drive(world: World, route: np.ndarray, *, seed: int, length_m: float = math.
 
     def scan(increment: np.ndarray, covariance: np.ndarray, odo: tuple) -> Scan:
         t = robot.truth
-        lines = extract_lines(laser.scan(world, t.x, t.y, t.theta), range_sigma=range_sigma,
-                              max_range=geometry.max_range, **(extraction or {}))
+        ranges = laser.scan(world, t.x, t.y, t.theta)
+        lines = extract_lines(ranges, range_sigma=range_sigma, max_range=geometry.max_range,
+                              **(extraction or {}))
         return Scan(increment, covariance, lines, compose((t.x, t.y, t.theta), MOUNT),
-                    compose(compose(tuple(start), odo), MOUNT), robot.distance)
+                    compose(compose(tuple(start), odo), MOUNT), robot.distance, np.asarray(ranges), odo)
 
     last_odo = (0.0, 0.0, 0.0)
     yield scan(np.zeros(3), np.zeros((3, 3)), last_odo)

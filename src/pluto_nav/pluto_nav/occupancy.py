@@ -1,0 +1,175 @@
+"""An occupancy grid from scans at known poses, and the walls it shows.
+
+:func:`build_grid` counts, per cell, the beams that ended in it (hits) and the beams that passed
+through it (misses): the "counting" or reflection model of CARMEN's and GMapping's maps.  A beam
+that saw nothing within range clears the cells along it up to ``free_range``.  A cell is occupied
+when at least ``min_hits`` beams ended in it and they are at least ``occupied_ratio`` of the beams
+that reached it; free when beams passed and it is not occupied; unknown when no beam reached it.
+
+:func:`grid_walls` turns the occupied cells into wall segments for the suite's map format: the
+outline of each occupied region (contourpy's marching squares between the centres of occupied and
+free cells, at :data:`OUTLINE_LEVEL`: near the occupied centres, where the scans' points are), simplified by Ramer-Douglas-Peucker to within ``tolerance`` (one cell by
+default).  Every wall so lies within one cell of an occupied region's edge, and a wall one cell
+thick becomes the two sides of a thin box, as a wall's two faces are.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Sequence
+
+import contourpy
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .geometry import transform_points
+
+__all__ = ['FREE', 'OCCUPIED', 'UNKNOWN', 'Grid', 'build_grid', 'grid_walls', 'simplify']
+
+#: Where between a free cell's centre (0) and an occupied one's (1) the outline runs: near the
+#: occupied centre, which is where the scans' points are on average (at 0.5 the outline would
+#: be the cells' edge, half a cell in front of the walls).
+OUTLINE_LEVEL = 0.95
+
+#: Cell values of :attr:`Grid.cells` (those of nav_msgs/OccupancyGrid).
+FREE, OCCUPIED, UNKNOWN = 0, 100, -1
+
+
+@dataclasses.dataclass(frozen=True)
+class Grid:
+    """A trinary occupancy grid: ``cells[row, col]`` with row 0 at ``origin``'s y and columns
+    along +x (nav_msgs/OccupancyGrid's order); ``origin`` is the lower-left corner of cell (0, 0)."""
+
+    cells: NDArray              # int8: FREE, OCCUPIED or UNKNOWN
+    origin: tuple[float, float]
+    resolution: float
+
+    @property
+    def occupied_points(self) -> NDArray:
+        """The centres of the occupied cells, ``(N, 2)`` metres."""
+        rows, cols = np.nonzero(self.cells == OCCUPIED)
+        return np.column_stack([self.origin[0] + (cols + 0.5) * self.resolution,
+                                self.origin[1] + (rows + 0.5) * self.resolution])
+
+
+def build_grid(poses: ArrayLike, rays: Sequence[tuple[NDArray, NDArray]], *, resolution: float = 0.05,
+               max_range: float = 30.0, free_range: float = 10.0, min_hits: int = 2,
+               occupied_ratio: float = 0.25) -> Grid:
+    """The grid of scans ``rays`` (each ``(angles, ranges)`` in the laser's frame; inf: nothing
+    within range) taken at the laser ``poses`` (see the module's description)."""
+    poses = np.asarray(poses, dtype=np.float64).reshape(-1, 3)
+    ends, starts, free_ends = [], [], []
+    for pose, (angles, ranges) in zip(poses, rays):
+        r = np.asarray(ranges, dtype=np.float64)
+        a = np.asarray(angles, dtype=np.float64)
+        hit = np.isfinite(r) & (r > 0.0) & (r <= max_range)
+        clear = np.isposinf(r) | (np.isfinite(r) & (r > max_range))
+        length = np.where(hit, r, np.where(clear, free_range, 0.0))
+        keep = length > 0.0
+        direction = np.column_stack([np.cos(a[keep]), np.sin(a[keep])])
+        ends.append(transform_points(pose, direction[hit[keep]] * r[keep][hit[keep]][:, None]))
+        free_ends.append(transform_points(pose, direction * length[keep][:, None]))
+        starts.append(np.repeat(pose[None, :2], int(keep.sum()), axis=0))
+    hits = np.vstack(ends) if ends else np.zeros((0, 2))
+    tips = np.vstack(free_ends) if free_ends else np.zeros((0, 2))
+    bases = np.vstack(starts) if starts else np.zeros((0, 2))
+    everything = np.vstack([hits, tips, bases]) if len(tips) else np.zeros((1, 2))
+    low = np.floor(everything.min(axis=0) / resolution) * resolution - resolution
+    high = everything.max(axis=0) + 2 * resolution
+    cols, rows = (np.ceil((high - low) / resolution).astype(int) + 1).tolist()
+    hit_count = _count(hits, low, resolution, rows, cols)
+    miss_count = _ray_misses(bases, tips, low, resolution, rows, cols)
+    reached = hit_count + miss_count
+    cells = np.full((rows, cols), UNKNOWN, dtype=np.int8)
+    cells[reached > 0] = FREE
+    occupied = (hit_count >= min_hits) & (hit_count >= occupied_ratio * np.maximum(reached, 1))
+    cells[occupied] = OCCUPIED
+    return Grid(cells, (float(low[0]), float(low[1])), float(resolution))
+
+
+def _index(points: NDArray, low: NDArray, resolution: float, rows: int, cols: int) -> NDArray:
+    cell = np.floor((points - low) / resolution).astype(np.int64)
+    inside = (cell[:, 0] >= 0) & (cell[:, 0] < cols) & (cell[:, 1] >= 0) & (cell[:, 1] < rows)
+    return cell[inside, 1] * cols + cell[inside, 0]
+
+
+def _count(points: NDArray, low: NDArray, resolution: float, rows: int, cols: int) -> NDArray:
+    flat = _index(points, low, resolution, rows, cols)
+    return np.bincount(flat, minlength=rows * cols).reshape(rows, cols)
+
+
+def _ray_misses(bases: NDArray, tips: NDArray, low: NDArray, resolution: float,
+                rows: int, cols: int) -> NDArray:
+    """How many rays crossed each cell before their end (sampled once a cell along each ray)."""
+    misses = np.zeros(rows * cols, dtype=np.int64)
+    chunk = 1024
+    for first in range(0, len(bases), chunk):
+        a, b = bases[first:first + chunk], tips[first:first + chunk]
+        length = np.hypot(*(b - a).T)
+        samples = int(math.ceil(length.max() / resolution)) if len(length) else 0
+        if samples == 0:
+            continue
+        t = np.arange(samples) * resolution                              # (S,)
+        inside = t[None, :] < length[:, None] - resolution               # stop a cell short of the end
+        unit = (b - a) / np.maximum(length, 1e-9)[:, None]
+        points = a[:, None, :] + unit[:, None, :] * t[None, :, None]      # (R, S, 2)
+        flat = _flat_all(points, low, resolution, rows, cols)[inside]
+        misses += np.bincount(flat[flat >= 0], minlength=rows * cols)
+    return misses.reshape(rows, cols)
+
+
+def _flat_all(points: NDArray, low: NDArray, resolution: float, rows: int, cols: int) -> NDArray:
+    cell = np.floor((points - low) / resolution).astype(np.int64)
+    inside = (cell[..., 0] >= 0) & (cell[..., 0] < cols) & (cell[..., 1] >= 0) & (cell[..., 1] < rows)
+    return np.where(inside, cell[..., 1] * cols + cell[..., 0], -1)
+
+
+def simplify(polyline: NDArray, tolerance: float) -> NDArray:
+    """Ramer-Douglas-Peucker: the corners of ``polyline`` (``(N, 2)``) that keep every point
+    within ``tolerance`` of the simplified line."""
+    keep = np.zeros(len(polyline), dtype=bool)
+    keep[0] = keep[-1] = True
+    stack = [(0, len(polyline) - 1)]
+    while stack:
+        first, last = stack.pop()
+        if last - first < 2:
+            continue
+        a, b = polyline[first], polyline[last]
+        between = polyline[first + 1:last]
+        direction = b - a
+        norm = math.hypot(direction[0], direction[1])
+        if norm < 1e-12:
+            distance = np.hypot(*(between - a).T)
+        else:
+            distance = np.abs(direction[0] * (between[:, 1] - a[1]) - direction[1] * (between[:, 0] - a[0])) / norm
+        worst = int(np.argmax(distance))
+        if distance[worst] > tolerance:
+            middle = first + 1 + worst
+            keep[middle] = True
+            stack += [(first, middle), (middle, last)]
+    return polyline[keep]
+
+
+def grid_walls(grid: Grid, *, tolerance: float | None = None, min_length: float | None = None) -> NDArray:
+    """``(N, 4)`` wall segments along the outlines of the occupied regions (see the module's
+    description); ``tolerance`` defaults to one cell, ``min_length`` (shorter segments of an
+    outline are dropped when they are the whole outline) to two cells."""
+    tolerance = grid.resolution if tolerance is None else tolerance
+    min_length = 2 * grid.resolution if min_length is None else min_length
+    occupied = np.pad((grid.cells == OCCUPIED).astype(np.float64), 1)
+    lines = contourpy.contour_generator(z=occupied, name='serial').lines(OUTLINE_LEVEL)
+    walls = []
+    for line in lines:
+        xy = np.asarray(line, dtype=np.float64)
+        if len(xy) < 2:
+            continue
+        corners = simplify(xy, tolerance / grid.resolution)
+        metres = np.column_stack([grid.origin[0] + (corners[:, 0] - 0.5) * grid.resolution,
+                                  grid.origin[1] + (corners[:, 1] - 0.5) * grid.resolution])
+        pieces = np.hstack([metres[:-1], metres[1:]])
+        lengths = np.hypot(pieces[:, 2] - pieces[:, 0], pieces[:, 3] - pieces[:, 1])
+        pieces = pieces[lengths > 1e-9]
+        if len(pieces) and np.hypot(*(metres.max(axis=0) - metres.min(axis=0))) >= min_length:
+            walls.append(pieces)
+    return np.vstack(walls) if walls else np.zeros((0, 4))
