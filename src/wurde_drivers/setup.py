@@ -25,6 +25,7 @@ EXECUTABLES = {
     'eye': 'eye.module',
     'joystick_emulator': 'joystick.emulator_module',
     'blind_teleop': 'blind_teleop.program',
+    'ros_inputs': 'ros_inputs.module',
     # The guide's program name, so that its configurations run as printed (1.1.5).
     'blindTeleop': 'blind_teleop.program',
 }

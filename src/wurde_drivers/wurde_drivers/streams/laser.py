@@ -19,22 +19,74 @@ mounted upside down); a beam that saw nothing within range reads ``inf``. A ``se
 of the main stream goes to ``/N/scan`` as well (:mod:`wurde_drivers.ros_std`), in frame ``N``, whose
 mounting (``base_link`` → ``N``) the module publishes on ``/tf_static``. When the laser has a
 fatal error every range is −1 until it is back (Pluto 8.1: "all data is set to -1").
+
+Any other fan (a ROS robot's laser through ``ros_inputs``: 270°, 1081 beams, mounted turned or
+upside down) is announced with a :class:`Fan`: the bearing of the first beam and the step, in
+the robot's frame and counter-clockwise order, as the RangeFinder info's ``theta_offset`` and
+``theta_separation``.  Then ``N/RWI`` carries the same beams as ``N`` (the same info), stamped at
+the end of the scan, and ``/N/scan`` the same fan (frame ``N`` at the mounting, no yaw: the beams'
+bearings are the robot's).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
+from typing import Any
 
+from sensor_msgs.msg import LaserScan
 from wurde_core import CommsManager, Time
 from wurde_core.interfaces import FVectorState, RangeFinder
+from wurde_core.ros_messages import set_stamp
 
 from ..mounting import Mounting
 from ..ros_std import ScanPublisher
 from ..ros_std_frames import StaticFrames, frame_of
 from ..sick import facts
 
-__all__ = ['LaserStreams']
+__all__ = ['Fan', 'LaserStreams']
+
+
+@dataclasses.dataclass(frozen=True)
+class Fan:
+    """A uniform fan of beams in the robot's frame, in the suite's counter-clockwise order.
+
+    :param first: bearing of the first beam (rad, robot frame: 0 ahead, counter-clockwise).
+    :param step: angle between two beams (rad, > 0).
+    :param time_increment: seconds between two measurements (0: unknown), for ``/N/scan``.
+    """
+
+    first: float
+    step: float
+    time_increment: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.first) and math.isfinite(self.step) and self.step > 0):
+            raise ValueError(f'a fan needs a finite first bearing and a positive step, not {self}')
+
+
+class FanScanPublisher(ScanPublisher):
+    """``/S/scan`` of a :class:`Fan`: as :class:`~wurde_drivers.ros_std.ScanPublisher`, with the
+    fan's angles instead of the SICK's −90°..+90°."""
+
+    def __init__(self, node: Any, stream: str, *, max_range: float, fan: Fan) -> None:
+        super().__init__(node, stream, max_range=max_range, time_increment=fan.time_increment)
+        self.fan = fan
+
+    def publish(self, ranges: Sequence[float], stamp: float, scan_time: float) -> None:
+        msg = LaserScan()
+        set_stamp(msg, stamp)
+        msg.header.frame_id = self.frame
+        msg.angle_min = self.fan.first
+        msg.angle_max = self.fan.first + self.fan.step * max(len(ranges) - 1, 0)
+        msg.angle_increment = self.fan.step
+        msg.scan_time = scan_time
+        msg.time_increment = self.time_increment
+        msg.range_min = 0.0
+        msg.range_max = self.max_range
+        msg.ranges = [float(r) for r in ranges]
+        self.publisher.publish(msg)
 
 
 class LaserStreams:
@@ -51,6 +103,8 @@ class LaserStreams:
         self.max_range = 0.0
         self.scan_time = 0.0
         self.scans = 0
+        #: The fan announced last (None: the SICK's 180°).
+        self.fan: Fan | None = None
         self._node: object = None
         self._ros: ScanPublisher | None = None
         self._frames: StaticFrames | None = None
@@ -62,19 +116,29 @@ class LaserStreams:
         self._frames = StaticFrames(manager.node)
 
     def publish_info(self, *, count: int, max_range: float, mount_x: float = 0.0, mount_y: float = 0.0,
-                     mount_z: float = 0.4, scan_time: float = 0.0) -> None:
-        """The RangeFinder info: a uniform fan over 180° at the laser's mounting point.
+                     mount_z: float = 0.4, scan_time: float = 0.0, fan: Fan | None = None) -> None:
+        """The RangeFinder info: a uniform fan over 180° (the SICK's), or ``fan``, at the laser's
+        mounting point; again whenever the mounting or the fan changes.
 
         ``scan_time`` (s between scans) goes into the standard LaserScan on ``/<name>/scan``.
         """
         self.count, self.max_range, self.scan_time = count, max_range, scan_time
-        if self._node is not None and self._ros is None and '/' not in self.name:
-            self._ros = ScanPublisher(self._node, self.name, max_range=max_range,
-                                      time_increment=1.0 / facts.MIRROR_HZ / 360.0)  # a turn per 360°
+        self.fan = fan
+        if self._node is not None and '/' not in self.name:
+            if fan is None and self._ros is None:
+                self._ros = ScanPublisher(self._node, self.name, max_range=max_range,
+                                          time_increment=1.0 / facts.MIRROR_HZ / 360.0)  # a turn per 360°
+            elif fan is not None:
+                if isinstance(self._ros, FanScanPublisher):
+                    self._ros.fan, self._ros.max_range = fan, max_range
+                    self._ros.time_increment = fan.time_increment
+                else:
+                    self._ros = FanScanPublisher(self._node, self.name, max_range=max_range, fan=fan)
         if self._frames is not None:
             self._frames.set([(frame_of(self.name), Mounting(mount_x, mount_y, mount_z))])
-        for obj, beams in ((self.scan, count), (self.rwi, facts.RWI_VALUES)):
-            step = math.pi / (beams - 1)
+        rwi_beams = facts.RWI_VALUES if fan is None else count
+        for obj, beams in ((self.scan, count), (self.rwi, rwi_beams)):
+            first, step = (-math.pi / 2, math.pi / (beams - 1)) if fan is None else (fan.first, fan.step)
             info = obj.info
             info.max_range.set_value(max_range)
             info.uniform.set_value(True)
@@ -82,17 +146,19 @@ class LaserStreams:
             info.x_offset.set_value(mount_x)
             info.y_offset.set_value(mount_y)
             info.z_offset.set_value(mount_z)
-            info.theta_offset.set_value(-math.pi / 2)
+            info.theta_offset.set_value(first)
             info.theta_separation.set_value(step)
             obj.publish_info()
 
     def publish_scan(self, ranges: Sequence[float], *, centre_stamp: float, arrival_stamp: float) -> None:
-        """One scan in robot order; the RWI stream gets every other beam of a 361-beam scan."""
+        """One scan in robot order; the RWI stream gets every other beam of a SICK's 361-beam
+        scan (a :class:`Fan`'s: every beam)."""
         values = [float(r) for r in ranges]
         self.scan.data.ranges = values
         self.scan.data.timestamp = Time(centre_stamp)
         self.scan.publish_data()
-        self.rwi.data.ranges = values[::2] if len(values) == facts.VALUES_AT[0.5] else values
+        sick_half = self.fan is None and len(values) == facts.VALUES_AT[0.5]
+        self.rwi.data.ranges = values[::2] if sick_half else values
         self.rwi.data.timestamp = Time(arrival_stamp)
         self.rwi.publish_data()
         self.timing.data.element = [len(values)]
