@@ -8,8 +8,9 @@ that reached it; free when beams passed and it is not occupied; unknown when no 
 
 :func:`grid_walls` turns the occupied cells into wall segments for the suite's map format: the
 outline of each occupied region (contourpy's marching squares between the centres of occupied and
-free cells, at :data:`OUTLINE_LEVEL`: near the occupied centres, where the scans' points are), simplified by Ramer-Douglas-Peucker to within ``tolerance`` (one cell by
-default).  Every wall so lies within one cell of an occupied region's edge, and a wall one cell
+free cells, at :data:`OUTLINE_LEVEL`: near the occupied centres, where the scans' points are),
+after gaps of one cell are closed, simplified by Ramer-Douglas-Peucker to within ``tolerance``
+(one cell by default).  Every wall so lies within one cell of an occupied region's edge, and a wall one cell
 thick becomes the two sides of a thin box, as a wall's two faces are.
 """
 
@@ -22,6 +23,7 @@ from collections.abc import Sequence
 import contourpy
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy import ndimage
 
 from .geometry import transform_points
 
@@ -157,7 +159,10 @@ def grid_walls(grid: Grid, *, tolerance: float | None = None, min_length: float 
     outline are dropped when they are the whole outline) to two cells."""
     tolerance = grid.resolution if tolerance is None else tolerance
     min_length = 2 * grid.resolution if min_length is None else min_length
-    occupied = np.pad((grid.cells == OCCUPIED).astype(np.float64), 1)
+    # A wall seen through gaps (glass, a dotted line of hits) is one wall, not many specks too
+    # small to keep: gaps of one cell are closed first.
+    closed = ndimage.binary_closing(np.pad(grid.cells == OCCUPIED, 2), structure=np.ones((3, 3)))[1:-1, 1:-1]
+    occupied = closed.astype(np.float64)
     lines = contourpy.contour_generator(z=occupied, name='serial').lines(OUTLINE_LEVEL)
     walls = []
     for line in lines:
