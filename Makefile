@@ -75,6 +75,16 @@ bench-nav: build
 bench-slam: build
 	$(IN_ENV) python bench/nav_slam.py
 
+# Real robots' logs (issue 36): offline_nav --slam on the public SLAM benchmark's FR079 (its
+# ground-truth relations) and MIT CSAIL (relative pose error against its reference trajectory), on
+# one core, beside odometry and GMapping's published figures; then simulated logs on a shipped and
+# generated maps against the truth.  The logs are not in the repository: SLAM_DATA is where they are
+# (about two minutes).  It draws CSAIL's mapped walls over the reference's map in docs/.
+SLAM_DATA ?= ../shared/data/slam-benchmark
+.PHONY: bench-slam-real
+bench-slam-real: build
+	$(IN_ENV) python bench/slam_real.py --data $(SLAM_DATA) --png docs/slam-csail.png
+
 # The avoidModule (issue 12): the avoidance computation for a 361-point scan and the laser scan in
 # -> drive command out latency through a real avoid_module, beside a raw rclpy relay (about 1 minute);
 # the guide's LaserAvoider and VectorMover in a kinematic simulation on generated worlds (4 minutes).

@@ -18,6 +18,8 @@ the whole log as fast as one core allows, the same every time.  ``--method`` cho
   trajectory: TUM or a graph log) score the trajectory (:mod:`.slam_metric`), odometry beside it.
 - ``--start X,Y,THETA`` (localization): the robot's pose at the log's first odometry in the map;
   by default the map's place ``start``.
+- A bag's IMU orientation gives the heading, as the localModule takes the DMU's (``--no-imu``:
+  the odometry's).
 
 Prints progress (a bar on a terminal) and a summary; problems with the log are warned once per
 kind and counted in the summary.  Exit status 0, 1 when the run failed, 2 for wrong arguments or
@@ -64,6 +66,8 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument('--start', metavar='X,Y,THETA', help="localization: the start pose (default: the map's start)")
     parser.add_argument('--relations', metavar='FILE', help='score against ground-truth relations (Kuemmerle et al.)')
     parser.add_argument('--reference', metavar='FILE', help='score against a reference trajectory (TUM or graph log)')
+    parser.add_argument('--no-imu', action='store_true',
+                        help="the heading from the odometry alone, not from the log's IMU (a bag's sensor_msgs/Imu)")
     parser.add_argument('--quiet', action='store_true', help='no progress, only the summary')
     return parser
 
@@ -85,12 +89,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (LogError, ConfigError, MetricError) as error:
         print(f'offline_nav: {error}', file=sys.stderr)
         return 2
+    heading = [r for r in log.imu if r.orientation is not None]
+    imu = f', {len(heading)} IMU headings{" (not used)" if args.no_imu else ""}' if heading else ''
     say.line(f'offline_nav: {log.path}: {len(log.scans)} scans ({_beams(log)}), {len(log.odometry)} odometry '
-             f'from {log.odometry_source}, {log.duration:.0f} s; {"SLAM" if args.slam else "localization"}, '
+             f'from {log.odometry_source}{imu}, {log.duration:.0f} s; {"SLAM" if args.slam else "localization"}, '
              f'method {args.method}')
     try:
         with say.progress(len(log.scans)) as progress:
-            result = run_offline(log, method, start=start, start_covariance=covariance, progress=progress)
+            result = run_offline(log, method, start=start, start_covariance=covariance, imu=not args.no_imu,
+                                 progress=progress)
     except ValueError as error:
         print(f'offline_nav: {error}', file=sys.stderr)
         return 1

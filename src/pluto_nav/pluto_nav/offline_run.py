@@ -1,8 +1,9 @@
 """A recording through Pluto's localization without ROS: what ``offline_nav`` runs.
 
 The localModule's part is done as the localModule does it (:class:`.dead_reckoning.DeadReckoning`
-over the odometry, the robot's pose interpolated at each scan's time, moved to the laser by its
-mount, the increment's covariance by :func:`.odometry_model.laser_increment`), and the estimator's
+over the odometry, and over an IMU's heading as the localModule takes the DMU's when the log has
+an IMU with an orientation; the robot's pose interpolated at each scan's time, moved to the laser
+by its mount, the increment's covariance by :func:`.odometry_model.laser_increment`), and the estimator's
 part by the modules' own :class:`.estimation.ScanCycle` round the chosen method, so that a log
 gives offline what the modules would give on the robot, as fast as one core allows and the same
 every time.
@@ -11,9 +12,10 @@ every time.
 from __future__ import annotations
 
 import dataclasses
+import heapq
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 
 import numpy as np
 from numpy.typing import NDArray
@@ -21,7 +23,7 @@ from numpy.typing import NDArray
 from .dead_reckoning import DeadReckoning
 from .estimation import Method, Scan, ScanCycle
 from .geometry import compose, inverse
-from .logs import RobotLog, ScanRecord
+from .logs import ImuRecord, OdometryRecord, RobotLog, ScanRecord
 from .odometry_model import laser_increment
 
 __all__ = ['OfflineResult', 'run_offline']
@@ -48,7 +50,7 @@ class OfflineResult:
 
 
 def run_offline(log: RobotLog, method: Method, *, start: tuple[float, float, float] | None = None,
-                start_covariance: NDArray | None = None,
+                start_covariance: NDArray | None = None, imu: bool = True,
                 progress: Callable[[int, int], None] | None = None) -> OfflineResult:
     """Every scan of ``log`` through ``method``.
 
@@ -56,6 +58,8 @@ def run_offline(log: RobotLog, method: Method, *, start: tuple[float, float, flo
         start place); None: the odometry's own first pose (a SLAM's map is then in the odometry
         frame, as comparable with it as can be).
     :param start_covariance: of the first laser pose the method starts from (zero: exact).
+    :param imu: take the heading from the log's IMU orientation where it has one (as the
+        localModule takes the DMU's); False: from the odometry alone.
     :param progress: called with (scans done, scans in all) now and then.
     """
     begun = time.perf_counter()
@@ -63,18 +67,16 @@ def run_offline(log: RobotLog, method: Method, *, start: tuple[float, float, flo
         raise ValueError(f'{log.path}: no odometry: neither odometry records nor odometry in the laser lines')
     first = log.odometry[0]
     dr = DeadReckoning(first.pose if start is None else start)
+    inputs = _inputs(log, imu)
     cycle = ScanCycle(method)
     covariance = np.zeros((3, 3)) if start_covariance is None else start_covariance
     stamps, laser, odometry, used = [], [], [], []
     matched = skipped = 0
-    next_odometry = 0
     last: tuple[float, NDArray] | None = None
     total = len(log.scans)
     for count, scan in enumerate(log.scans, start=1):
-        while next_odometry < len(log.odometry) and (dr.latest is None or dr.latest.stamp < scan.stamp):
-            record = log.odometry[next_odometry]
-            dr.add_odometry(record.stamp, record.x, record.y, record.theta)
-            next_odometry += 1
+        while (dr.latest is None or dr.latest.stamp < scan.stamp) and _feed(dr, inputs):
+            pass
         robot = dr.at(scan.stamp)
         if robot is None:
             skipped += 1
@@ -109,6 +111,35 @@ def run_offline(log: RobotLog, method: Method, *, start: tuple[float, float, flo
     robot_poses = np.array([compose(p, inverse(m)) for p, m in zip(laser_poses, used)]).reshape(-1, 3)
     return OfflineResult(np.array(stamps), laser_poses, robot_poses, np.array(odometry).reshape(-1, 3),
                          matched, skipped, time.perf_counter() - begun)
+
+
+def _inputs(log: RobotLog, imu: bool) -> Iterator[OdometryRecord | ImuRecord]:
+    """Odometry and (when ``imu``) IMU records with an orientation, merged in time order (an
+    IMU sample first at equal stamps: it must cover the odometry sample's time)."""
+    headings = [r for r in log.imu if r.orientation is not None] if imu else []
+    return heapq.merge(headings, log.odometry, key=lambda r: (r.stamp, isinstance(r, OdometryRecord)))
+
+
+def _feed(dr: DeadReckoning, inputs: Iterator[OdometryRecord | ImuRecord]) -> bool:
+    """The next input into the dead reckoning; False when there is none."""
+    record = next(inputs, None)
+    if record is None:
+        return False
+    if isinstance(record, OdometryRecord):
+        dr.add_odometry(record.stamp, record.x, record.y, record.theta)
+    else:
+        roll, pitch, yaw = _euler(record.orientation)  # type: ignore[arg-type]
+        dr.add_dmu(record.stamp, yaw, pitch, roll)
+    return True
+
+
+def _euler(q: tuple[float, float, float, float]) -> tuple[float, float, float]:
+    """Roll, pitch and yaw of a quaternion (x, y, z, w)."""
+    x, y, z, w = q
+    roll = math.atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
+    pitch = math.asin(max(-1.0, min(1.0, 2.0 * (w * y - z * x))))
+    yaw = math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+    return roll, pitch, yaw
 
 
 def _scan(record: ScanRecord) -> Scan:

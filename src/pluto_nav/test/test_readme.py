@@ -46,3 +46,26 @@ def test_where_am_i_reads_the_pose_of_the_simulated_pluto_under_the_mcp(ros_doma
     assert (float(found.group(1)), float(found.group(2)), float(found.group(3))) == \
         pytest.approx((3.0, 7.5, 0.0), abs=0.06)
     assert int(found.group(4)) in (0, 1)     # before or after the pose module took the setter
+
+
+def test_readme_offline_nav_and_slam_score_run_as_printed(tmp_path: pathlib.Path) -> None:
+    text = README.read_text()
+    code = re.search(r'<!-- example: offline_nav -->\n```bash\n(.*?)```', text, re.S).group(1)
+    code = code.replace('/tmp/fr079', str(tmp_path / 'fr079'))      # not the machine's /tmp
+    with ChildProcess(['bash', '-ec', code], cwd=str(README.parent), python=False) as run:
+        run.process.wait(timeout=300)
+        assert run.stop() == 0, run.stderr
+    assert re.search(r'1[23] pairs: translation 0\.0[0-5]\d+ m', run.stdout), run.stdout
+    assert (tmp_path / 'fr079' / 'map.xml').exists() and (tmp_path / 'fr079' / 'map.pgm').exists()
+
+
+def test_readme_offline_slam_in_python_beats_the_odometry(monkeypatch: pytest.MonkeyPatch) -> None:
+    text = README.read_text()
+    code = re.search(r'<!-- example: offline_slam -->\n```python\n(.*?)```', text, re.S).group(1)
+    monkeypatch.chdir(README.parent)
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        exec(compile(code, 'README.md', 'exec'), {})
+    lines = out.getvalue().splitlines()
+    errors = [float(re.search(r'translation (\S+) m', line).group(1)) for line in lines]
+    assert lines[0].startswith('SLAM') and errors[0] < 0.8 * errors[1], lines
