@@ -65,24 +65,32 @@ def std_topic(stream: str, leaf: str) -> str:
 
 
 class ScanPublisher:
-    """``/S/scan``: the scan in robot order, counter-clockwise from −90° (REP-103)."""
+    """``/S/scan``: the scan in robot order, counter-clockwise (REP-103): from −90° to +90° (the
+    SICK's fan, whatever the beam count), or from ``angle_min`` by ``angle_increment``."""
 
     def __init__(self, node: Any, stream: str, *, max_range: float, time_increment: float = 0.0,
-                 frame: str | None = None) -> None:
+                 frame: str | None = None, angle_min: float | None = None,
+                 angle_increment: float | None = None) -> None:
         """``time_increment``: seconds between two measurements (the device's fact, 0 if unknown)."""
         self.publisher = node.create_publisher(LaserScan, std_topic(stream, 'scan'), _QOS)
         self.frame = frame or frame_of(stream)
         self.max_range = max_range
         self.time_increment = time_increment
+        self.angle_min, self.angle_increment = angle_min, angle_increment
 
     def publish(self, ranges: Sequence[float], stamp: float, scan_time: float) -> None:
         msg = LaserScan()
         set_stamp(msg, stamp)
         msg.header.frame_id = self.frame
         count = len(ranges)
-        msg.angle_min = -math.pi / 2
-        msg.angle_max = math.pi / 2
-        msg.angle_increment = math.pi / (count - 1) if count > 1 else 0.0
+        if self.angle_increment is None or self.angle_min is None:
+            msg.angle_min = -math.pi / 2
+            msg.angle_max = math.pi / 2
+            msg.angle_increment = math.pi / (count - 1) if count > 1 else 0.0
+        else:
+            msg.angle_min = self.angle_min
+            msg.angle_max = self.angle_min + self.angle_increment * max(count - 1, 0)
+            msg.angle_increment = self.angle_increment
         msg.scan_time = scan_time
         msg.time_increment = self.time_increment if count else 0.0
         msg.range_min = 0.0

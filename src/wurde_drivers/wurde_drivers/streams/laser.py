@@ -33,12 +33,9 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Sequence
-from typing import Any
 
-from sensor_msgs.msg import LaserScan
 from wurde_core import CommsManager, Time
 from wurde_core.interfaces import FVectorState, RangeFinder
-from wurde_core.ros_messages import set_stamp
 
 from ..mounting import Mounting
 from ..ros_std import ScanPublisher
@@ -64,29 +61,6 @@ class Fan:
     def __post_init__(self) -> None:
         if not (math.isfinite(self.first) and math.isfinite(self.step) and self.step > 0):
             raise ValueError(f'a fan needs a finite first bearing and a positive step, not {self}')
-
-
-class FanScanPublisher(ScanPublisher):
-    """``/S/scan`` of a :class:`Fan`: as :class:`~wurde_drivers.ros_std.ScanPublisher`, with the
-    fan's angles instead of the SICK's −90°..+90°."""
-
-    def __init__(self, node: Any, stream: str, *, max_range: float, fan: Fan) -> None:
-        super().__init__(node, stream, max_range=max_range, time_increment=fan.time_increment)
-        self.fan = fan
-
-    def publish(self, ranges: Sequence[float], stamp: float, scan_time: float) -> None:
-        msg = LaserScan()
-        set_stamp(msg, stamp)
-        msg.header.frame_id = self.frame
-        msg.angle_min = self.fan.first
-        msg.angle_max = self.fan.first + self.fan.step * max(len(ranges) - 1, 0)
-        msg.angle_increment = self.fan.step
-        msg.scan_time = scan_time
-        msg.time_increment = self.time_increment
-        msg.range_min = 0.0
-        msg.range_max = self.max_range
-        msg.ranges = [float(r) for r in ranges]
-        self.publisher.publish(msg)
 
 
 class LaserStreams:
@@ -129,11 +103,10 @@ class LaserStreams:
                 self._ros = ScanPublisher(self._node, self.name, max_range=max_range,
                                           time_increment=1.0 / facts.MIRROR_HZ / 360.0)  # a turn per 360°
             elif fan is not None:
-                if isinstance(self._ros, FanScanPublisher):
-                    self._ros.fan, self._ros.max_range = fan, max_range
-                    self._ros.time_increment = fan.time_increment
-                else:
-                    self._ros = FanScanPublisher(self._node, self.name, max_range=max_range, fan=fan)
+                if self._ros is None:
+                    self._ros = ScanPublisher(self._node, self.name, max_range=max_range)
+                self._ros.max_range, self._ros.time_increment = max_range, fan.time_increment
+                self._ros.angle_min, self._ros.angle_increment = fan.first, fan.step
         if self._frames is not None:
             self._frames.set([(frame_of(self.name), Mounting(mount_x, mount_y, mount_z))])
         rwi_beams = facts.RWI_VALUES if fan is None else count
