@@ -56,7 +56,14 @@ class Run:
 
 def run_goto(walls: Sequence[Segment], start: tuple[float, float, float], goal: tuple[float, float], *,
              max_tv: float = 0.5, max_rv: float = 1.0, strength: float = 1.0, dt: float = 0.1,
-             limit_s: float = 120.0, settings: FieldSettings = FieldSettings()) -> Run:
+             limit_s: float = 120.0, settings: FieldSettings = FieldSettings(),
+             scan_age: tuple[float, float] | None = None, period: tuple[float, float] | None = None,
+             seed: int = 0) -> Run:
+    """The goto from ``start`` to ``goal``.  A loaded computer: ``scan_age`` (s, low and high)
+    draws how old the scan each step uses is (its points moved into the robot's frame now, as the
+    avoidModule places them), ``period`` how long each step lasts (else ``dt``); from ``seed``."""
+    rng = np.random.default_rng(seed)
+    scans: list[tuple[float, tuple[float, float, float], np.ndarray]] = []
     x, y, theta = start
     tv = 0.0
     side = 0
@@ -70,6 +77,13 @@ def run_goto(walls: Sequence[Segment], start: tuple[float, float, float], goal: 
         lx, ly = x + 0.2 * c, y + 0.2 * s
         ranges = raycast(walls, lx, ly, theta + LASER.theta)
         points = LASER.points(ranges)
+        if scan_age is not None:
+            scans.append((t, (x, y, theta), points))
+            age = rng.uniform(*scan_age)
+            taken, (px, py, pt), then = next((sc for sc in reversed(scans) if sc[0] <= t - age), scans[0])
+            wx = px + math.cos(pt) * then[:, 0] - math.sin(pt) * then[:, 1]
+            wy = py + math.sin(pt) * then[:, 0] + math.cos(pt) * then[:, 1]
+            points = np.column_stack([c * (wx - x) + s * (wy - y), -s * (wx - x) + c * (wy - y)])
         step = goto_step((x, y, theta), goal, points, max_tv=max_tv, max_rv=max_rv, strength=strength,
                          side=side, settings=settings)
         side = step.side
@@ -77,6 +91,8 @@ def run_goto(walls: Sequence[Segment], start: tuple[float, float, float], goal: 
             return Run('reached', path, low, t)
         if progress.stuck(step, t) is not None:
             return Run('stuck', path, low, t)
+        if period is not None:
+            dt = rng.uniform(*period)
         error = math.atan2(math.sin(step.heading - theta), math.cos(step.heading - theta))
         rv = max(-1.5, min(1.5, settings.heading_gain * error))
         wanted = step.speed * max(0.0, math.cos(error))

@@ -131,6 +131,17 @@ def test_goto_steers_round_a_box_without_touching_it(offset: float) -> None:
     assert run.min_clearance > 0.35 + 0.03
 
 
+@pytest.mark.parametrize('seed', range(12))
+def test_goto_round_a_box_holds_its_side_with_late_scans_and_an_uneven_loop(seed: int) -> None:
+    # A loaded computer (make test's fresh-clone run of test_avoid_i_goto_typed_at_its_prompt, the
+    # same room): scans 0.2-0.8 s old and steps of 0.05-0.35 s turned the lean of the repulsion
+    # half way round the box; the goto chose the other side, turned back, circled and was stuck.
+    walls = ROOM + box(4.5, 2.5, 5.5, 3.5)
+    run = run_goto(walls, (1.5, 3.0, 0.0), (8.5, 3.0), scan_age=(0.2, 0.8), period=(0.05, 0.35), seed=seed)
+    assert run.result == 'reached', (run.result, run.path[-1])
+    assert run.min_clearance > 0.35
+
+
 def test_goto_behind_a_wall_is_stuck_without_touching_it() -> None:
     walls = box(0, 0, 6, 4) + [(3.5, 0.0, 3.5, 4.0)]
     run = run_goto(walls, (1.5, 2.0, 0.0), (5.0, 2.0))
