@@ -136,11 +136,19 @@ def test_a_base_killed_while_turning_resumes_at_its_last_odometry(ros_domain: in
             observer.until(between_samples, 'the simulation between two odometry samples', WAIT_S)
             first.process.send_signal(signal.SIGKILL)
             first.process.wait(timeout=WAIT_S)
+            killed = time.time()
         seen = len(observer.events['PlutoBaseTruth'])
         with base(path, state, 1) as restarted:
             resumed = first_truth(observer, seen)        # what the dead process sent has come by now
             said(restarted, 'resumed: restart 1')
-        last = truth(observer.events['PlutoBaseMotion'][-1][1])
+            # The restarted base's odometry counts from zero again; its samples come in among the
+            # dead process's (on a loaded machine before the first truth above), so the last
+            # sample is the dead process's last by its stamp: the simulated clock starts at its
+            # process's start and never runs ahead of the wall, so the dead process stamped
+            # everything before the kill and the new one everything after it.
+            observer.until(lambda o: o.stamps('PlutoBaseMotion')[-1] > killed, "the restarted base's odometry",
+                           WAIT_S)
+        last = truth([message for stamp, message in observer.events['PlutoBaseMotion'] if stamp < killed][-1])
         sx, sy, st = START
         expected = (sx + last[0] * math.cos(st) - last[1] * math.sin(st),
                     sy + last[0] * math.sin(st) + last[1] * math.cos(st), st + last[2])
