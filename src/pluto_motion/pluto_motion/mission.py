@@ -35,7 +35,7 @@ from wurde_core.mcp_client import control_stream
 from wurde_core.module_loop import config_file
 from wurde_core.wrappers import GOAL_REACHED, STOP_FAILED, STOP_NONE, USER_STOPPED
 from wurde_idl.errors import ConfigError
-from wurde_idl.mapfile import load_map_data
+from wurde_idl.maps import load_map
 
 from pluto_nav.loc_proxy import LocProxy
 from pluto_nav.streams import POSE
@@ -248,7 +248,7 @@ def main(argv: list[str] | None = None) -> int:
     opts = manager.parse_options(argv, 'm:P:O:t:T:L:').user
     console = Console()
     try:
-        world = load_map_data(config_file(manager, opts.get('m'), 'map.xml'))
+        world = load_map(config_file(manager, opts.get('m'), 'map.xml'))
     except ConfigError as exc:
         print(f'mission: {exc}', file=sys.stderr, flush=True)
         return 2

@@ -35,7 +35,7 @@ from wurde_core.interfaces import Egomotion, robot_object_class
 from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, set_loop
 from wurde_core.wrappers import GOAL_REACHED, STOP_FAILED, STOP_NONE, USER_STOPPED
 from wurde_idl.errors import ConfigError
-from wurde_idl.mapfile import load_map_data
+from wurde_idl.maps import load_map
 
 from pluto_nav.loc_proxy import LocProxy
 from pluto_nav.streams import POSE
@@ -242,7 +242,7 @@ def main(argv: list[str] | None = None) -> int:
     manager.set_help_string(HELP)
     opts = manager.parse_options(argv, 'm:s:t:b:').user
     try:
-        world = load_map_data(config_file(manager, opts.get('m'), 'map.xml'))
+        world = load_map(config_file(manager, opts.get('m'), 'map.xml'))
         timeout = float(opts.get('t', 300.0))
     except ConfigError as error:
         return exit_on_config_error(argv[0], error)

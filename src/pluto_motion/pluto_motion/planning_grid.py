@@ -26,7 +26,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import ndimage
-from wurde_idl.mapfile import load_map_data
+from wurde_idl.maps import load_map
 
 __all__ = ['GridSettings', 'PlanningGrid', 'build_grid', 'grid_from_map_file', 'segment_distance']
 
@@ -216,9 +216,9 @@ def build_grid(walls: ArrayLike, offlimits: Sequence[ArrayLike] = (),
 
 
 def grid_from_map_file(path: str | os.PathLike[str], settings: GridSettings = GridSettings()) -> PlanningGrid:
-    """The grid of a map file (config/maps/README.md format).
+    """The grid of a map file (any format :func:`wurde_idl.maps.load_map` reads).
 
     :raises wurde_idl.mapfile.MapError: the file's errors, with file, line and reason.
     """
-    data = load_map_data(path)
+    data = load_map(path)
     return build_grid(data.walls, data.offlimits, data.bounds, settings)

@@ -6,12 +6,9 @@ that saw nothing within range clears the cells along it up to ``free_range``.  A
 when at least ``min_hits`` beams ended in it and they are at least ``occupied_ratio`` of the beams
 that reached it; free when beams passed and it is not occupied; unknown when no beam reached it.
 
-:func:`grid_walls` turns the occupied cells into wall segments for the suite's map format: the
-outline of each occupied region (contourpy's marching squares between the centres of occupied and
-free cells, at :data:`OUTLINE_LEVEL`: near the occupied centres, where the scans' points are),
-after gaps of one cell are closed, simplified by Ramer-Douglas-Peucker to within ``tolerance``
-(one cell by default).  Every wall so lies within one cell of an occupied region's edge, and a wall one cell
-thick becomes the two sides of a thin box, as a wall's two faces are.
+:func:`grid_walls` turns the occupied cells into wall segments for the suite's map format
+(:mod:`wurde_idl.gridwalls`, where every grid map becomes walls: each wall within one cell of
+an occupied region's edge).
 """
 
 from __future__ import annotations
@@ -20,19 +17,14 @@ import dataclasses
 import math
 from collections.abc import Sequence
 
-import contourpy
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy import ndimage
+
+from wurde_idl import gridwalls
 
 from .geometry import transform_points
 
-__all__ = ['FREE', 'OCCUPIED', 'UNKNOWN', 'Grid', 'build_grid', 'grid_walls', 'simplify']
-
-#: Where between a free cell's centre (0) and an occupied one's (1) the outline runs: near the
-#: occupied centre, which is where the scans' points are on average (at 0.5 the outline would
-#: be the cells' edge, half a cell in front of the walls).
-OUTLINE_LEVEL = 0.95
+__all__ = ['FREE', 'OCCUPIED', 'UNKNOWN', 'Grid', 'build_grid', 'grid_walls']
 
 #: Cell values of :attr:`Grid.cells` (those of nav_msgs/OccupancyGrid).
 FREE, OCCUPIED, UNKNOWN = 0, 100, -1
@@ -127,54 +119,7 @@ def _flat_all(points: NDArray, low: NDArray, resolution: float, rows: int, cols:
     return np.where(inside, cell[..., 1] * cols + cell[..., 0], -1)
 
 
-def simplify(polyline: NDArray, tolerance: float) -> NDArray:
-    """Ramer-Douglas-Peucker: the corners of ``polyline`` (``(N, 2)``) that keep every point
-    within ``tolerance`` of the simplified line."""
-    keep = np.zeros(len(polyline), dtype=bool)
-    keep[0] = keep[-1] = True
-    stack = [(0, len(polyline) - 1)]
-    while stack:
-        first, last = stack.pop()
-        if last - first < 2:
-            continue
-        a, b = polyline[first], polyline[last]
-        between = polyline[first + 1:last]
-        direction = b - a
-        norm = math.hypot(direction[0], direction[1])
-        if norm < 1e-12:
-            distance = np.hypot(*(between - a).T)
-        else:
-            distance = np.abs(direction[0] * (between[:, 1] - a[1]) - direction[1] * (between[:, 0] - a[0])) / norm
-        worst = int(np.argmax(distance))
-        if distance[worst] > tolerance:
-            middle = first + 1 + worst
-            keep[middle] = True
-            stack += [(first, middle), (middle, last)]
-    return polyline[keep]
-
-
 def grid_walls(grid: Grid, *, tolerance: float | None = None, min_length: float | None = None) -> NDArray:
-    """``(N, 4)`` wall segments along the outlines of the occupied regions (see the module's
-    description); ``tolerance`` defaults to one cell, ``min_length`` (shorter segments of an
-    outline are dropped when they are the whole outline) to two cells."""
-    tolerance = grid.resolution if tolerance is None else tolerance
-    min_length = 2 * grid.resolution if min_length is None else min_length
-    # A wall seen through gaps (glass, a dotted line of hits) is one wall, not many specks too
-    # small to keep: gaps of one cell are closed first.
-    closed = ndimage.binary_closing(np.pad(grid.cells == OCCUPIED, 2), structure=np.ones((3, 3)))[1:-1, 1:-1]
-    occupied = closed.astype(np.float64)
-    lines = contourpy.contour_generator(z=occupied, name='serial').lines(OUTLINE_LEVEL)
-    walls = []
-    for line in lines:
-        xy = np.asarray(line, dtype=np.float64)
-        if len(xy) < 2:
-            continue
-        corners = simplify(xy, tolerance / grid.resolution)
-        metres = np.column_stack([grid.origin[0] + (corners[:, 0] - 0.5) * grid.resolution,
-                                  grid.origin[1] + (corners[:, 1] - 0.5) * grid.resolution])
-        pieces = np.hstack([metres[:-1], metres[1:]])
-        lengths = np.hypot(pieces[:, 2] - pieces[:, 0], pieces[:, 3] - pieces[:, 1])
-        pieces = pieces[lengths > 1e-9]
-        if len(pieces) and np.hypot(*(metres.max(axis=0) - metres.min(axis=0))) >= min_length:
-            walls.append(pieces)
-    return np.vstack(walls) if walls else np.zeros((0, 4))
+    """``(N, 4)`` wall segments along the outlines of ``grid``'s occupied regions
+    (:func:`wurde_idl.gridwalls.grid_walls`)."""
+    return gridwalls.grid_walls(grid.cells, grid.origin, grid.resolution, tolerance=tolerance, min_length=min_length)

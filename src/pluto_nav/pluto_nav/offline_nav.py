@@ -37,13 +37,14 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from wurde_idl.errors import ConfigError
-from wurde_idl.gridmap import load_grid_map, save_grid_map
-from wurde_idl.mapfile import MapData, load_map_data, save_map_data
+from wurde_idl.gridmap import save_grid_map
+from wurde_idl.mapfile import MapData, save_map_data
+from wurde_idl.maps import load_any_map
 
 from .estimator import Estimator
 from .localizers import LineLocalizer, ScanLocalizer, wall_points
 from .logs import LogError, RobotLog, load_log
-from .occupancy import OCCUPIED, Grid, build_grid, grid_walls
+from .occupancy import OCCUPIED, Grid, build_grid
 from .offline_run import OfflineResult, run_offline
 from .slam_methods import METHODS as SLAM_METHODS
 from .slam_metric import MetricError, load_relations, load_trajectory, relation_error, relative_pose_error, save_tum
@@ -57,7 +58,7 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument('log', help='a CARMEN log (.clf, .log, gzip too) or a rosbag2 bag')
     task = parser.add_mutually_exclusive_group(required=True)
     task.add_argument('--slam', action='store_true', help="the slamModule's SLAM")
-    task.add_argument('--localize', metavar='MAP', help="the poseModule's localization in MAP (XML or map_server YAML)")
+    task.add_argument('--localize', metavar='MAP', help="the poseModule's localization in MAP (XML, map_server YAML or CARMEN map)")
     parser.add_argument('--method', choices=('scans', 'lines'), default='scans',
                         help='scans (default): scan matching; lines: line features (Pluto 7)')
     parser.add_argument('--trajectory', metavar='OUT.tum', help='write the trajectory (TUM format)')
@@ -139,20 +140,20 @@ def _localizer(path: str, method: str, start_text: str | None):  # type: ignore[
 
 
 def _load_map(path: str) -> tuple[np.ndarray, np.ndarray, dict[str, tuple[float, float, float]]]:
-    """Walls, points and places of an XML map or a map_server YAML (chosen by content)."""
-    with open(path, 'rb') as probe:
-        head = probe.read(256).lstrip()
-    if head.startswith(b'<'):
-        data = load_map_data(path)
-        walls = np.asarray(data.walls, dtype=float).reshape(-1, 4)
+    """Walls, points and places of any map (:func:`wurde_idl.maps.load_any_map`, chosen by
+    content): a grid's points are its occupied cells' centres, a wall map's points along its walls."""
+    loaded = load_any_map(path)
+    walls = np.asarray(loaded.data.walls, dtype=float).reshape(-1, 4)
+    places = {k: tuple(v) for k, v in loaded.data.places.items()}
+    if loaded.grid is None:
         if not len(walls):
             raise ConfigError(path, None, 'the map has no walls to localize against')
-        return walls, wall_points(walls), {k: tuple(v) for k, v in data.places.items()}
-    grid = load_grid_map(path)
+        return walls, wall_points(walls), places
+    grid = loaded.grid
     found = Grid(grid.cells, grid.origin[:2], grid.resolution)
     if not (grid.cells == OCCUPIED).any():
         raise ConfigError(path, None, 'the map has no occupied cells to localize against')
-    return grid_walls(found), found.occupied_points, {}
+    return walls, found.occupied_points, places
 
 
 def _write(args: argparse.Namespace, log: RobotLog, method: object, result: OfflineResult) -> list[str]:

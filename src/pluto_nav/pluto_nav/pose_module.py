@@ -37,7 +37,7 @@ from wurde_core import CommsManager, Logger
 from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, set_loop
 from wurde_core.parameters import TunedSettings
 from wurde_idl.errors import ConfigError
-from wurde_idl.mapfile import load_map_data
+from wurde_idl.maps import load_map
 
 from .estimation import Method, Scan
 from .estimator import LOOP_S, Estimator
@@ -107,7 +107,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if method not in METHODS:
             raise ConfigError(argv[0], None, f'-e {method}: the methods are {", ".join(METHODS)}')
-        data = load_map_data(map_file)
+        data = load_map(map_file)
         if not data.walls:
             raise ConfigError(map_file, None, 'the map has no walls to localize against')
     except ConfigError as error:

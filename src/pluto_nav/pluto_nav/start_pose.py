@@ -19,7 +19,7 @@ import math
 import os
 
 from wurde_idl.errors import ConfigError
-from wurde_idl.mapfile import load_map_data
+from wurde_idl.maps import load_map
 
 __all__ = ['read_pose_file', 'start_pose']
 
@@ -60,7 +60,7 @@ def start_pose(pose_file: str | None, map_file: str | None) -> tuple[float, floa
     if pose_file:
         return read_pose_file(pose_file)
     if map_file:
-        data = load_map_data(map_file)
+        data = load_map(map_file)
         if 'start' not in data.places:
             raise ConfigError(map_file, None, 'the map has no place "start"; give a pose file (-p)')
         x, y, theta = data.places['start']

@@ -1,5 +1,5 @@
 """offline_nav on recordings: a CARMEN log of the simulated robot (noise on, a generated map) for
-SLAM, its saved map for localization, the FR079 excerpt as a rosbag2 MCAP (carmen_log convert),
+SLAM, its saved map for localization (as XML and as a CARMEN map), the FR079 excerpt as a rosbag2 MCAP (carmen_log convert),
 scored with relations; and what a user gets for files that are wrong: one line, exit status 2."""
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ from pluto_nav.offline_nav import main as offline_nav
 from pluto_nav.slam_metric import load_trajectory
 from wurde_idl.gridmap import load_grid_map
 from wurde_idl.mapfile import load_map_data
+from wurde_testing.carmen_maps import carmen_map_bytes
 
 DATA = pathlib.Path(__file__).resolve().parent / 'data'
 
@@ -85,6 +86,18 @@ def test_slam_then_localization_on_a_simulated_robot_s_log(tmp_path: pathlib.Pat
     ours, odometry = _scores(capsys.readouterr().out)
     assert ours < 0.03 and ours < odometry / 3
     assert len(load_trajectory(located)[0]) == len(truth)
+    # The same grid as a CARMEN map (gzip; CARMEN's maps start at 0, 0: the frame shifts, the
+    # relations do not) with its start place: localization in it as well.
+    ox, oy, _ = grid.origin
+    sx, sy, st = data.places['start']
+    probability = np.where(grid.cells < 0, -1.0, grid.cells / 100.0).T
+    carmen = tmp_path / 'sim.map.gz'
+    carmen.write_bytes(gzip.compress(carmen_map_bytes(probability, grid.resolution,
+                                                      places=[(1, 'start', (sx - ox, sy - oy, st))])))
+    assert offline_nav([str(log), '--localize', str(carmen), '--trajectory', str(located),
+                        '--relations', str(relations), '--quiet']) == 0
+    ours, odometry = _scores(capsys.readouterr().out)
+    assert ours < 0.03 and ours < odometry / 3
 
 
 def test_a_rosbag2_bag_of_a_real_robot_beats_its_odometry(tmp_path: pathlib.Path, capsys) -> None:

@@ -178,3 +178,18 @@ def test_a_map_without_bounds_gets_the_box_around_its_contents(tmp_path: pathlib
     world = load_map(path)
     assert tuple(world.bounds) == (-1, -4, 5, 2)
     assert world.place('p').theta == 0.0
+
+
+def test_the_simulator_runs_in_a_carmen_map_its_walls_where_the_grid_is(tmp_path: pathlib.Path) -> None:
+    """A CARMEN map (the outlines of its occupied cells as walls): a laser in the middle of a
+    4 m x 3 m room measures its walls within a cell, and the map's places come with it."""
+    from wurde_testing.carmen_maps import carmen_map_bytes
+    probability = np.zeros((80, 60))                       # [x, y] at 0.05 m
+    probability[:, [0, -1]] = probability[[0, -1], :] = 1.0
+    path = tmp_path / 'room.map'
+    path.write_bytes(carmen_map_bytes(probability, 0.05, places=[(1, 'start', (2.0, 1.5, 0.0))]))
+    world = load_map(path)
+    assert world.place('start') == (2.0, 1.5, 0.0)
+    ranges = world.raycast((2.0, 1.5), np.array([0.0, math.pi / 2, math.pi, -math.pi / 2]))
+    # The inner faces of the one-cell walls: 1.95 m and 1.45 m from the centre, to within a cell.
+    assert ranges == pytest.approx([1.95, 1.45, 1.95, 1.45], abs=0.05)

@@ -1,10 +1,12 @@
 """CARMEN's map server (wurde_mcp.carmen.map_server): the walls drawn on the grid with no gap, and the
 real module serving the shipped office map — grid, places and off-limits region as the stream's info
 to a consumer that comes later, the data again on request, and nav_msgs/OccupancyGrid on /map — and
-param_daemon given the map, which serves it the same way (CARMEN's daemon served its map)."""
+param_daemon given the map, which serves it the same way (CARMEN's daemon served its map); a
+CARMEN map served with its own grid."""
 
 from __future__ import annotations
 
+import gzip
 import math
 import os
 import pathlib
@@ -17,6 +19,7 @@ from wurde_core import CommsManager
 from wurde_core.interfaces import MapServer
 from wurde_idl.mapfile import MapData, load_map_data
 from wurde_testing import ChildProcess, find_executable
+from wurde_testing.carmen_maps import carmen_map_bytes
 from wurde_testing.topics import latched
 
 from wurde_mcp.carmen.map_server import rasterize
@@ -87,3 +90,41 @@ def test_the_module_serves_the_office_map_to_late_consumers_and_on_request(ros_d
         grid = latched('/map', OccupancyGrid, DEADLINE)
         assert grid.header.frame_id == 'map' and (grid.info.width, grid.info.height) == (200, 150)
         assert math.isclose(grid.info.resolution, 0.1, rel_tol=1e-6) and set(grid.data) == {0, 100}
+
+
+def test_a_carmen_map_is_served_with_its_own_grid_places_and_off_limits(ros_domain: int,
+                                                                       tmp_path: pathlib.Path) -> None:
+    """A gzip CARMEN map (CARMEN's map_io layout) named like anything: its own cells at its own
+    resolution (unknown stays unknown: -1 in MapServer and on /map), its places and off-limits."""
+    probability = np.zeros((80, 40))                         # [x, y]: 8 m x 4 m at 0.1 m
+    probability[:, [0, -1]] = probability[[0, -1], :] = 1.0
+    probability[60:70, 10:20] = -1.0
+    path = tmp_path / 'lab'                                  # no suffix: told by content
+    path.write_bytes(gzip.compress(carmen_map_bytes(probability, 0.1, places=[(1, 'desk', (2.0, 1.5, 0.5))],
+                                                    rectangles=[(30, 5, 39, 14)])))
+    env = dict(os.environ, WURDE_CONFIG_DIR=str(tmp_path), WURDE_LOG_DIRECTORY=str(tmp_path))
+    with ChildProcess([find_executable('wurde_mcp', 'map_server'), '-m', str(path)], env=env) as server:
+        manager = CommsManager('MapClient')
+        manager.set_no_sleep()
+        maps = MapServer('MapServer')
+        manager.register_consumer(maps)
+        try:
+            deadline = time.monotonic() + DEADLINE
+            while not maps.get_next_info():
+                assert server.process.poll() is None, server.stderr
+                assert time.monotonic() < deadline, 'the map as info: not within the deadline'
+                manager.step()
+                manager.wait(0.05)
+            info = maps.info
+            assert info.map_name.get_value() == 'lab' and math.isclose(info.resolution.get_value(), 0.1, rel_tol=1e-6)
+            cells = np.asarray(info.cells.get_value()).reshape(info.height.get_value(), info.width.get_value())
+            assert cells.shape == (40, 80) and cells[0, 40] == 1.0 and cells[20, 20] == 0.0 and cells[15, 65] == -1.0
+            places = dict(zip(info.place_names.get_value(), info.places.get_value()))
+            assert math.isclose(places['desk'].x(), 2.0) and math.isclose(places['desk'].theta(), 0.5)
+            corners = [c for p in info.offlimits_corners.get_value() for c in (p.x(), p.y())]
+            assert corners == pytest.approx([3.0, 0.5, 4.0, 0.5, 4.0, 1.5, 3.0, 1.5])
+        finally:
+            manager.clean_up()
+        grid = latched('/map', OccupancyGrid, DEADLINE)
+        assert (grid.info.width, grid.info.height) == (80, 40) and set(grid.data) == {-1, 0, 100}
+        assert 'lab (carmen)' in server.stderr or 'lab (carmen)' in server.stdout

@@ -15,13 +15,16 @@ modules read the same files and may not import this package); this module only t
 
 Elements, attributes and everything the reader refuses (with file, line and reason,
 :class:`~wurde_idl.errors.MapError`): :mod:`wurde_idl.mapfile` and ``config/maps/README.md``.
+The simulator also runs in a map_server YAML or a CARMEN map (:mod:`wurde_idl.maps`, told by
+content): the grid's outlines are its walls.
 """
 
 from __future__ import annotations
 
 import os
 
-from wurde_idl.mapfile import FORMAT_VERSION, load_map_data, save_map_data
+from wurde_idl import maps
+from wurde_idl.mapfile import FORMAT_VERSION, save_map_data
 
 from .world import World
 
@@ -29,11 +32,12 @@ __all__ = ['FORMAT_VERSION', 'load_map', 'save_map']
 
 
 def load_map(path: str | os.PathLike[str]) -> World:
-    """Read the map at ``path`` into a :class:`~.world.World`.
+    """Read the map at ``path`` (any format :func:`wurde_idl.maps.load_map` reads) into a
+    :class:`~.world.World`.
 
     :raises MapError: naming the file, the line and the reason for anything the format refuses.
     """
-    return World.from_map_data(load_map_data(path))
+    return World.from_map_data(maps.load_map(path))
 
 
 def save_map(world: World, path: str | os.PathLike[str]) -> None:

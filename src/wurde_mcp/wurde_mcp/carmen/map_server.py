@@ -1,10 +1,12 @@
-"""``map_server``: CARMEN's map server (Programming with CARMEN 5.1-5.3) for a WURDE map file.
+"""``map_server``: CARMEN's map server (Programming with CARMEN 5.1-5.3) for any map a user has.
 
     map_server [-m MAP] [-s STREAM] [-R RESOLUTION]
 
-Supplies MapServer on ``STREAM`` (default ``MapServer``): the grid map (the map's walls drawn at
-``-R`` m per cell, default 0.05, over its bounds: 1 occupied, 0 free), its place list and its
-off-limits regions.  The map is the stream's info, so a consumer that comes later has it at once
+``MAP`` is the suite's XML map, a ROS map_server YAML or a CARMEN map (binary or BeeSoft text,
+plain or gzip), told by its content (:mod:`wurde_idl.maps`).  Supplies MapServer on ``STREAM``
+(default ``MapServer``): the grid map (a grid map's own cells, at its own resolution: 1 occupied,
+0 free, -1 unknown as in CARMEN's maps; a wall map's walls drawn at ``-R`` m per cell, default
+0.05, over its bounds: 1 occupied, 0 free), its place list and its off-limits regions.  The map is the stream's info, so a consumer that comes later has it at once
 (CARMEN's ``get_gridmap``, ``get_placelist``, ``get_offlimits``); it is also the stream's data,
 published again whenever a consumer writes a request.  Alongside, ``nav_msgs/OccupancyGrid`` on
 ``map`` (relative: ``/map`` in the root namespace; transient local, frame ``map``, 0/100 per
@@ -26,9 +28,11 @@ from wurde_core.interfaces import robot_object_class
 from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, set_loop
 from wurde_core.structs import write_members
 from wurde_idl.errors import ConfigError
-from wurde_idl.mapfile import MapData, load_map_data
+from wurde_idl.gridmap import GridMap
+from wurde_idl.mapfile import MapData
+from wurde_idl.maps import load_any_map
 
-__all__ = ['DEFAULT_RESOLUTION', 'Grid', 'MapServerModule', 'main', 'rasterize']
+__all__ = ['DEFAULT_RESOLUTION', 'Grid', 'MapServerModule', 'from_grid_map', 'main', 'rasterize']
 
 LOOP_S = 0.1
 #: m per grid cell unless told (-R).
@@ -39,7 +43,7 @@ _TOUCH = math.sqrt(0.5)
 
 
 class Grid:
-    """A grid: ``cells[iy, ix]`` (0 free, 1 occupied), cell (0, 0)'s corner at ``origin``."""
+    """A grid: ``cells[iy, ix]`` (0 free, 1 occupied, -1 unknown), cell (0, 0)'s corner at ``origin``."""
 
     def __init__(self, cells: np.ndarray, origin: tuple[float, float], resolution: float) -> None:
         self.cells = cells
@@ -82,6 +86,12 @@ def rasterize(world: MapData, resolution: float) -> Grid:
     return Grid(occupied.astype(np.float32), (float(xmin), float(ymin)), resolution)
 
 
+def from_grid_map(grid_map: GridMap) -> Grid:
+    """A grid map file's own cells (nav_msgs/OccupancyGrid's 100, 0, -1) as 1, 0 and -1."""
+    cells = np.where(grid_map.cells < 0, -1.0, grid_map.cells / 100.0).astype(np.float32)
+    return Grid(cells, (float(grid_map.origin[0]), float(grid_map.origin[1])), float(grid_map.resolution))
+
+
 def _fill(target: Any, world: MapData, grid: Grid) -> None:
     """The map's members of a MapServer info or data struct."""
     values = {
@@ -102,7 +112,8 @@ def occupancy_grid(grid: Grid) -> OccupancyGrid:
     message.info.width, message.info.height = grid.width, grid.height
     message.info.origin.position.x, message.info.origin.position.y = grid.origin
     message.info.origin.orientation.w = 1.0
-    message.data = (grid.cells.reshape(-1) * 100).astype(np.int8).tolist()
+    cells = grid.cells.reshape(-1)
+    message.data = np.where(cells < 0, -1, cells * 100).astype(np.int8).tolist()
     return message
 
 
@@ -132,13 +143,16 @@ class MapServerModule:
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('map_server')
-    manager.set_help_string('  -m MAP         the map file (default map.xml of the config directory)\n'
+    manager.set_help_string('  -m MAP         the map file: XML, map_server YAML or CARMEN map (default map.xml of\n'
+                            '                 the config directory)\n'
                             '  -s STREAM      the MapServer stream supplied (default MapServer)\n'
-                            '  -R RESOLUTION  m per grid cell (default 0.05)')
+                            '  -R RESOLUTION  m per grid cell of a wall map (default 0.05; a grid keeps its own)')
     opts = manager.parse_options(argv, 'm:s:R:').user
     try:
-        world = load_map_data(config_file(manager, opts.get('m'), 'map.xml'))
-        grid = rasterize(world, float(opts.get('R', DEFAULT_RESOLUTION)))
+        loaded = load_any_map(config_file(manager, opts.get('m'), 'map.xml'))
+        world = loaded.data
+        resolution = float(opts.get('R', DEFAULT_RESOLUTION))
+        grid = rasterize(world, resolution) if loaded.grid is None else from_grid_map(loaded.grid)
     except ConfigError as error:
         return exit_on_config_error(argv[0], error)
     except ValueError as error:
@@ -148,8 +162,10 @@ def main(argv: list[str] | None = None) -> int:
     manager.register_supplier(logger)
     module = MapServerModule(manager, world, grid, opts.get('s', 'MapServer'))
     set_loop(manager, LOOP_S)
-    logger.notice(f'{manager.name}: {world.name}: {grid.width} x {grid.height} cells of {grid.resolution} m, '
-                  f'{len(world.places)} places, {len(world.offlimits)} off-limits regions')
+    logger.notice(f'{manager.name}: {world.name} ({loaded.kind}): {grid.width} x {grid.height} cells of '
+                  f'{grid.resolution} m, {len(world.places)} places, {len(world.offlimits)} off-limits regions')
+    for note in loaded.notes:
+        logger.warn(f'{manager.name}: {world.name}: {note}')
     return run_loop(manager, module.step, lambda: None)
 
 
