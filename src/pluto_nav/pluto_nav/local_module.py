@@ -10,9 +10,12 @@ Inputs (any subset may be missing; what is present is used):
 
 Outputs: the five LocalizationPose streams of :mod:`pluto_nav.streams`, a status stream
 ``Localization/Status`` (FVectorState, below), and the standard topics of :mod:`pluto_nav.ros_std`.
-(0) and (3) go out at the odometry's rate, (1) and (4) once per scan, interpolated at the scan's time,
-and only once the laser's mounting is known (its RangeFinder info): a scan timed before that is
-held (up to ``MAX_PENDING_SCANS``), never placed at the robot's centre.
+(0) and (3) go out at the odometry's rate, (1) and (4) once per scan, interpolated at the scan's time
+as soon as the odometry (or DMU) passes it — sample by sample, so that a loaded machine's backlog
+of odometry never trims the history past a scan still waiting — and published only once the
+laser's mounting is known (its RangeFinder info, which on a loaded machine can come seconds after
+the first scans): until then the placed scans are held (up to ``MAX_HELD_SCANS``), never placed at
+the robot's centre.
 
 Start: a process the MCP restarted (``wurde_core.heartbeat.restart_count() > 0``: WURDE_MCP_RESTART)
 goes on where the killed one was: from the state file the MCP gives it (WURDE_MCP_STATE,
@@ -47,6 +50,7 @@ import os
 import pathlib
 import sys
 import time
+from typing import Any
 
 import numpy as np
 
@@ -75,8 +79,10 @@ LOOP_S = 0.02
 ODOMETRY_STALE_S = 1.0
 #: Variance per second added to the Pose's covariance while the odometry is stale.
 STALE_GROWTH = np.diag([0.1 ** 2, 0.1 ** 2, 0.05 ** 2])
-#: Scan times waiting for the odometry to reach them; older ones are dropped.
-MAX_PENDING_SCANS = 10
+#: Scan times waiting for the odometry to reach them (older ones are dropped), and scans placed
+#: but held until the laser's mounting is known: bounds on memory only (minutes of scans).
+MAX_PENDING_SCANS = 1000
+MAX_HELD_SCANS = 1000
 STATUS_PERIOD_S = 1.0
 #: Wall seconds between two writes of the resume file (at most).  What a restart cannot know is
 #: the path since the last write: reckoned again from the odometry alone (the dead process's DMU
@@ -129,7 +135,10 @@ class LocalModule:
             manager.register_supplier(obj)
         self.ros = LocalizationPublisher(manager.node)
         self.pending_scans: collections.deque[float] = collections.deque()
-        self.last_scan: tuple[float, np.ndarray] | None = None
+        #: Scans placed on the dead reckoning: (stamp, robot sample, increment since the scan
+        #: before or None), published once the mounting is known.
+        self.held_scans: collections.deque[tuple[float, DrSample, Any]] = collections.deque(maxlen=MAX_HELD_SCANS)
+        self.last_scan_stamp: float | None = None
         self.pan = self.tilt = 0.0
         self.mount_z = 0.0
         self.mount_known = False              # the laser's RangeFinder info has come
@@ -166,12 +175,17 @@ class LocalModule:
             position = list(self.wrist.data.position)
             if len(position) >= 2:
                 self.pan, self.tilt = float(position[0]), float(position[1])
+        while self.timing.get_next_data():
+            self.pending_scans.append(self.timing.data.timestamp.get_seconds())
+            while len(self.pending_scans) > MAX_PENDING_SCANS:
+                self.pending_scans.popleft()
         completed: list[DrSample] = []
         while self.dmu.get_next_data():
             d = self.dmu.data
             self.last_dmu_wall = time.monotonic()
             restarted = self.dmu_sender.take(d.ros_message().header)      # a new DMU process
             completed += self.dr.add_dmu(d.timestamp.get_seconds(), d.theta, d.phi, d.psi, restarted=restarted)
+            self._place_scans()
         while self.odometry.get_next_data():
             d = self.odometry.data
             self.last_odometry_wall = time.monotonic()
@@ -182,6 +196,7 @@ class LocalModule:
             restarted = self.odometry_sender.take(d.ros_message().header)
             completed += self.dr.add_odometry(d.timestamp.get_seconds(), location.x(), location.y(),
                                               location.theta(), restarted=restarted)
+            self._place_scans()
         if self.dr.odometry_resets != self.resets_seen:
             self.resets_seen = self.dr.odometry_resets
             self.logger.warn(f'{self.manager.name}: the odometry jumped (its base restarted?): taken as no '
@@ -189,10 +204,7 @@ class LocalModule:
         for sample in completed:
             self.adjuster.on_step(sample)
             self._publish_robot(sample)
-        while self.timing.get_next_data():
-            self.pending_scans.append(self.timing.data.timestamp.get_seconds())
-            while len(self.pending_scans) > MAX_PENDING_SCANS:
-                self.pending_scans.popleft()
+        self._place_scans()          # scans timed before odometry already here
         self._publish_scans()
         posts = self.poses[POST_POSE]
         while posts.get_next_request():
@@ -244,23 +256,26 @@ class LocalModule:
         self.ros.publish(sample.stamp, sample.pose, sample.covariance, self.tv, self.rv,
                          self.adjuster.offset, pose, cov)
 
-    def _publish_scans(self) -> None:
-        if not self.mount_known:
-            return      # where the laser is on the robot is not known yet (a loaded machine's
-            #             first scans came before the laser's info: SLAM's map was 0.2 m off)
+    def _place_scans(self) -> None:
+        """The robot at each waiting scan's time that the dead reckoning has now passed."""
         latest = self.dr.latest
         while self.pending_scans and latest is not None and self.pending_scans[0] <= latest.stamp:
             stamp = self.pending_scans.popleft()
             robot = self.dr.at(stamp)
             if robot is None:      # older than the history: nothing to interpolate
                 continue
+            since = None if self.last_scan_stamp is None else self.dr.increment_between(self.last_scan_stamp, stamp)
+            self.last_scan_stamp = stamp
+            self.held_scans.append((stamp, robot, since))
+
+    def _publish_scans(self) -> None:
+        if not self.mount_known:
+            return      # where the laser is on the robot is not known yet (a loaded machine's
+            #             first scans came before the laser's info: SLAM's map was 0.2 m off)
+        while self.held_scans:
+            stamp, robot, since = self.held_scans.popleft()
             laser = self.adjuster.laser(robot.pose)
-            increment_cov = np.zeros((3, 3))
-            if self.last_scan is not None:
-                since = self.dr.increment_between(self.last_scan[0], stamp)
-                if since is not None:
-                    increment_cov = laser_increment(*since, self.adjuster.mount)[1]
-            self.last_scan = (stamp, laser)
+            increment_cov = np.zeros((3, 3)) if since is None else laser_increment(*since, self.adjuster.mount)[1]
             setter = self.adjuster.setter
             adjusted = compose(self.adjuster.offset, laser)
             for index, xyt, cov, flags in ((LASER_DEAD_RECKONING, laser, increment_cov, 0),
