@@ -48,3 +48,41 @@ def test_supervision_clock_discounts_the_mcps_own_stalls() -> None:
     assert clock.steady_for(101.52) == 0.0  # the look that ends a stall starts a steady run
     clock.tick(101.53)
     assert abs(clock.steady_for(101.53) - 0.01) < 1e-9
+
+
+SPAWNER = '''
+import pathlib, sys, time
+from wurde_mcp.process import ModuleProcess
+log = pathlib.Path(sys.argv[1])
+process = ModuleProcess("Child", ["/bin/sh", "-c", "echo ok$((6*7)); exec sleep 60"], str(log.parent))
+deadline = time.monotonic() + 60
+while "ok42" not in log.read_text():      # the shell ran (the start line has only its source)
+    assert time.monotonic() < deadline
+    time.sleep(0.01)
+print(process.pid, flush=True)
+sys.stdin.read()          # until the test lets go; then gone at once, as a SIGKILLed MCP is
+import os; os._exit(0)
+'''
+
+
+def test_a_module_dies_with_the_process_that_started_it_and_has_its_own_group(tmp_path: pathlib.Path) -> None:
+    """The launcher's PR_SET_PDEATHSIG (no Python between fork and exec in the MCP): the module,
+    in its own process group, is killed by the kernel when its starter ends without a word."""
+    import os
+    import subprocess
+    import sys
+    spawner = subprocess.Popen([sys.executable, '-c', SPAWNER, str(tmp_path / 'Child.log')],
+                               stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+    try:
+        pid = int(spawner.stdout.readline())
+        assert os.getpgid(pid) == pid                      # its own group, set without preexec_fn
+        assert b'prctl' not in open(f'/proc/{pid}/cmdline', 'rb').read()      # the module, not the launcher
+        spawner.stdin.close()
+        assert spawner.wait(timeout=60) == 0
+        deadline = time.monotonic() + 30
+        while os.path.exists(f'/proc/{pid}') and open(f'/proc/{pid}/stat').read().split()[2] != 'Z':
+            assert time.monotonic() < deadline, f'the module {pid} outlived its starter'
+            time.sleep(0.02)
+    finally:
+        spawner.kill()
+        spawner.wait()

@@ -11,15 +11,21 @@ ask for a stop (:meth:`ModuleProcess.stop`, returns at once) or send a signal th
 blocks, and no two threads ever reap the same process or close the same log.
 
 Children ask the kernel to kill them when the MCP dies (``PR_SET_PDEATHSIG``), so no module is
-orphaned whatever signal ends the MCP.
+orphaned whatever signal ends the MCP.  No Python code runs between fork and exec (the MCP is
+multi-threaded, and Python's documentation warns that ``preexec_fn`` can deadlock the child
+there): the child execs a small launcher (:data:`_LAUNCHER`, a fresh interpreter) that makes the
+request and execs the module, after checking that the MCP did not die before the request took
+hold; its own process group comes from ``subprocess`` itself (``process_group=0``, or a new
+session on Python 3.10).
 """
 
 from __future__ import annotations
 
-import ctypes
+import errno
 import os
 import pathlib
 import select
+import shutil
 import signal
 import subprocess
 import sys
@@ -28,14 +34,25 @@ import time
 
 #: Default wait between escalation steps (s).
 STOP_STEP_S = 3.0
-_PR_SET_PDEATHSIG = 1
 _ESCALATION = (signal.SIGINT, signal.SIGTERM, signal.SIGKILL)
 
-
-def _die_with_parent() -> None:  # runs in the child between fork and exec
-    libc = ctypes.CDLL(None, use_errno=True)
-    libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
-    os.setpgid(0, 0)
+#: Run as ``python -I -c _LAUNCHER MCP_PID EXEC_FD COMMAND...``: SIGKILL when the MCP's spawning
+#: thread ends (prctl PR_SET_PDEATHSIG = 1, kept across exec), exit 1 if the MCP is already gone
+#: (the launcher was re-parented before the request took hold), then exec the module in its
+#: place; ``EXEC_FD`` closes on that exec (close-on-exec), which tells the owner the module runs.
+_LAUNCHER = (
+    'import ctypes, os, signal, sys\n'
+    'ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL, 0, 0, 0)\n'
+    'if os.getppid() != int(sys.argv[1]):\n'
+    '    os._exit(1)\n'
+    'os.set_inheritable(int(sys.argv[2]), False)\n'
+    'try:\n'
+    '    os.execvp(sys.argv[3], sys.argv[3:])\n'
+    'except OSError as error:\n'
+    '    sys.stderr.write(f"cannot start {sys.argv[3]}: {error}\\n")\n'
+    '    os._exit(127)\n')
+#: The child's own process group, set by subprocess without Python code in the child.
+_GROUP = {'process_group': 0} if sys.version_info >= (3, 11) else {'start_new_session': True}
 
 
 class ModuleProcess:
@@ -56,13 +73,25 @@ class ModuleProcess:
         command = argv
         if argv[0].endswith('.py') or _is_python_script(argv[0]):
             command = [sys.executable, *argv]
+        env = {**os.environ, **(environment or {})}
+        exec_r, exec_w = os.pipe()
         try:
-            self.popen = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=self._log,
-                                          stderr=subprocess.STDOUT, preexec_fn=_die_with_parent,
-                                          close_fds=True, env={**os.environ, **(environment or {})})
+            if shutil.which(command[0], path=env.get('PATH')) is None:   # refused here, as exec would
+                raise FileNotFoundError(errno.ENOENT, 'not an executable file found', command[0])
+            self.popen = subprocess.Popen([sys.executable, '-I', '-c', _LAUNCHER, str(os.getpid()), str(exec_w),
+                                           *command],
+                                          stdin=subprocess.DEVNULL, stdout=self._log, stderr=subprocess.STDOUT,
+                                          close_fds=True, pass_fds=(exec_w,), env=env, **_GROUP)
         except OSError:
             self._log.close()
+            os.close(exec_r)
             raise
+        finally:
+            os.close(exec_w)
+        #: Read end of the launcher's exec pipe until the module has been exec'd (EOF).
+        self._exec_r: int | None = exec_r
+        #: Signals asked for before the module was exec'd, sent by the owner once it is.
+        self._early: list[int] = []
         self.pid = self.popen.pid
         self.started = time.monotonic()
         #: Monotonic time the owner saw the process end (``None`` while it runs).
@@ -93,9 +122,13 @@ class ModuleProcess:
             return bool(self._schedule) and self.exit_code is None
 
     def signal(self, signum: int) -> None:
-        """Send ``signum`` now (through the pidfd: a reaped process's pid is never hit)."""
+        """Send ``signum`` now (through the pidfd: a reaped process's pid is never hit); to a
+        process still in its launcher, as soon as the module is exec'd."""
         with self._fd_lock:
             if self._pidfd is None:
+                return
+            if self._exec_r is not None:
+                self._early.append(signum)
                 return
             try:
                 signal.pidfd_send_signal(self._pidfd, signum)
@@ -128,6 +161,15 @@ class ModuleProcess:
         return code
 
     # -- the owner thread ------------------------------------------------------------------------
+    def _executed(self) -> None:
+        """The launcher exec'd the module (or ended): send what was asked for meanwhile."""
+        with self._fd_lock:
+            os.close(self._exec_r)  # type: ignore[arg-type]
+            self._exec_r = None
+            early, self._early = self._early, []
+        for signum in early:
+            self.signal(signum)
+
     def _wake(self) -> None:
         with self._request_lock:  # the owner closes the pipe under this lock: no stale fd
             if self._wake_w is not None:
@@ -142,7 +184,10 @@ class ModuleProcess:
                 with self._request_lock:
                     due = self._schedule[0][0] if self._schedule else None
                 timeout = None if due is None else max(0.0, due - time.monotonic())
-                readable, _, _ = select.select([self._pidfd, self._wake_r], [], [], timeout)
+                watched = [self._pidfd, self._wake_r] + ([self._exec_r] if self._exec_r is not None else [])
+                readable, _, _ = select.select(watched, [], [], timeout)
+                if self._exec_r is not None and self._exec_r in readable and not os.read(self._exec_r, 64):
+                    self._executed()
                 if self._pidfd in readable:
                     break
                 if self._wake_r in readable:
@@ -155,6 +200,10 @@ class ModuleProcess:
         finally:
             self.ended = time.monotonic()
             code = self.popen.wait()  # returns at once unless the loop above failed
+            with self._fd_lock:
+                if self._exec_r is not None:
+                    os.close(self._exec_r)
+                    self._exec_r = None
             with self._fd_lock:
                 fd, self._pidfd = self._pidfd, None
                 if fd is not None:
