@@ -194,14 +194,28 @@ def test_reread_applies_a_good_file_and_refuses_a_broken_one(ros_domain: int,
         child.expect('2 changed (navigator.goal, robot.max_t_vel)', timeout=DEADLINE)
         assert params.get_string('navigator_goal') == 'home'
 
-        ini.write_text(INI + 'robot_max_t_vel 0.9\n')              # twice in [pluto], line 12
+        ini.write_bytes(INI.encode() + b'robot_owner M\xfcller\n')   # line 12: not UTF-8
         status, _out, err = tool('reread')
-        assert status == 1 and f'{ini}:12: robot_max_t_vel is set twice' in err
+        assert status == 1 and f'{ini}:12: not UTF-8 (byte 0xfc)' in err
         ini.write_text(INI.replace('robot_count       3', 'robot_count       many'))
         status, _out, err = tool('reread')
         assert status == 1 and f'{ini}:5: robot_count ' in err and 'served as int' in err
+        ini.write_text(INI.replace('[pluto]', '[atrv]'))
+        status, _out, err = tool('reread')
+        assert status == 1 and 'no robot [pluto] (robots: atrv)' in err
         assert params.get_double('robot_max_t_vel') == 0.35
         assert params.get_int('robot_count') == 3
+
+        ini.write_text(INI + 'robot_max_t_vel 0.9\n')              # twice in [pluto], line 12
+        assert tool('reread')[0] == 0                             # CARMEN's rule: the later wins
+        poll(manager, params, lambda: params.get_double('robot_max_t_vel') == 0.9,
+             'the later of two values')
+        child.expect('1 changed (robot.max_t_vel)', timeout=DEADLINE)
+        assert tool('reread')[0] == 0                             # the same warning: told once
+        child.expect('0 changed', timeout=DEADLINE)
+    warning = (f'param_daemon: warning: {ini}:12: robot_max_t_vel is set again in [pluto] (first '
+               'on line 10): this later value wins')
+    assert child.stderr.count(warning) == 1, child.stderr
 
 
 def test_install_file_and_robot_choice(ros_domain: int, tmp_path: pathlib.Path) -> None:

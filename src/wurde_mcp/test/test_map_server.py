@@ -92,7 +92,8 @@ def test_the_module_serves_the_office_map_to_late_consumers_and_on_request(ros_d
         assert math.isclose(grid.info.resolution, 0.1, rel_tol=1e-6) and set(grid.data) == {0, 100}
 
 
-def test_a_carmen_map_is_served_with_its_own_grid_places_and_off_limits(ros_domain: int,
+@pytest.mark.parametrize('program', ['map_server', 'param_daemon'])
+def test_a_carmen_map_is_served_with_its_own_grid_places_and_off_limits(ros_domain: int, program: str,
                                                                        tmp_path: pathlib.Path) -> None:
     """A gzip CARMEN map (CARMEN's map_io layout) named like anything: its own cells at its own
     resolution (unknown stays unknown: -1 in MapServer and on /map), its places and off-limits."""
@@ -103,7 +104,10 @@ def test_a_carmen_map_is_served_with_its_own_grid_places_and_off_limits(ros_doma
     path.write_bytes(gzip.compress(carmen_map_bytes(probability, 0.1, places=[(1, 'desk', (2.0, 1.5, 0.5))],
                                                     rectangles=[(30, 5, 39, 14)])))
     env = dict(os.environ, WURDE_CONFIG_DIR=str(tmp_path), WURDE_LOG_DIRECTORY=str(tmp_path))
-    with ChildProcess([find_executable('wurde_mcp', 'map_server'), '-m', str(path)], env=env) as server:
+    command = {'map_server': ['map_server', '-m', str(path)],
+               'param_daemon': ['param_daemon', '-R', 'pluto', str(path), str(ROOT / 'config' / 'carmen' / 'carmen.ini')]}
+    name, *args = command[program]
+    with ChildProcess([find_executable('wurde_mcp', name), *args], env=env) as server:
         manager = CommsManager('MapClient')
         manager.set_no_sleep()
         maps = MapServer('MapServer')
@@ -127,4 +131,5 @@ def test_a_carmen_map_is_served_with_its_own_grid_places_and_off_limits(ros_doma
             manager.clean_up()
         grid = latched('/map', OccupancyGrid, DEADLINE)
         assert (grid.info.width, grid.info.height) == (80, 40) and set(grid.data) == {-1, 0, 100}
-        assert 'lab (carmen)' in server.stderr or 'lab (carmen)' in server.stdout
+        if program == 'map_server':
+            assert 'lab (carmen)' in server.stderr or 'lab (carmen)' in server.stdout

@@ -1,7 +1,9 @@
-"""record and replay (wurde_mcp.recording) with real processes: a WURDE stream recorded to MCAP is
-decodable by another MCAP reader (mcap_ros2) with its full definition, its latched info is kept as
-transient local, and replayed onto its topic it reaches a WURDE consumer again, message for
-message; the definition of a type includes every type it uses once."""
+"""record and replay (wurde_mcp.recording) with real processes: a WURDE stream recorded to one MCAP
+file is decodable by another MCAP reader (mcap_ros2) with its full definition, its latched info is
+kept as transient local in rosbag2's ``offered_qos_profiles``, which an independent rosbag2 reader
+(rosbags) reads, and replayed onto its topic it reaches a WURDE consumer again, message for
+message; the definition of a type includes every type it uses once.  (Bag directories:
+test_record_bag_directory.py; bags of other writers: test_replay_bags.py.)"""
 
 from __future__ import annotations
 
@@ -11,12 +13,16 @@ import re
 import signal
 import time
 
+import yaml
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
+from rosbags.rosbag2 import Reader
 from wurde_core import CommsManager, Pose3D, topic
 from wurde_core.interfaces import LocalizationPose
 from wurde_mcp.recording import message_definition
 from wurde_testing import ChildProcess, find_executable
+
+from rosbag2_schema import check_bagfile_information, check_profile
 
 STREAM = 'Localization/Dead-Reckoning'
 COUNT = 30
@@ -73,11 +79,32 @@ def test_a_stream_recorded_to_mcap_is_decodable_and_replays_onto_its_topic(ros_d
     info = [msg for name, msg in decoded if name == topic(STREAM, 'info')]
     assert info and info[-1].cmd_flags == 7
     with open(path, 'rb') as stream:
-        summary = make_reader(stream).get_summary()
+        reader = make_reader(stream)
+        summary = reader.get_summary()
+        rosbag2 = [m for m in reader.iter_metadata() if m.name == 'rosbag2']
     channels = {c.topic: c for c in summary.channels.values()}
-    assert channels[topic(STREAM, 'info')].metadata['durability'] == 'transient_local'
+    # rosbag2's channel metadata, and nothing of its own.
+    assert all(set(c.metadata) == {'offered_qos_profiles', 'topic_type_hash'} for c in channels.values())
+    offers = yaml.safe_load(channels[topic(STREAM, 'info')].metadata['offered_qos_profiles'])
+    for k, profile in enumerate(offers):
+        check_profile(profile, f'offered_qos_profiles[{k}]')
+    assert [p['durability'] for p in offers] == ['transient_local'] and offers[0]['reliability'] == 'reliable'
+    assert yaml.safe_load(channels[topic(STREAM, 'data')].metadata['offered_qos_profiles'])[0]['durability'] \
+        == 'volatile'
+    assert channels[topic(STREAM, 'data')].metadata['topic_type_hash'].startswith('RIHS01_')
     assert summary.schemas[channels[topic(STREAM, 'data')].schema_id].name == \
         'wurde_interfaces/msg/LocalizationPoseData'
+    # The bag's metadata as rosbag2's MCAP storage writes it (what ``ros2 bag info FILE`` reads).
+    assert len(rosbag2) == 1
+    information = yaml.safe_load(rosbag2[0].metadata['serialized_metadata'])
+    check_bagfile_information(information)
+    assert information['relative_file_paths'] == [path.name]
+    # An independent rosbag2 reader gets every message and the QoS.
+    with Reader(path) as bag:
+        counts = {c.topic: c.msgcount for c in bag.connections}
+        durability = {c.topic: [q.durability.name for q in c.ext.offered_qos_profiles] for c in bag.connections}
+        assert sum(1 for _ in bag.messages()) == bag.message_count
+    assert counts[topic(STREAM, 'data')] == COUNT and durability[topic(STREAM, 'info')] == ['TRANSIENT_LOCAL']
 
     # Replayed onto the data topic, a WURDE consumer hears every pose in order.
     listener = CommsManager('Replayed')

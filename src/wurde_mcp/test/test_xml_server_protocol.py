@@ -292,8 +292,9 @@ def test_help_has_the_seeds_structure(start: Start) -> None:
     assert lines[3].startswith('running on host ') and lines[3].endswith(f' port {server.port}')
     groups = lines[lines.index('Available commands (from currently loaded modules):') + 1:
                    lines.index('All commands has a help option, e.g.:')]
-    assert groups == ['- push q help quit exit', '- var varPush', '- odoPosePush']
+    assert groups == ['- push q help quit exit', '- var varPush', '- pt', '- odoPosePush']
     assert 'var help          Get, set and list variables' in lines
+    assert 'pt help           Odometry pose from a robot controller: no reply' in lines
     assert 'q                 Close connection to this client by server' in lines
     assert 'var list' in lines
     assert lines[-2:] == ['</help>', '<help info="done"/>']

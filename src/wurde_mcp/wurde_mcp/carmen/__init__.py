@@ -2,7 +2,19 @@
 ``param_tool`` (:mod:`.tool`).  Programs read the parameters with
 :class:`wurde_core.carmen_param.CarmenParams` (Programming with CARMEN, 6)."""
 
-from .ini import ALL_ROBOTS, SEARCH_PATH, Entry, IniFile, choose_robot, find_ini, read_ini, robots
+from .ini import (
+    ALL_ROBOTS,
+    EXPERT,
+    SEARCH_PATH,
+    Entry,
+    IniFile,
+    IniWarning,
+    Section,
+    choose_robot,
+    find_ini,
+    read_ini,
+    robots,
+)
 
-__all__ = ['ALL_ROBOTS', 'SEARCH_PATH', 'Entry', 'IniFile', 'choose_robot', 'find_ini', 'read_ini',
-           'robots']
+__all__ = ['ALL_ROBOTS', 'EXPERT', 'SEARCH_PATH', 'Entry', 'IniFile', 'IniWarning', 'Section',
+           'choose_robot', 'find_ini', 'read_ini', 'robots']

@@ -1,26 +1,32 @@
 """``param_daemon``: CARMEN's parameter server as a WURDE module whose node serves carmen.ini.
 
-    ros2 run wurde_mcp param_daemon [-a] [-R ROBOT] [-M RES] [-s STREAM] [MAP] [INI]
+    ros2 run wurde_mcp param_daemon [-a] [-R ROBOT | --robot=ROBOT] [-M RES] [-s STREAM] [MAP] [INI]
 
-Every parameter of the chosen robot (``[*]``, overridden by ``[ROBOT]``) becomes the ROS 2
-parameter ``module.variable`` of the node ``/param_daemon``, typed from its text (int, float,
-on/off as bool, else string), so ``ros2 param list/get/set /param_daemon`` and
-``/parameter_events`` work and the client API (:mod:`wurde_core.carmen_param`, Programming with
-CARMEN 6) reads them.  A set keeps each parameter's type (an int is taken for a float) and is
-refused with rclpy's reason otherwise; a set of a parameter the daemon does not have is refused
-by rclpy's own undeclared-parameter error.
+Every parameter of the chosen robot (``[*]``, ``[expert]`` and ``[ROBOT]``, read by CARMEN's
+rules: :mod:`.ini`) becomes the ROS 2 parameter ``module.variable`` of the node
+``/param_daemon``, typed from its text (int, float, on/off as bool, else string), so ``ros2 param
+list/get/set /param_daemon`` and ``/parameter_events`` work and the client API
+(:mod:`wurde_core.carmen_param`, Programming with CARMEN 6) reads them; an ``[expert]``
+parameter's description says ``(expert)``.  What the reader warns about (a line CARMEN skips, a
+later line overriding an earlier one) is printed on stderr, file:line: reason, once: at start,
+and on a re-read only what is new.  A set keeps each parameter's type (an int is taken for a
+float) and is refused with rclpy's reason otherwise; a set of a parameter the daemon does not
+have is refused by rclpy's own undeclared-parameter error.
 
 Where CARMEN's daemon differs: its ``-r ROBOT`` is ``-R`` here, because ``-r`` is every WURDE
-module's registration mode; with several robots and none chosen it refuses, listing them,
-instead of asking (a daemon the MCP starts has nobody to ask); an argument ending in ``.ini`` is
-the ini file, another one the map (a WURDE map file), named by the read-only ``map.file`` and
-served as CARMEN's daemon serves its map: the MapServer stream (``-s``, default ``MapServer``) and
-``/map``, exactly as :mod:`map_server <wurde_mcp.carmen.map_server>` serves it, on a grid of
-``-M`` m per cell (default 0.05).  Setting the
-parameter ``reread`` to true re-reads the ini file: a broken file, or one that changes a
-parameter's type, is refused with file:line: reason and the old values stay; otherwise the
-changed values are set (parameter events go out) and new ones declared; parameters no longer
-in the file stay as they are.
+module's registration mode (CARMEN's long form ``--robot=ROBOT`` or ``--robot ROBOT`` is taken
+as it is; its ``-ROBOT`` form is not); with several robots and none chosen it refuses, listing
+them, as CARMEN's does; parameter names are case sensitive for ROS 2 clients (CARMEN's lookups
+are not): a parameter is named as the file first spells it; an argument ending in ``.ini`` is
+the ini file, another one the map (the suite's XML, a map_server YAML or a CARMEN map, told by
+content: :mod:`wurde_idl.maps`), named by the read-only ``map.file`` and served as CARMEN's daemon
+serves its map: the MapServer stream (``-s``, default ``MapServer``) and ``/map``, exactly as
+:mod:`map_server <wurde_mcp.carmen.map_server>` serves it (a grid map's own cells; a wall map's
+on a grid of ``-M`` m per cell, default 0.05).  Setting the
+parameter ``reread`` to true re-reads the ini file: a file that cannot be read, a robot no longer
+in it, or a parameter whose type changes is refused with file:line: reason and the old values
+stay; otherwise the changed values are set (parameter events go out) and new ones declared;
+parameters no longer in the file stay as they are.
 """
 
 from __future__ import annotations
@@ -33,13 +39,14 @@ from rclpy.parameter import Parameter
 from wurde_core import CommsManager
 from wurde_core.carmen_param import REREAD, typed_value
 from wurde_core.module_loop import exit_on_config_error, run_loop, set_loop
+from wurde_core.options import split_ros_arguments
 from wurde_idl.errors import ConfigError
-from wurde_idl.mapfile import load_map_data
+from wurde_idl.maps import load_any_map
 
-from .ini import Entry, IniFile, choose_robot, find_ini, read_ini
-from .map_server import DEFAULT_RESOLUTION, MapServerModule, rasterize
+from .ini import Entry, IniFile, IniWarning, choose_robot, find_ini, read_ini
+from .map_server import DEFAULT_RESOLUTION, MapServerModule, from_grid_map, rasterize
 
-__all__ = ['MAP_PARAMETER', 'ParamDaemon', 'main', 'ros_name', 'split_arguments']
+__all__ = ['MAP_PARAMETER', 'ParamDaemon', 'carmen_options', 'main', 'ros_name', 'split_arguments']
 
 #: The read-only parameter naming the map file given on the command line.
 MAP_PARAMETER = 'map.file'
@@ -47,8 +54,9 @@ MAP_PARAMETER = 'map.file'
 SERVE_S = 0.1
 
 HELP = ('  -a          print the loaded parameters (module_variable value, sorted) at start\n'
-        '  -R ROBOT    serve [*] and [ROBOT] of the ini file (CARMEN\'s -r: -r is WURDE\'s\n'
-        '              registration mode); needed when the file has several robots\n'
+        '  -R ROBOT    serve [*], [expert] and [ROBOT] of the ini file (any case; CARMEN\'s -r:\n'
+        '              -r is WURDE\'s registration mode; --robot=ROBOT as CARMEN\'s);\n'
+        '              needed when the file has several robots\n'
         '  MAP         a map file: the read-only parameter map.file, and the map served as\n'
         '              map_server serves it (MapServer stream and /map)\n'
         '  -M RES      m per cell of the served map\'s grid (default 0.05)\n'
@@ -77,6 +85,28 @@ def split_arguments(arguments: list[str]) -> tuple[str | None, str | None]:
     return (arguments[0] if arguments else None), None
 
 
+def carmen_options(argv: list[str]) -> list[str]:
+    """``argv`` with CARMEN's long option ``--robot=ROBOT`` (or ``--robot ROBOT``) written as
+    ``-R ROBOT`` right after the program name, where WURDE's option parser takes it (it knows no
+    long options and stops at the first argument).  ROS arguments are left as they are.
+
+    :raises ValueError: for ``--robot`` without a robot.
+    """
+    own, ros = split_ros_arguments(argv[1:])
+    robot: list[str] = []
+    rest: list[str] = []
+    words = iter(own)
+    for word in words:
+        if word == '--robot' or word.startswith('--robot='):
+            name = word.partition('=')[2] if '=' in word else next(words, '')
+            if not name:
+                raise ValueError('--robot needs a robot name (--robot=ROBOT)')
+            robot = ['-R', name]
+        else:
+            rest.append(word)
+    return [*argv[:1], *robot, *rest, *ros]
+
+
 def _kind(value: Any) -> str:
     return {bool: 'on/off', int: 'int', float: 'double', str: 'string'}[type(value)]
 
@@ -91,12 +121,22 @@ class ParamDaemon:
         self.map_path = map_path
         self.entries = self._served(ini)
         self._pending: dict[str, Entry] | None = None
+        self._pending_warnings: list[IniWarning] = []
+        self._told: set[IniWarning] = set()
 
     def _served(self, ini: IniFile) -> dict[str, Entry]:
         entries = ini.parameters(self.robot)
         if self.map_path is not None:   # the command line's map wins over the file's map_file
-            entries.pop('map_file', None)
+            entries = {name: entry for name, entry in entries.items() if name.lower() != 'map_file'}
         return entries
+
+    def warn(self, warnings: list[IniWarning]) -> int:
+        """Print on stderr each of ``warnings`` not printed before; returns how many were."""
+        new = [warning for warning in warnings if warning not in self._told]
+        for warning in new:
+            print(f'param_daemon: warning: {warning}', file=sys.stderr, flush=True)
+        self._told.update(new)
+        return len(new)
 
     def declare(self) -> None:
         """Declare every parameter, the map and the ``reread`` trigger."""
@@ -112,7 +152,7 @@ class ParamDaemon:
 
     def _declare(self, entry: Entry) -> None:
         self.node.declare_parameter(ros_name(entry), typed_value(entry.value), ParameterDescriptor(
-            description=f'carmen.ini {entry.name}'))
+            description=f'carmen.ini {entry.name}' + (' (expert)' if entry.expert else '')))
 
     def listing(self) -> list[str]:
         """``module_variable value`` of every served parameter, sorted (``-a``)."""
@@ -144,10 +184,11 @@ class ParamDaemon:
     def prepare(self) -> dict[str, Entry]:
         """The ini file's parameters for this robot, read again.
 
-        :raises ConfigError: for a broken file, a robot no longer in it, or a value whose type
-            differs from the one served (an int for a double is fine).
+        :raises ConfigError: for a file that cannot be read or is not UTF-8, a robot no longer in
+            it, or a value whose type differs from the one served (an int for a double is fine).
         """
-        entries = self._served(read_ini(self.path))
+        ini = read_ini(self.path)
+        entries = self._served(ini)
         for entry in entries.values():
             served = self._type(ros_name(entry))
             value = Parameter(ros_name(entry), value=typed_value(entry.value))
@@ -158,6 +199,7 @@ class ParamDaemon:
             raise ConfigError(entry.path, entry.line,
                               f'{entry.name} {entry.value!r} is {_kind(value.value)}, but it is '
                               f'served as {_kind(old)}: restart param_daemon to change a type')
+        self._pending_warnings = ini.warnings
         return entries
 
     def apply_pending(self) -> int:
@@ -165,6 +207,7 @@ class ParamDaemon:
         entries, self._pending = self._pending, None
         if entries is None:
             return 0
+        self.warn(self._pending_warnings)
         changed = []
         for entry in entries.values():
             name, value = ros_name(entry), typed_value(entry.value)
@@ -189,6 +232,11 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('param_daemon')
     manager.set_help_string(HELP)
+    try:
+        argv = carmen_options(argv)
+    except ValueError as error:
+        print(f'param_daemon: {error}', file=sys.stderr, flush=True)
+        return 2
     opts = manager.parse_options(argv, 'aR:M:s:')
     try:
         map_path, ini_path = split_arguments(opts.arguments)
@@ -198,8 +246,14 @@ def main(argv: list[str] | None = None) -> int:
     try:
         ini = read_ini(ini_path or find_ini())
         robot = choose_robot(ini, opts.user.get('R'))
-        world = load_map_data(map_path) if map_path else None
-        grid = rasterize(world, float(opts.user.get('M', DEFAULT_RESOLUTION))) if world else None
+        loaded = load_any_map(map_path) if map_path else None      # XML, map_server YAML or CARMEN map
+        world = loaded.data if loaded else None
+        if loaded is None:
+            grid = None
+        elif loaded.grid is not None:
+            grid = from_grid_map(loaded.grid)                        # a grid map's own cells
+        else:
+            grid = rasterize(loaded.data, float(opts.user.get('M', DEFAULT_RESOLUTION)))
     except ConfigError as error:
         return exit_on_config_error(argv[0], error)
     except ValueError as error:
@@ -207,10 +261,11 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     manager.wait(0.0)   # opens the module's node
     daemon = ParamDaemon(manager.node, ini, robot, map_path)
+    daemon.warn(ini.warnings)
     daemon.declare()
-    maps = (MapServerModule(manager, world, grid, opts.user.get('s', 'MapServer'))
-            if world is not None and grid is not None else None)
-    if maps is not None:
+    maps = None
+    if world is not None and grid is not None:
+        maps = MapServerModule(manager, world, grid, opts.user.get('s', 'MapServer'))
         print(f'param_daemon serves the map {world.name} ({grid.width} x {grid.height} cells of '
               f'{grid.resolution} m) on {maps.obj.stream} and /map', flush=True)
     if 'a' in opts.user:

@@ -1,4 +1,5 @@
-"""carmen.ini: CARMEN's parameter file, read for ``param_daemon`` and ``param_tool install``.
+"""carmen.ini: CARMEN's parameter file, read by CARMEN's rules for ``param_daemon`` and
+``param_tool install``.
 
 ::
 
@@ -7,19 +8,48 @@
     robot_max_t_vel    0.5       # module "robot", variable "max_t_vel"
     laser_flipped      off
 
-    [pluto]                      # this robot: overrides [*]
+    [pluto]                      # this robot
     robot_max_t_vel    0.3
 
-A line is ``module_variable value``: the module is the text before the first ``_``, the variable
-the rest (letters, digits and ``_``); the value is the rest of the line, trimmed, up to a ``#``.
-Everything wrong — a line outside any section, a name without a value, a section header that is
-not ``[*]`` or ``[robot]``, a name without ``_``, a name twice in one section, bytes that are not
-UTF-8 — is a :class:`~wurde_idl.errors.ConfigError` naming file, line and reason.
-``$include`` lines are not supported: they are refused as a malformed name.
+    [expert]                     # every robot, marked expert
+    robot_theta_gain   1.0
+
+The rules are those of CARMEN's ``param_daemon.c`` (``read_parameters_from_file``,
+``set_param``, ``find_valid_robots``), so that CARMEN's own carmen.ini and robots' files load:
+
+- ``#`` anywhere starts a comment (also inside a value); blank lines are skipped.
+- A line whose first word starts with ``[`` is a section header.  ``[*]`` holds parameters for
+  every robot, ``[expert]`` (any case) too, marked expert; any other ``[NAME]`` is robot NAME,
+  matched in any case (``--robot=PLUTO`` takes ``[pluto]``).  ``+`` and ``-`` are part of a
+  robot's name (``[p2d8+]``, ``[pioneer-I]``): a section is one robot, there is no list syntax.
+- Every other line is ``name value``: the name is the first word, the value the rest of the line,
+  trimmed.  The name splits at its first ``_`` into module and variable (``navigator_goal_size``
+  is module ``navigator``, variable ``goal_size``).
+- The sections that apply — ``[*]``, ``[expert]`` and the robot's own — are read in file order and
+  a later line wins, also within one section; names are not case sensitive (the first spelling
+  names the parameter).
+
+What CARMEN's daemon skips, this reader skips too, with a warning naming file:line and the
+reason (:attr:`IniFile.warnings`, each once): a name without a value (``xsens_adapt``), a name
+that does not split into module_variable (``>``), a line before the first section header, a
+header that names no section (``[pluto`` — the lines under it are skipped).  It also warns where
+the file is read as CARMEN reads it but probably not as its author meant: a name set twice in
+one section, one name in two spellings, text after a header's ``]``, and a value of a robot's
+section overridden by a later ``[*]`` or ``[expert]``.
+
+Where this reader deviates from CARMEN's, it says so in a warning too: a parameter name must be
+letters, digits and ``_`` (a ROS 2 parameter name; CARMEN takes any characters) — others are
+skipped.  A robot's section listed twice counts as one robot (CARMEN counts two and then asks
+which).  A header without ``]`` skips the lines under it also when no robot is chosen (CARMEN
+then reads them on into the section before).  Refused, as a
+:class:`~wurde_idl.errors.ConfigError`: a file that cannot be read and bytes that are not UTF-8
+(CARMEN refuses any byte beyond ASCII).  ``$include`` lines are not supported: CARMEN's daemon
+has none, so they are warned about as a name that is not module_variable.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import pathlib
 import re
@@ -27,17 +57,21 @@ from dataclasses import dataclass, field
 
 from wurde_idl.errors import ConfigError
 
-__all__ = ['ALL_ROBOTS', 'SEARCH_PATH', 'Entry', 'IniFile', 'choose_robot', 'find_ini', 'read_ini',
-           'robots']
+__all__ = ['ALL_ROBOTS', 'EXPERT', 'SEARCH_PATH', 'Entry', 'IniFile', 'IniWarning', 'Section',
+           'choose_robot', 'find_ini', 'read_ini', 'robots']
 
 #: The section whose parameters every robot has.
 ALL_ROBOTS = '*'
+#: The section of parameters every robot has, marked expert (CARMEN's PARAM_LEVEL_EXPERT).
+EXPERT = 'expert'
 #: Where ``param_daemon`` looks for carmen.ini when it is given none (CARMEN's param_daemon:
 #: the working directory, its parent, the parent's ``src``).
 SEARCH_PATH = ('carmen.ini', '../carmen.ini', '../src/carmen.ini')
 
-_SECTION = re.compile(r'\[([^\[\]\s]+)\]')
+#: A name ROS 2 tools take as a parameter name once its first ``_`` is a ``.``.
 _NAME = re.compile(r'[A-Za-z0-9_]+')
+#: CARMEN's longest parameter name (``lvalue[255]``); a longer one is skipped with a warning.
+_LONGEST_NAME = 254
 
 
 @dataclass(frozen=True)
@@ -49,6 +83,8 @@ class Entry:
     value: str
     path: str
     line: int
+    #: From the ``[expert]`` section.
+    expert: bool = False
 
     @property
     def name(self) -> str:
@@ -56,29 +92,82 @@ class Entry:
         return f'{self.module}_{self.variable}'
 
 
-@dataclass
-class IniFile:
-    """A read carmen.ini: its sections in file order, each ``{module_variable: Entry}``."""
+@dataclass(frozen=True)
+class IniWarning:
+    """A line read as CARMEN reads it, though probably not as meant: file, line and reason."""
 
     path: str
-    sections: dict[str, dict[str, Entry]] = field(default_factory=dict)
+    line: int
+    reason: str
+
+    def __str__(self) -> str:
+        return f'{self.path}:{self.line}: {self.reason}'
+
+
+@dataclass
+class Section:
+    """One section header and its lines, in file order."""
+
+    #: ``*``, ``expert`` (as spelled) or a robot's name (as spelled).
+    name: str
+    line: int
+    entries: list[Entry] = field(default_factory=list)
+
+    @property
+    def for_every_robot(self) -> bool:
+        """``[*]`` or ``[expert]``: its parameters are every robot's."""
+        return self.name == ALL_ROBOTS or self.name.lower() == EXPERT
+
+    def applies_to(self, robot: str | None) -> bool:
+        """Whether the parameters of ``robot`` (``None``: none chosen) include this section's."""
+        return self.for_every_robot or (robot is not None and self.name.lower() == robot.lower())
+
+
+@dataclass
+class IniFile:
+    """A read carmen.ini: its sections in file order and what was warned about."""
+
+    path: str
+    sections: list[Section] = field(default_factory=list)
+    warnings: list[IniWarning] = field(default_factory=list)
 
     def robots(self) -> list[str]:
-        """The robot sections (every section but ``[*]``), in file order."""
-        return [name for name in self.sections if name != ALL_ROBOTS]
+        """The robots (every section but ``[*]`` and ``[expert]``), in file order, each once (in
+        its first spelling)."""
+        names: dict[str, str] = {}
+        for section in self.sections:
+            if not section.for_every_robot:
+                names.setdefault(section.name.lower(), section.name)
+        return list(names.values())
 
-    def parameters(self, robot: str | None) -> dict[str, Entry]:
-        """The parameters of ``robot``: ``[*]``'s, overridden by ``[robot]``'s (``None``: ``[*]``
-        only), sorted by name.
+    def robot(self, name: str) -> str:
+        """The file's spelling of robot ``name`` (any case).
 
         :raises ConfigError: for a robot the file has no section of.
         """
-        if robot is not None and robot not in self.robots():
-            raise ConfigError(self.path, None, f'no robot [{robot}] (robots: {_listing(self)})')
-        merged = dict(self.sections.get(ALL_ROBOTS, {}))
+        for robot in self.robots():
+            if robot.lower() == name.lower():
+                return robot
+        raise ConfigError(self.path, None, f'no robot [{name}] (robots: {_listing(self)})')
+
+    def parameters(self, robot: str | None) -> dict[str, Entry]:
+        """The parameters of ``robot`` (``None``: ``[*]`` and ``[expert]`` only), sorted by name:
+        the sections that apply, in file order, a later line winning.
+
+        :raises ConfigError: for a robot the file has no section of.
+        """
         if robot is not None:
-            merged.update(self.sections[robot])
-        return dict(sorted(merged.items()))
+            robot = self.robot(robot)
+        merged: dict[str, Entry] = {}
+        for section in self.sections:
+            if not section.applies_to(robot):
+                continue
+            for entry in section.entries:
+                first = merged.get(entry.name.lower())
+                if first is not None and first.name != entry.name:   # CARMEN keeps the first name
+                    entry = dataclasses.replace(entry, module=first.module, variable=first.variable)
+                merged[entry.name.lower()] = entry
+        return {entry.name: entry for entry in sorted(merged.values(), key=lambda e: e.name)}
 
 
 def _listing(ini: IniFile) -> str:
@@ -86,10 +175,9 @@ def _listing(ini: IniFile) -> str:
 
 
 def read_ini(path: str | os.PathLike[str]) -> IniFile:
-    """Read one carmen.ini.
+    """Read one carmen.ini by CARMEN's rules (the module docstring).
 
-    :raises ConfigError: with file, line and reason for anything the module docstring refuses;
-        an unreadable file is a ConfigError without a line.
+    :raises ConfigError: for a file that cannot be read (no line) or that is not UTF-8 (its line).
     """
     path = os.fspath(path)
     try:
@@ -101,42 +189,95 @@ def read_ini(path: str | os.PathLike[str]) -> IniFile:
     except UnicodeDecodeError as error:
         line = data[:error.start].count(b'\n') + 1
         raise ConfigError(path, line, f'not UTF-8 (byte 0x{data[error.start]:02x})') from error
-    ini = IniFile(path)
-    section: dict[str, Entry] | None = None
+    reader = _Reader(IniFile(path))
     for number, raw in enumerate(text.splitlines(), start=1):
-        line = raw.split('#', 1)[0].strip()
-        if not line:
-            continue
-        if line.startswith('['):
-            found = _SECTION.fullmatch(line)
-            if not found:
-                raise ConfigError(path, number, f'section header {line!r} is not [*] or [robot]')
-            section = ini.sections.setdefault(found.group(1), {})
-            continue
-        if section is None:
-            raise ConfigError(path, number, f'{line.split()[0]!r} is outside any section '
-                                            '(start with [*] or [robot])')
-        entry = _entry(path, number, line)
-        if entry.name in section:
-            raise ConfigError(path, number, f'{entry.name} is set twice in this section '
-                                            f'(first on line {section[entry.name].line})')
-        section[entry.name] = entry
-    return ini
+        reader.line(number, raw)
+    return reader.ini
 
 
-def _entry(path: str, number: int, line: str) -> Entry:
-    parts = line.split(None, 1)
-    name = parts[0]
-    if not _NAME.fullmatch(name):
-        raise ConfigError(path, number, f'name {name!r} has characters other than letters, '
-                                        'digits and _')
-    module, _, variable = name.partition('_')
-    if not module or not variable:
-        raise ConfigError(path, number, f'name {name!r} is not module_variable (it needs a _ '
-                                        'between a module and a variable)')
-    if len(parts) < 2:
-        raise ConfigError(path, number, f'{name} has no value')
-    return Entry(module, variable, parts[1].strip(), path, number)
+class _Reader:
+    """CARMEN's reading rules, line by line, into an :class:`IniFile`."""
+
+    def __init__(self, ini: IniFile) -> None:
+        self.ini = ini
+        self.section: Section | None = None
+        self.skipping = False                   # under a header that names no section
+        self.outside_warned = False
+        self.set_in: dict[tuple[str, str], int] = {}    # (section, name) -> line, lower case
+        self.spelling: dict[str, Entry] = {}            # name (lower case) -> its first entry
+        self.by_robot: dict[str, list[str]] = {}       # name -> '[robot] line N' it is set in
+
+    def warn(self, line: int, reason: str) -> None:
+        self.ini.warnings.append(IniWarning(self.ini.path, line, reason))
+
+    def line(self, number: int, raw: str) -> None:
+        text = raw.split('#', 1)[0].strip()
+        if not text:
+            return
+        if text.startswith('['):
+            self.header(number, text)
+        elif self.section is not None:
+            self.entry(number, text)
+        elif not self.skipping and not self.outside_warned:
+            self.outside_warned = True
+            self.warn(number, f'{text.split()[0]!r} is before the first section header: it and '
+                              'the lines up to the header are skipped')
+
+    def header(self, number: int, text: str) -> None:
+        word = text.split(None, 1)[0]
+        name, bracket, after = word[1:].partition(']')
+        if not bracket or not name:
+            self.section, self.skipping = None, True
+            self.warn(number, f'section header {text!r} is not [*], [expert] or [robot]: the '
+                              'lines under it are skipped')
+            return
+        if after or text[len(word):].strip():
+            self.warn(number, f'text after [{name}] is ignored')
+        if name.startswith(ALL_ROBOTS) and name != ALL_ROBOTS:
+            self.warn(number, f'[{name}] is taken as [*], as CARMEN takes it')
+            name = ALL_ROBOTS
+        self.section, self.skipping = Section(name, number), False
+        self.ini.sections.append(self.section)
+
+    def entry(self, number: int, text: str) -> None:
+        assert self.section is not None
+        parts = text.split(None, 1)
+        name = parts[0]
+        if len(parts) < 2:
+            self.warn(number, f'{name} has no value: skipped')
+            return
+        module, _, variable = name.partition('_')
+        if not module or not variable:
+            self.warn(number, f'name {name!r} is not module_variable (it needs a _ between a '
+                              'module and a variable): skipped')
+            return
+        if len(name) > _LONGEST_NAME or not _NAME.fullmatch(name):
+            self.warn(number, f'name {name[:40]!r} has characters other than letters, digits and _ '
+                              'or more than 254 of them (a ROS 2 parameter name here): skipped')
+            return
+        section = self.section
+        entry = Entry(module, variable, parts[1].strip(), self.ini.path, number,
+                      expert=section.name.lower() == EXPERT)
+        self.check(section, entry)
+        section.entries.append(entry)
+
+    def check(self, section: Section, entry: Entry) -> None:
+        """Warn where CARMEN's reading (a later line wins, names in any case) may surprise."""
+        key, number = entry.name.lower(), entry.line
+        first = self.spelling.setdefault(key, entry)
+        if first.name != entry.name:
+            self.warn(number, f'{entry.name} is {first.name} of line {first.line} (names are not '
+                              f'case sensitive): served as {first.name}')
+        earlier = self.set_in.get((section.name.lower(), key))
+        if earlier is not None:
+            self.warn(number, f'{entry.name} is set again in [{section.name}] (first on line '
+                              f'{earlier}): this later value wins')
+        self.set_in[(section.name.lower(), key)] = number
+        if not section.for_every_robot:
+            self.by_robot.setdefault(key, []).append(f'[{section.name}] line {number}')
+        elif key in self.by_robot:
+            self.warn(number, f'{entry.name} of [{section.name}] overrides '
+                              f'{", ".join(self.by_robot.pop(key))}: the later line wins')
 
 
 def find_ini(directory: str | os.PathLike[str] = '.') -> str:
@@ -154,7 +295,8 @@ def find_ini(directory: str | os.PathLike[str] = '.') -> str:
 
 
 def robots(path: str | os.PathLike[str]) -> list[str]:
-    """The robot sections of the carmen.ini at ``path`` (not ``[*]``), in file order.
+    """The robot sections of the carmen.ini at ``path`` (not ``[*]`` nor ``[expert]``), in file
+    order.
 
     :raises ConfigError: when the file is refused.
     """
@@ -162,20 +304,19 @@ def robots(path: str | os.PathLike[str]) -> list[str]:
 
 
 def choose_robot(ini: IniFile, robot: str | None) -> str | None:
-    """The robot whose parameters to serve: ``robot`` if given (it must have a section), else
-    the only robot section, else ``None`` when there is only ``[*]``.
+    """The robot whose parameters to serve, spelled as the file spells it: ``robot`` if given
+    (any case; it must have a section), else the only robot section, else ``None`` when there is
+    none (``[*]`` and ``[expert]`` only: CARMEN's "default robot").
 
-    CARMEN's param_daemon asks which robot when the file has several; a daemon started by the
-    MCP cannot be asked, so this refuses instead, listing the robots.
+    With several robots and none chosen CARMEN's param_daemon refuses too ("You must specify a
+    robot name on the command line using --robot"), listing them here.
 
     :raises ConfigError: for an unknown robot, or several robots and none chosen.
     """
-    names = ini.robots()
     if robot is not None:
-        if robot not in names:
-            raise ConfigError(ini.path, None, f'no robot [{robot}] (robots: {_listing(ini)})')
-        return robot
+        return ini.robot(robot)
+    names = ini.robots()
     if len(names) > 1:
         raise ConfigError(ini.path, None, f'{len(names)} robots ({", ".join(names)}): choose one '
-                                          'with -R ROBOT')
+                                          'with -R ROBOT or --robot=ROBOT')
     return names[0] if names else None

@@ -10,7 +10,9 @@ NAME is CARMEN's ``module_variable``.  ``reread`` sets the daemon's ``reread`` p
 the daemon checks the file while answering (a broken file is refused with file:line: reason,
 which this prints) and applies it in its next loop turn.  ``install`` sets each parameter on its
 own; the daemon refuses those it does not have (ROS's undeclared-parameter error) or whose type
-differs, and the tool reports each and exits 1.  Every failure exits 1 with the reason on stderr;
+differs, and the tool reports each and exits 1.  FILE is read by CARMEN's rules
+(:mod:`.ini`): what the reader warns about is printed on stderr, file:line: reason; ROBOT is
+matched in any case.  Every failure exits 1 with the reason on stderr;
 a wrong command line exits 2.
 """
 
@@ -67,6 +69,8 @@ def _run(params: CarmenParams, command: str, args: list[str]) -> int:
         print(f'{args[0]} {params.set_variable(args[0], args[1])}', flush=True)
     elif command == 'install':
         ini = read_ini(args[0])
+        for warning in ini.warnings:
+            print(f'param_tool: warning: {warning}', file=sys.stderr, flush=True)
         failed = 0
         for entry in ini.parameters(choose_robot(ini, args[1] if len(args) > 1 else None)).values():
             try:

@@ -1,72 +1,105 @@
-"""``record``: write ROS 2 topics to an MCAP file while the robot runs.
+"""``record``: write ROS 2 topics to a rosbag2 bag while the robot runs.
 
-    record [-o FILE] [-t REGEX] [-x REGEX] [-n COUNT]
+    record [-o NAME] [-t REGEX] [-x REGEX] [-n COUNT] [-b BYTES] [-d SECONDS]
 
 Every topic of the ROS graph whose name matches ``-t`` (default: all) and not ``-x`` (default:
 ``/rosout`` and ``/parameter_events``) is recorded — the WURDE streams (``/wurde/.../data``,
 ``info``, ``request``) and the standard topics (``/tf``, ``/scan``, ``/odom``, ...) alike.  The graph
 is looked at every :data:`.tap.DISCOVER_S`, so topics that appear later are recorded from then on.  Each
 message is stored as the CDR bytes that travelled (a raw subscription: nothing decoded or
-re-encoded), on a channel with the type's full definition (:mod:`.schema`) and the publishers'
-durability in its metadata (:mod:`.replay` offers it again).  A subscription is transient local
-when every publisher is, so the latched info and ``/tf_static`` already sent are recorded too.
+re-encoded), on a channel with the type's full definition (:mod:`.schema`), and with rosbag2's
+``offered_qos_profiles`` (every publisher's QoS, which ``ros2 bag play`` and :mod:`.replay` offer
+again: ``/tf_static`` and ``/map`` come back transient local) and ``topic_type_hash``.  A
+subscription is transient local when every publisher is, so the latched info and ``/tf_static``
+already sent are recorded too.
 
-Ends on SIGINT or SIGTERM (or after ``-n`` messages), finishing the file so that it is complete;
+The output is chosen by its name (:mod:`.bag_writer`): ``-o NAME.mcap`` is one MCAP file (default
+``recording.mcap``); any other name is a rosbag2 bag directory, made new, with ``NAME_0.mcap`` ...
+and ``metadata.yaml`` (what ``ros2 bag record -o NAME`` writes; ``-b`` / ``-d`` start a new file
+when the messages in the current one reach BYTES or span SECONDS).
+
+Ends on SIGINT or SIGTERM (or after ``-n`` messages), finishing the output so that it is complete;
 prints ``record ready`` when listening and a line per topic added.
 """
 
 from __future__ import annotations
 
 import argparse
+import pathlib
 import sys
-import time
 
 from mcap.writer import Writer
 
+from .bag_writer import BagDirectorySink, McapSink, single_file_metadata
+from .errors import BagError
 from .tap import DEFAULT_EXCLUDE, TopicTap, run_tap, tap_node
 
 __all__ = ['McapSink', 'main']
 
 
-class McapSink:
-    """The MCAP file a :class:`~.tap.TopicTap` writes: a schema per type, a channel per topic."""
-
-    def __init__(self, writer: Writer) -> None:
-        self.writer = writer
-        self.schemas: dict[str, int] = {}
-        self.count = 0
-
-    def open_channel(self, topic: str, type_name: str, definition: str, metadata: dict[str, str]) -> int:
-        if type_name not in self.schemas:
-            self.schemas[type_name] = self.writer.register_schema(type_name, 'ros2msg', definition.encode())
-        return self.writer.register_channel(topic, 'cdr', self.schemas[type_name], metadata)
-
-    def write(self, channel: int, data: bytes) -> None:
-        now = time.time_ns()
-        self.writer.add_message(channel, log_time=now, data=data, publish_time=now, sequence=self.count)
-        self.count += 1
-
-
-def main(argv: list[str] | None = None) -> int:
+def _arguments(argv: list[str]) -> argparse.Namespace:
     parser = argparse.ArgumentParser(prog='record', description=__doc__.splitlines()[0])
-    parser.add_argument('-o', '--output', default='recording.mcap', help='the MCAP file (default recording.mcap)')
+    parser.add_argument('-o', '--output', default='recording.mcap',
+                        help='NAME.mcap: one MCAP file; any other name: a bag directory (default recording.mcap)')
     parser.add_argument('-t', '--topics', default='', help='record topics matching this regex (default all)')
     parser.add_argument('-x', '--exclude', default=DEFAULT_EXCLUDE, help='leave out topics matching this regex')
     parser.add_argument('-n', '--count', type=int, default=0, help='stop after this many messages (0: never)')
-    args = parser.parse_args(sys.argv[1:] if argv is None else argv[1:])
+    parser.add_argument('-b', '--max-bag-size', type=int, default=0,
+                        help='bag directory: a new file when its messages reach this many bytes (0: never)')
+    parser.add_argument('-d', '--max-bag-duration', type=float, default=0.0,
+                        help='bag directory: a new file when its messages span this many seconds (0: never)')
+    args = parser.parse_args(argv)
+    if args.output.endswith('.mcap') and (args.max_bag_size or args.max_bag_duration):
+        parser.error('-b and -d split a bag directory: give -o a name without .mcap')
+    if args.max_bag_size < 0 or args.max_bag_duration < 0:
+        parser.error('-b and -d take 0 (no limit) or more')
+    return args
+
+
+def _record_file(args: argparse.Namespace) -> str:
+    """Record into one MCAP file; the summary line's end."""
     with tap_node('wurde_record') as (node, executor, stopped), open(args.output, 'wb') as stream:
         writer = Writer(stream)
         writer.start(profile='ros2', library='wurde_mcp record')
-        sink = McapSink(writer)
+        sink = McapSink(writer, pathlib.Path(args.output).name)
         recorder = TopicTap(node, args.topics, args.exclude, sink.open_channel, sink.write, 'record')
         print(f'record ready: writing {args.output}', flush=True)
         try:
             run_tap(recorder, executor,
                     lambda: stopped() or bool(args.count and recorder.count >= args.count))
         finally:
-            writer.finish()
+            sink.finish(single_file_metadata(sink))
     recorded = sum(1 for c in recorder.channels.values() if c is not None)
-    print(f'record: {recorder.count} messages on {recorded} topics in {args.output}', flush=True)
+    return f'{recorder.count} messages on {recorded} topics in {args.output}'
+
+
+def _record_directory(args: argparse.Namespace) -> str:
+    """Record into a new bag directory; the summary line's end."""
+    bag = BagDirectorySink(pathlib.Path(args.output), max_bytes=args.max_bag_size,
+                           max_seconds=args.max_bag_duration)
+    bag.open()
+    with tap_node('wurde_record') as (node, executor, stopped):
+        recorder = TopicTap(node, args.topics, args.exclude, bag.open_channel, bag.write, 'record')
+        print(f'record ready: writing the bag directory {args.output}', flush=True)
+        try:
+            run_tap(recorder, executor,
+                    lambda: stopped() or bool(args.count and recorder.count >= args.count))
+        finally:
+            bag.close()
+    return f'{recorder.count} messages on {len(bag.topics)} topics in {args.output} ({len(bag.files)} files)'
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _arguments(sys.argv[1:] if argv is None else argv[1:])
+    try:
+        summary = _record_file(args) if args.output.endswith('.mcap') else _record_directory(args)
+    except BagError as error:
+        print(f'record: {error}', file=sys.stderr, flush=True)
+        return 1
+    except OSError as error:
+        print(f'record: cannot write {args.output}: {error.strerror or error}', file=sys.stderr, flush=True)
+        return 1
+    print(f'record: {summary}', flush=True)
     return 0
 
 

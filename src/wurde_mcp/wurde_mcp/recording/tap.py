@@ -5,13 +5,14 @@ the CDR bytes as they travelled: the MCAP recorder (:mod:`.record`) and the live
 Each topic gets one subscription whose QoS matches its publishers (transient local when every
 publisher is, so latched info and ``/tf_static`` already sent arrive too; reliable when every
 publisher is), and one sink channel, opened with the type's full ``ros2msg`` definition
-(:mod:`.schema`) and the publishers' durability and reliability as metadata.
+(:mod:`.schema`) and as metadata rosbag2's ``offered_qos_profiles`` (every publisher's profile,
+:mod:`.qos`) and ``topic_type_hash``, and the ``durability`` and ``reliability`` the subscription
+took (which the live view uses to resend latched messages).
 """
 
 from __future__ import annotations
 
 import contextlib
-import importlib
 import re
 import signal
 import sys
@@ -25,6 +26,8 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
 
+from .message_types import message_class
+from .qos import offered_profile, offered_qos_yaml
 from .schema import message_definition
 
 __all__ = ['DEFAULT_EXCLUDE', 'DISCOVER_S', 'TopicTap', 'message_class', 'run_tap', 'tap_node']
@@ -32,17 +35,13 @@ __all__ = ['DEFAULT_EXCLUDE', 'DISCOVER_S', 'TopicTap', 'message_class', 'run_ta
 DEFAULT_EXCLUDE = r'^/(rosout|parameter_events)$'
 #: How often the graph is looked at for new topics (s).
 DISCOVER_S = 0.5
+#: At a stop, at most this many rounds of 10 ms take what is still waiting.
+DRAIN_ROUNDS = 50
 
 #: Opens the sink's channel: (topic, type name, definition, metadata) -> the channel.
 OpenChannel = Callable[[str, str, str, dict[str, str]], Any]
 #: Takes one message: (channel, CDR bytes).
 Write = Callable[[Any, bytes], None]
-
-
-def message_class(type_name: str) -> Any:
-    """The Python class of ``pkg/msg/Name``."""
-    package, _, name = type_name.split('/')
-    return getattr(importlib.import_module(f'{package}.msg'), name)
 
 
 class TopicTap:
@@ -83,6 +82,8 @@ class TopicTap:
                 self.channels[topic] = None
                 continue
             channel = self.open_channel(topic, type_name, definition, {
+                'offered_qos_profiles': offered_qos_yaml([offered_profile(p.qos_profile) for p in publishers]),
+                'topic_type_hash': str(publishers[0].topic_type_hash),
                 'durability': 'transient_local' if latched else 'volatile',
                 'reliability': 'reliable' if reliable else 'best_effort'})
             self.channels[topic] = channel
@@ -147,3 +148,10 @@ def run_tap(tap: TopicTap, executor: SingleThreadedExecutor, done: Callable[[], 
             for topic in tap.discover():
                 print(f'{tap.program}: {topic}', flush=True)
         executor.spin_once(timeout_sec=0.05)
+    # What had arrived when the stop came is taken too (a message acknowledged to its publisher
+    # may still wait in the subscription): until a round takes nothing, at most DRAIN_ROUNDS.
+    for _ in range(DRAIN_ROUNDS):
+        before = tap.count
+        executor.spin_once(timeout_sec=0.01)
+        if tap.count == before:
+            break

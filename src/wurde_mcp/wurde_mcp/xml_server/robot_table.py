@@ -28,6 +28,9 @@ variable                  typ    stream (interface)                        membe
                                                                             restarts per module
 ========================= ====== ========================================= =========================
 
+``odoPose.pose`` is also set by a client's ``pt`` line (a robot controller's odometry pose:
+:mod:`.pose_command`); the newer of the two is read.
+
 A ``*.command`` variable is written as ``cmdFlags p0 p1 [v0 v1 [f0]]`` (Pluto 4 and 6: e.g.
 ``42 7.5 3`` a moveto, ``32 8.5 3 0.5 1`` an avoid goto): the values go to the stream's request
 channel as (cmd_flags, position, velocity, force), so the link's Writable locks apply and a locked

@@ -12,7 +12,8 @@ after ``idle_timeout``, a malformed line is answered with a warning and a socket
 command handler ends only that client's session or command.
 
 Commands are handlers registered by name (:meth:`XmlServer.add_command`): ``help``, ``q`` (``quit``,
-``exit``), ``push``, ``varpush`` and ``var`` are built in; the robot's module may add more.
+``exit``), ``push``, ``varpush``, ``var`` and ``pt`` (a robot controller's odometry pose, never
+answered: :mod:`.pose_command`) are built in; the robot's module may add more.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from collections.abc import Callable, Sequence
 
 from .command import (NAME, Command, CommandError, closing, escape, help_block, parse_command,
                       reply)
+from .pose_command import PT_HELP, PoseCommand
 from .push import EventPush, TimePush
 from .push_commands import PushCommands, push_help, varpush_help
 from .session import TOO_LONG, Session
@@ -91,6 +93,8 @@ class XmlServer:
                          help_text=VAR_HELP, group='var')
         self.add_command('varPush', pushes, 'Update push: run a command on updates of a structure',
                          help_text=varpush_help(s.max_pushes), group='var')
+        self.add_command('pt', PoseCommand(pool), 'Odometry pose from a robot controller: no reply',
+                         help_text=PT_HELP, group='pt')
 
     # ---- the API ------------------------------------------------------------------------------
 

@@ -1,9 +1,10 @@
 """One connected client of the xmlServer: its socket, bounded input and output buffers and pushes.
 
 The server (:mod:`.server`) owns the sessions; a command handler gets the client's :class:`Session`
-and may read :attr:`Session.address`, :attr:`Session.number` and :attr:`Session.pushes`, and end the
-session with :meth:`Session.end`.  Both buffers are bounded, so a client can make the server hold
-at most ``max_line + 1`` bytes of its input and ``send_buffer`` bytes of its output.
+and may read :attr:`Session.address`, :attr:`Session.number` and :attr:`Session.pushes`, note
+what it told the client once in :attr:`Session.told`, and end the session with
+:meth:`Session.end`.  Both buffers are bounded, so a client can make the server hold at most
+``max_line + 1`` bytes of its input and ``send_buffer`` bytes of its output.
 """
 
 from __future__ import annotations
@@ -40,6 +41,8 @@ class Session:
         self.pushes: list[Push] = []
         #: When something was last received from this client or sent to it (monotonic s).
         self.last_activity = now
+        #: What this client was warned about once per session (a handler's keys, e.g. ``pt``).
+        self.told: set[str] = set()
         #: The client closed its side: no more input, but the lines already received are handled.
         self.eof = False
         #: The session is ending: its output is sent, then it is closed (by :attr:`end_deadline`).
