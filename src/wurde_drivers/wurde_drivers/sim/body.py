@@ -3,9 +3,11 @@
 - **Sonar ring**: ``count`` transducers evenly spaced on a circle round the robot centre, each a
   cone of ``half_angle`` sampled by five rays whose shortest hit is the echo. Pluto's dummy sonar
   reads "just 8 meters" (5) when nothing echoes, so nothing in range reads ``max_range`` (8 m).
-- **Bumpers**: a front and a back bumper on a round footprint. A bumper is pressed while a wall is
-  within ``contact_margin`` of the footprint on its half (in front of or behind the axle line). The
-  base refuses a move that would push the footprint into a wall and stops (see ``SimRobot``).
+  Given a stamp, the rays meet the world's people where they are then.
+- **Bumpers**: a front and a back bumper on a round footprint. A bumper is pressed while a wall, or
+  (given a stamp) a person, is within ``contact_margin`` of the footprint on its half (in front of
+  or behind the axle line). The base refuses a move that would push the footprint into a wall or a
+  person and stops (see ``SimRobot``).
 - **Battery**: a crude energy model — constant idle draw plus a draw proportional to speed —
   giving voltage, current, power and charge through the Power interface.
 """
@@ -38,13 +40,15 @@ class SonarRing:
     def angles(self) -> np.ndarray:
         return 2 * math.pi * np.arange(self.count) / self.count
 
-    def ranges(self, world: World, x: float, y: float, theta: float) -> np.ndarray:
-        """Range of each sonar (m): the nearest echo in its cone, ``max_range`` if none."""
+    def ranges(self, world: World, x: float, y: float, theta: float, *,
+               at: float | None = None) -> np.ndarray:
+        """Range of each sonar (m): the nearest echo in its cone, ``max_range`` if none; ``at``:
+        the stamp at which the world's people echo too."""
         headings = theta + self.angles()
         origins = np.stack([x + self.radius * np.cos(headings), y + self.radius * np.sin(headings)], axis=1)
         spread = np.linspace(-self.half_angle, self.half_angle, _RAYS)
         rays = (headings[:, None] + spread[None, :]).ravel()
-        hits = world.raycast(np.repeat(origins, _RAYS, axis=0), rays, self.max_range)
+        hits = world.raycast(np.repeat(origins, _RAYS, axis=0), rays, self.max_range, at=at)
         return np.minimum(hits.reshape(self.count, _RAYS).min(axis=1), self.max_range)
 
 
@@ -55,13 +59,21 @@ class BumperRing:
     radius: float = 0.35
     contact_margin: float = 0.01
 
-    def pressed(self, world: World, x: float, y: float, theta: float) -> tuple[bool, bool]:
-        """(front, back): which bumper touches a wall at this pose."""
+    @property
+    def reach(self) -> float:
+        """How far from the centre something presses a bumper (m)."""
+        return self.radius + self.contact_margin
+
+    def pressed(self, world: World, x: float, y: float, theta: float, *,
+                at: float | None = None) -> tuple[bool, bool]:
+        """(front, back): which bumper touches the nearest wall, or (``at``: a stamp) a person
+        then, at this pose."""
         dist, point, _ = world.nearest_wall((x, y))
-        if dist > self.radius + self.contact_margin:
-            return False, False
-        ahead = (point[0] - x) * math.cos(theta) + (point[1] - y) * math.sin(theta)
-        return bool(ahead >= 0.0), bool(ahead < 0.0)
+        touches = [point] if dist <= self.reach else []
+        if at is not None:
+            touches += [closest for _, closest in world.people_within((x, y), self.reach, at)]
+        aheads = [(p[0] - x) * math.cos(theta) + (p[1] - y) * math.sin(theta) for p in touches]
+        return any(a >= 0.0 for a in aheads), any(a < 0.0 for a in aheads)
 
 
 @dataclasses.dataclass

@@ -18,6 +18,8 @@ time scale::
            mount-x="0" mount-y="0" mount-z="0"/>
       <gps name="PlutoGPS" rate="1" latitude="59.3498" longitude="18.0707" altitude="30"
            noise="0" satellites="8" quality="2" hdop="0.9" mount-x="0" mount-y="0" mount-z="0"/>
+      <person name="ana" points="10,10.3 10,7.5 7.5,7.5 7.5,4" speed="1.0" pause="0"
+              mode="loop" radius="0.25" height="1.75"/>            <!-- any number -->
     </sim-config>
 
 Every element but ``map`` and ``base`` is optional; every attribute has the default shown. The
@@ -25,6 +27,17 @@ Every element but ``map`` and ``base`` is optional; every attribute has the defa
 ring and the bumpers are placed by ``<sonar>`` and the base's ``radius``. The
 ground truth of the base is the stream ``<base name>Truth``; the other dummies read it. Wrong
 files are refused with file, line and reason.
+
+``<person>`` (any number, names unique) is a moving obstacle: a disc (``radius``) or a box
+(``length`` along its walking direction, ``width``) of some ``height``, walking a scripted
+(``points``) or random (``random="N"`` waypoints in ``area``) path at ``speed`` (0, 1.5] m/s
+with ``pause`` s at each waypoint, in a ``loop`` or ``back-and-forth``
+(:mod:`.person_config`; where it is at a stamp, :mod:`.walk`).  The laser and the sonars see
+people, the bumpers feel them, the base publishes them (:mod:`.dummies.people_topic`).  Refused
+with the ``<person>``'s line: a person not taller than a laser's ``mount-z`` or the sonars'
+height (the sensor could not see it), a speed out of range, unknown attributes, and (once the map
+is read, :mod:`.crowd`) a waypoint or leg where the body would touch a wall or the robot at its
+start.
 """
 
 from __future__ import annotations
@@ -33,6 +46,7 @@ import dataclasses
 import math
 import os
 import pathlib
+from collections.abc import Iterable
 
 from wurde_idl.errors import ConfigError
 
@@ -42,9 +56,11 @@ from ..xml_config import Attributes, children, local_name, read_root
 from .body import BumperRing, SonarRing
 from .kinematics import DriveLimits
 from .laser import LaserGeometry
+from .person_config import PERSON_ATTRIBUTES, PersonConfig, read_person
 from .robot import OdometryNoise, RobotSpec
 
-__all__ = ['BaseConfig', 'DmuConfig', 'GpsConfig', 'SimConfig', 'WristConfig', 'load_sim_config']
+__all__ = ['BaseConfig', 'DmuConfig', 'GpsConfig', 'PersonConfig', 'SimConfig', 'WristConfig',
+           'load_sim_config']
 
 
 @dataclasses.dataclass(frozen=True)
@@ -111,9 +127,10 @@ class SimConfig:
     wrist: WristConfig | None = None
     dmu: DmuConfig | None = None
     gps: GpsConfig | None = None
+    people: tuple[PersonConfig, ...] = ()
 
 
-_ELEMENTS = ('map', 'base', 'odometry-noise', 'sonar', 'laser', 'wrist', 'dmu', 'gps')
+_ELEMENTS = ('map', 'base', 'odometry-noise', 'sonar', 'laser', 'wrist', 'dmu', 'gps', 'person')
 
 
 def _start(attrs: Attributes) -> str | tuple[float, float, float]:
@@ -140,8 +157,16 @@ def load_sim_config(path: str | os.PathLike[str]) -> SimConfig:
     step = top.number('step', 0.02, minimum=0.001, maximum=0.5)
     found: dict[str, Attributes] = {}
     lasers: dict[str, LaserGeometry] = {}
+    people: dict[str, PersonConfig] = {}
     for node in children(path, root, _ELEMENTS):
         a = Attributes(path, node, **_SCHEMA[local_name(node)])
+        if a.tag == 'person':
+            person = read_person(a)
+            if person.name in people:
+                raise a.error(f'person "{person.name}" is defined twice (first at line '
+                              f'{people[person.name].line})')
+            people[person.name] = person
+            continue
         if a.tag == 'laser':
             name = a.text('name')
             if name in lasers:
@@ -162,10 +187,26 @@ def load_sim_config(path: str | os.PathLike[str]) -> SimConfig:
     spec = RobotSpec(limits=limits, sonar=sonar, bumpers=bumpers, odometry_noise=noise)
     if 'sonar' in found:
         base = dataclasses.replace(base, sonar_rate=found['sonar'].number('rate', 10.0, minimum=0.1))
+    _check_visible(path, people.values(), lasers, sonar)
     return SimConfig(path=path, map_file=map_file, start=_start(m), seed=seed,
                      time_scale=time_scale, step=step, base=base, robot=spec, lasers=lasers,
                      wrist=_wrist(found.get('wrist')), dmu=_dmu(found.get('dmu')),
-                     gps=_gps(found.get('gps')))
+                     gps=_gps(found.get('gps')), people=tuple(people.values()))
+
+
+def _check_visible(path: str, people: Iterable[PersonConfig], lasers: dict[str, LaserGeometry],
+                   sonar: SonarRing) -> None:
+    """Refuse a person the sensors could not see: a laser's or the sonars' beams pass above a
+    body no taller than their height, and a ghost that bumps the robot unseen is no test."""
+    sensors = [(f'laser "{name}"', laser.mount_z) for name, laser in lasers.items()]
+    sensors.append(('the sonars', sonar.mount_z))
+    for person in people:
+        for sensor, height in sensors:
+            if person.body.height <= height:
+                raise ConfigError(path, person.line,
+                                  f'person "{person.name}" is {person.body.height:g} m tall and '
+                                  f'{sensor} is {height:g} m above the floor: it could not see the '
+                                  'person; make the person taller than every sensor')
 
 
 _SCHEMA: dict[str, dict[str, tuple[str, ...]]] = {
@@ -181,6 +222,7 @@ _SCHEMA: dict[str, dict[str, tuple[str, ...]]] = {
     'dmu': {'optional': ('name', 'rate', 'rate-bias', 'rate-noise', 'cutoff', *MOUNT_XYZ)},
     'gps': {'optional': ('name', 'rate', 'latitude', 'longitude', 'altitude', 'noise', 'satellites',
                          'quality', 'hdop', *MOUNT_XYZ)},
+    'person': {'required': ('name',), 'optional': PERSON_ATTRIBUTES[1:]},
 }
 
 

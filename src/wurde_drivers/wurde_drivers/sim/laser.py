@@ -98,11 +98,17 @@ class LaserModel:
         return (x + g.mount_x * math.cos(theta) - g.mount_y * math.sin(theta),
                 y + g.mount_x * math.sin(theta) + g.mount_y * math.cos(theta))
 
-    def scan(self, world: World, x: float, y: float, theta: float) -> np.ndarray:
-        """Ranges (m) from the true pose: quantised to the unit, ``inf`` past the maximum range."""
+    def scan(self, world: World, x: float, y: float, theta: float, *,
+             at: float | None = None) -> np.ndarray:
+        """Ranges (m) from the true pose: quantised to the unit, ``inf`` past the maximum range.
+
+        ``at``: the scan's stamp, where the world's people stand in the beams (every beam sees
+        them as they are at the scan's centre time: the mirror sweeps a scan in one or two turns,
+        13 or 27 ms, in which a person at 1.5 m/s moves 2 or 4 cm).
+        """
         g = self.geometry
         ranges = np.asarray(world.raycast(self.origin(x, y, theta), theta + self._angles,
-                                          g.max_range), dtype=float)
+                                          g.max_range, at=at), dtype=float)
         hit = ranges < g.max_range
         if g.noise_sigma > 0.0:
             ranges = ranges + self.rng.normal(0.0, g.noise_sigma, ranges.shape)

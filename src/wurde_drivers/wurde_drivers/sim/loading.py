@@ -1,5 +1,5 @@
-"""How the dummies and ``tour`` find and read the simulated world: the sim config, its map and
-the start pose; a bad config ends the program with status 2 and ``file:line: reason``."""
+"""How the dummies and ``tour`` find and read the simulated world: the sim config, its map, the
+start pose and the people; a bad config ends the program with status 2 and ``file:line: reason``."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ from wurde_idl.errors import ConfigError
 
 from ..module_setup import config_file, exit_on_config_error
 from .config import SimConfig, load_sim_config
+from .crowd import place_people
 from .mapfile import load_map
 from .world import World
 
@@ -15,7 +16,8 @@ __all__ = ['load_sim', 'read_sim_config', 'sim_config_path']
 
 
 def load_sim(path: str) -> tuple[SimConfig, World, tuple[float, float, float]]:
-    """The sim config, its world and the start pose (a named place or x y theta)."""
+    """The sim config, its world (with the config's people in it, :mod:`.crowd`) and the start
+    pose (a named place or x y theta); :raises ConfigError: with file, line and reason."""
     config = load_sim_config(path)
     world = load_map(config.map_file)
     start = config.start
@@ -25,6 +27,8 @@ def load_sim(path: str) -> tuple[SimConfig, World, tuple[float, float, float]]:
                                           f'(places: {", ".join(sorted(world.places)) or "none"})')
         place = world.places[start]
         start = (float(place[0]), float(place[1]), float(place[2]))
+    if config.people:
+        world = world.with_people(place_people(config, world, start))
     return config, world, start
 
 

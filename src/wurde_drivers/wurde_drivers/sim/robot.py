@@ -5,6 +5,12 @@ the odometer position and a map"; here the odometry error is configurable (zero 
 the seed), and the truth is kept apart from the odometry so tests and plots can compare them.
 Everything random comes from one seeded source, and time advances in the caller's fixed steps, so
 a run with the same seed and commands repeats exactly.
+
+People (:mod:`.people`) are met at the stamp each step ends at: the robot cannot drive into one
+(it stops there, as at a wall), and a person whose body comes to touch the robot — walking into
+it, or driven into — presses a bumper and stops the base.  Each such contact counts once, from
+the step it begins until the person has let go (:attr:`SimRobot.person_contacts`); the person
+walks on through the robot, which it does not push.
 """
 
 from __future__ import annotations
@@ -57,7 +63,8 @@ class SimRobot:
     """
 
     def __init__(self, world: World, spec: RobotSpec, rng: np.random.Generator, *,
-                 start: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> None:
+                 start: tuple[float, float, float] = (0.0, 0.0, 0.0), now: float = 0.0) -> None:
+        """``now``: the stamp of the start (the people's clock, :mod:`.walk`)."""
         self.world = world
         self.spec = spec
         self.rng = rng
@@ -72,6 +79,12 @@ class SimRobot:
         #: Set when a bumper stopped the base; cleared by the next command.
         self.bumper_stop = False
         self.distance = 0.0
+        #: The stamp of :attr:`truth`.
+        self.now = now
+        #: Contacts with people so far, each counted once; those that began in the last step.
+        self.person_contacts = 0
+        self.new_person_contacts: list[int] = []
+        self._touching: set[int] = set()
         if world.circle_collides(start[:2], spec.bumpers.radius):
             raise ValueError(f'start pose {start} is closer than the robot radius '
                              f'{spec.bumpers.radius} m to a wall')
@@ -85,20 +98,31 @@ class SimRobot:
     def stop(self) -> None:
         self.command(0.0, 0.0)
 
-    def step(self, dt: float) -> None:
-        """Advance ``dt`` seconds of simulated time."""
+    def step(self, dt: float, *, now: float | None = None) -> None:
+        """Advance ``dt`` seconds of simulated time, to the stamp ``now`` (default: the last
+        stamp plus ``dt``), where the people are met."""
+        now = self.now + dt if now is None else now
         before = self.truth
         after = step_base(before, self.tv_command, self.rv_command, self.spec.limits, dt)
-        free = self.world.first_contact((before.x, before.y), (after.x, after.y), self.spec.bumpers.radius)
-        if free < 1.0:
-            # The footprint reaches a wall: it stops there, the bumper trips, the base stops.
-            x = before.x + free * (after.x - before.x)
-            y = before.y + free * (after.y - before.y)
-            after = BaseState(x, y, after.theta, 0.0, 0.0, -before.tv / dt)
+        bumpers = self.spec.bumpers
+        free = self.world.first_contact((before.x, before.y), (after.x, after.y), bumpers.radius, at=now)
+        stop = free < 1.0
+        if stop:
+            # The footprint reaches a wall or a person: it stops there, the bumper trips.
+            after = dataclasses.replace(after, x=before.x + free * (after.x - before.x),
+                                        y=before.y + free * (after.y - before.y))
+        touching = {index for index, _ in self.world.people_within((after.x, after.y), bumpers.reach, now)}
+        self.new_person_contacts = sorted(touching - self._touching)
+        self.person_contacts += len(self.new_person_contacts)
+        self._touching = touching
+        if stop or self.new_person_contacts:
+            # A bumper tripped (a person walking into the robot too): the base stops.
+            after = BaseState(after.x, after.y, after.theta, 0.0, 0.0, -before.tv / dt)
             self.tv_command = self.rv_command = 0.0
             self.bumper_stop = True
         self.truth = after
-        self.bumpers = self.spec.bumpers.pressed(self.world, after.x, after.y, after.theta)
+        self.now = now
+        self.bumpers = bumpers.pressed(self.world, after.x, after.y, after.theta, at=now)
         self._odometry_step(before, after, dt)
         self.battery.drain(after.tv, dt)
 
@@ -131,4 +155,4 @@ class SimRobot:
 
     def sonar(self) -> 'np.ndarray':
         t = self.truth
-        return self.spec.sonar.ranges(self.world, t.x, t.y, t.theta)
+        return self.spec.sonar.ranges(self.world, t.x, t.y, t.theta, at=self.now)

@@ -1,10 +1,14 @@
-"""The simulated robot's world: walls (line segments), named places and off-limits regions.
+"""The simulated robot's world: walls (line segments), named places, off-limits regions, people.
 
 Modelled on CARMEN's maps (programming-with-carmen.txt, section 5): the walls are what the sensors
 see and the robot bumps into; a *place list* names poses (``start``, ``kitchen``) that a user or a
 program may send the robot to; *off-limits regions* are polygons the robot must not enter although
 nothing physical stops it there (the laser sees through them; planners and the simulated base may
 refuse them).  Units are metres and radians, angles counter-clockwise from +x (REP-103).
+
+The world's *people* (:mod:`.people`, from the sim config, :meth:`World.with_people`) move: the
+sensing and motion methods take ``at``, a stamp, and then meet the people where they are at that
+stamp as well as the walls (without ``at``, the walls alone).
 
 A :class:`World` is immutable once built; the sensors of the simulated robot share one.  Map
 files hold a :class:`~wurde_idl.mapfile.MapData` (the format is the suite's, in ``wurde_idl``, so
@@ -14,6 +18,7 @@ Pluto's modules read it too); :meth:`World.from_map_data` and :meth:`World.to_ma
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Iterable, Mapping
 
@@ -21,7 +26,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from wurde_idl.mapfile import Bounds, MapData, Place, polygon_area
 
+from .people import People
 from .raycast import Segments
+from .shapes import Shapes
 
 __all__ = ['Bounds', 'Place', 'World', 'points_in_polygon', 'polygon_area']
 
@@ -86,6 +93,18 @@ class World:
         if not (self.bounds.xmin < self.bounds.xmax and self.bounds.ymin < self.bounds.ymax):
             raise ValueError(f'empty bounds {tuple(self.bounds)}')
         self.name = name
+        #: Moving obstacles; none in a world made from a map alone.
+        self.people = People()
+
+    def with_people(self, people: People) -> World:
+        """This world with ``people`` in it (the walls, places and regions shared)."""
+        other = copy.copy(self)
+        other.people = people
+        return other
+
+    def shapes_at(self, at: float) -> Shapes:
+        """The people's bodies at stamp ``at``."""
+        return self.people.shapes_at(at)
 
     @classmethod
     def from_map_data(cls, data: MapData) -> World:
@@ -115,12 +134,12 @@ class World:
 
     def __repr__(self) -> str:
         return (f'World(name={self.name!r}, walls={len(self.walls)}, places={len(self.places)}, '
-                f'offlimits={len(self.offlimits)}, bounds={tuple(self.bounds)})')
+                f'offlimits={len(self.offlimits)}, bounds={tuple(self.bounds)}, people={len(self.people)})')
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, World):
             return NotImplemented
-        return (self.name == other.name and self.bounds == other.bounds
+        return (self.name == other.name and self.bounds == other.bounds and self.people == other.people
                 and self.places == other.places and np.array_equal(self.walls, other.walls)
                 and len(self.offlimits) == len(other.offlimits)
                 and all(np.array_equal(a, b) for a, b in zip(self.offlimits, other.offlimits)))
@@ -130,15 +149,19 @@ class World:
     # -- sensing ---------------------------------------------------------------------------------
 
     def raycast(self, origin_xy: ArrayLike, angles: ArrayLike,
-                max_range: float = math.inf) -> NDArray:
-        """Distance from ``origin_xy`` along each of ``angles`` to the first wall.
+                max_range: float = math.inf, *, at: float | None = None) -> NDArray:
+        """Distance from ``origin_xy`` along each of ``angles`` to the first wall (or person).
 
         :param origin_xy: ``(x, y)`` in metres, or ``(B, 2)``: one origin per beam (a sonar ring).
         :param angles: ``(B,)`` world-frame directions in radians.
         :param max_range: returned for a beam that meets no wall closer than it.
-        :returns: ``(B,)`` distances in metres; 0 for a beam that starts on a wall.
+        :param at: a stamp: the people where they are then block the beams too.
+        :returns: ``(B,)`` distances in metres; 0 for a beam that starts on a wall or in a person.
         """
-        return self._segments.cast(origin_xy, angles, max_range)
+        distance = self._segments.cast(origin_xy, angles, max_range)
+        if at is not None and len(self.people):
+            np.minimum(distance, self.shapes_at(at).cast(origin_xy, angles, max_range), out=distance)
+        return distance
 
     def distance_to_nearest_wall(self, point: ArrayLike) -> float:
         """Smallest distance in metres from ``point`` to any wall (``inf`` with no walls)."""
@@ -161,9 +184,11 @@ class World:
         """Whether the straight line from ``p`` to ``q`` touches or crosses any wall."""
         return self._segments.intersects(p, q)
 
-    def first_contact(self, start: ArrayLike, end: ArrayLike, radius: float) -> float:
+    def first_contact(self, start: ArrayLike, end: ArrayLike, radius: float, *,
+                      at: float | None = None) -> float:
         """How much of the straight move of a disc (the robot) from ``start`` to ``end`` is free.
 
+        :param at: a stamp: the people, where they are then, stop the disc as walls do.
         :returns: the fraction in ``[0, 1]`` of the move before the disc of ``radius`` touches a
             wall: 1.0 for a free move.  A disc already touching a wall can slide along it or back
             away, but gets 0.0 for a move into it.  The simulated base moves the robot by this
@@ -171,7 +196,22 @@ class World:
         """
         if radius < 0:
             raise ValueError(f'radius must not be negative, got {radius}')
-        return self._segments.sweep_circle(start, end, radius)
+        free = self._segments.sweep_circle(start, end, radius)
+        if at is not None and len(self.people) and free > 0.0:
+            free = min(free, self.shapes_at(at).sweep_circle(start, end, radius))
+        return free
+
+    def people_within(self, point: ArrayLike, distance: float, at: float) -> list[tuple[int, NDArray]]:
+        """The people whose bodies come within ``distance`` of ``point`` at stamp ``at``, in index
+        order: ``(person index, where they touch)`` each — the body's point nearest to ``point``,
+        or its centre when ``point`` lies inside the body (the side a bumper feels it on)."""
+        if not len(self.people):
+            return []
+        shapes = self.shapes_at(at)
+        ids, gaps, closest = shapes.nearest(point)
+        touch = np.where((gaps > 0.0)[:, None], closest, shapes.centres())
+        return sorted(((int(i), t) for i, g, t in zip(ids, gaps, touch) if g <= distance),
+                      key=lambda item: item[0])
 
     # -- places and off-limits -------------------------------------------------------------------
 

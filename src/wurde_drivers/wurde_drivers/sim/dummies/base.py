@@ -15,6 +15,12 @@ the time scale, so at time scale 10 the robot lives ten seconds each wall second
 time is published on ``/clock`` (:mod:`wurde_drivers.sim.dummies.clock_topic`) for nodes with
 ``use_sim_time``; the command watchdog counts simulated time.
 
+The config's people (``<person>``, :mod:`wurde_drivers.sim.people`) are in the world: the sonars
+see them, the robot stops at them, and one that walks into the robot presses a bumper and stops the
+base; each contact with a person is logged once, when it begins, with the count so far.  Where
+everyone is goes out on ``/<name>/ground_truth/people`` at the odometry rate
+(:mod:`wurde_drivers.sim.dummies.people_topic`).
+
 The simulated robot outlives its driver, as a real one does: under an MCP the base keeps where
 the robot truly stands in its state file (:mod:`wurde_core.resume`), and a base the MCP restarts
 puts the robot back there (at rest, its odometry counting from zero again as a restarted base
@@ -39,6 +45,7 @@ from ...ros_std_covariance import OdometryCovariance
 from ...streams.base import BaseLimits, BaseStreams
 from ..clock import SimClock, make_rng
 from .clock_topic import ClockPublisher
+from .people_topic import PeoplePublisher
 from ..loading import load_sim, sim_config_path
 from ..robot import SimRobot
 
@@ -85,7 +92,9 @@ def main(argv: list[str] | None = None) -> int:
     set_loop(manager, LOOP_S)
 
     clock = SimClock(step_s=config.step, time_scale=config.time_scale, start=time.time())
+    robot.now = clock.now
     clock_topic = ClockPublisher(manager.node)
+    people_topic = PeoplePublisher(manager.node, manager.name, world.people) if len(world.people) else None
     streams.publish_all_info()
     streams.publish_sonar_info(count=spec.sonar.count, max_range=spec.sonar.max_range,
                                half_angle=spec.sonar.half_angle, radius=spec.sonar.radius, z=spec.sonar.mount_z)
@@ -100,6 +109,10 @@ def main(argv: list[str] | None = None) -> int:
     origin = 'resumed' if resumed else 'the start of the config'
     logger.notice(f'dummy base in {world.name} at {start} ({origin}: {why}), seed {config.seed}, '
                   f'time scale {config.time_scale}')
+    for person in world.people:
+        walk = person.walk
+        logger.notice(f'person "{person.name}": {person.body.describe()}, {walk.speed:g} m/s, '
+                      f'{len(walk.points)} points ({walk.mode}), a round every {walk.cycle:.1f} s')
     wall0 = time.monotonic()
     last_bumpers = robot.bumpers
 
@@ -113,7 +126,7 @@ def main(argv: list[str] | None = None) -> int:
         for _ in range(int(MAX_STOP_S / config.step)):
             if robot.truth.tv == 0.0 and robot.truth.rv == 0.0:
                 break
-            robot.step(clock.tick())
+            _advance(robot, clock)
 
     def resume() -> None:
         """Back in Run: the robot stood still while Idle; simulated time jumps to the wall's."""
@@ -133,7 +146,11 @@ def main(argv: list[str] | None = None) -> int:
                 robot.spec = dataclasses.replace(robot.spec, limits=dataclasses.replace(
                     robot.spec.limits, tv_accel=command.tv_accel, rv_accel=command.rv_accel))
                 robot.command(command.tv, command.rv)
-            robot.step(clock.tick())
+            _advance(robot, clock)
+            for index in robot.new_person_contacts:
+                side = ' and '.join(name for name, on in zip(('front', 'back'), robot.bumpers) if on)
+                logger.warn(f'person "{world.people[index].name}" touched the robot '
+                            f'(bumper {side or "none"}); contact {robot.person_contacts} with people')
             if robot.bumper_stop and (streams.current.tv or streams.current.rv):
                 streams.current = dataclasses.replace(streams.current, tv=0.0, rv=0.0)
                 streams.publish_drive_info()
@@ -157,6 +174,8 @@ def main(argv: list[str] | None = None) -> int:
                                  force=True) and kept.failure:
                     logger.warn(f'{manager.name}: {kept.failure}; the robot would restart at the start')
                     kept.path = None
+            if n % odometry_every == 0 and people_topic is not None:
+                people_topic.publish(clock.now)
             if n % odometry_every == 0 or robot.bumpers != last_bumpers:
                 streams.publish_bumpers(robot.bumpers, clock.now)
                 last_bumpers = robot.bumpers
@@ -166,8 +185,17 @@ def main(argv: list[str] | None = None) -> int:
                 streams.publish_power(voltage=b.voltage, current=b.current, power=b.power_w, charge=b.charge,
                                       energy=b.energy_j, low=b.low_voltage, critical=b.critical_voltage,
                                       stamp=clock.now)
+    if len(world.people):
+        logger.notice(f'{robot.person_contacts} contacts with people')
     manager.clean_up(exiting=True)
     return 0
+
+
+def _advance(robot: SimRobot, clock: SimClock) -> None:
+    """One simulation step: the clock's, and the robot's to the clock's new stamp (the people's
+    positions are a function of it)."""
+    dt = clock.tick()
+    robot.step(dt, now=clock.now)
 
 
 def _resumed(kept: ResumeState) -> tuple[tuple[float, float, float] | None, str]:

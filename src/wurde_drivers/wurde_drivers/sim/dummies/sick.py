@@ -4,7 +4,9 @@ Options: ``-c sim-config.xml`` and ``-n <laser name>`` (which ``<laser>`` of the
 as the SICKServer chooses its device by ``-n``, WURDE 7.5). It follows the base's ground truth
 (``<base name>Truth``) and publishes the same streams as the SICK driver
 (:mod:`wurde_drivers.streams.laser`) at the real device's scan rate for the configured baud and
-resolution, stamped with the scan's centre time and its arrival time at the serial port.
+resolution, stamped with the scan's centre time and its arrival time at the serial port.  The
+config's people stand in the beams where they are at the scan's centre time, a function of that
+stamp alone (:mod:`wurde_drivers.sim.walk`): the base, another process, has them in the same place.
 """
 
 from __future__ import annotations
@@ -102,7 +104,7 @@ def main(argv: list[str] | None = None) -> int:
             next_centre = history.latest
         while history.latest >= next_centre + delay:
             x, y, theta = history.at(next_centre)
-            ranges = model.scan(world, x, y, theta)
+            ranges = model.scan(world, x, y, theta, at=next_centre)
             streams.publish_scan(ranges, centre_stamp=next_centre, arrival_stamp=next_centre + delay)
             next_centre += geometry.scan_period_s
     manager.clean_up(exiting=True)
