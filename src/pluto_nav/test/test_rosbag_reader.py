@@ -46,7 +46,7 @@ def laser_pose(frame: str) -> tuple[Rotation, np.ndarray]:
     return rotation, translation
 
 
-def check_scan(record: ScanRecord, frame: str, clockwise: bool = False) -> None:
+def assert_scan(record: ScanRecord, frame: str, clockwise: bool = False) -> None:
     """Every beam of ``record`` points where the scene's beam does (the beam is known by its
     remission, 2 x its index in the message), with its range read by the records' rules."""
     rotation, translation = laser_pose(frame)
@@ -66,7 +66,7 @@ def check_scan(record: ScanRecord, frame: str, clockwise: bool = False) -> None:
     np.testing.assert_array_equal(record.ranges, ranges[source])
 
 
-def check_scene(records: list, problems: LogProblems, blob: int = 7, status: int = 0) -> None:
+def assert_scene(records: list, problems: LogProblems, blob: int = 7, status: int = 0) -> None:
     assert [r.stamp for r in records] == sorted(r.stamp for r in records)
     scans = {topic: [r for r in records if isinstance(r, ScanRecord) and r.channel == topic] for topic in SCANS}
     assert {topic: len(s) for topic, s in scans.items()} == SCANS
@@ -74,13 +74,13 @@ def check_scene(records: list, problems: LogProblems, blob: int = 7, status: int
     for topic, first, step in (('/scan', 0.1, 0.1), ('/scan_rear', 0.15, 0.2), ('/scan_cw', 0.2, 0.5)):
         assert [s.stamp for s in scans[topic]] == pytest.approx([scene.T0 + first + step * k
                                                                  for k in range(SCANS[topic])], abs=1e-6)
-    check_scan(scans['/scan'][0], 'laser')
+    assert_scan(scans['/scan'][0], 'laser')
     np.testing.assert_array_equal(scans['/scan'][-1].ranges[:7], scene.SPECIAL_READ)     # in order
     assert scans['/scan'][0].config.start_angle == pytest.approx(-scene.FOV / 2)
-    check_scan(scans['/scan_rear'][0], 'rear_laser')                      # upside down: reversed
+    assert_scan(scans['/scan_rear'][0], 'rear_laser')                      # upside down: reversed
     assert scans['/scan_rear'][0].config.mount[:2] == pytest.approx((-0.30, 0.05))
     assert same_angle(scans['/scan_rear'][0].config.mount[2], math.pi)
-    check_scan(scans['/scan_cw'][-1], 'base_link', clockwise=True)       # the base frame itself
+    assert_scan(scans['/scan_cw'][-1], 'base_link', clockwise=True)       # the base frame itself
     assert scans['/scan_cw'][0].config.mount == (0.0, 0.0, 0.0)
     odometry = [r for r in records if isinstance(r, OdometryRecord)]
     assert len(odometry) == 30 and {r.origin.rsplit(':', 1)[1] for r in odometry} == {'/odom'}
@@ -117,11 +117,11 @@ def test_a_bag_directory_gives_every_record(tmp_path: pathlib.Path, layout: str)
     bag = WRITERS[layout](tmp_path / 'bag')
     records, problems, warnings = read(bag)
     status = 3 if 'no definitions' in layout else 0                     # then Status cannot be read either
-    check_scene(records, problems, status=status)
+    assert_scene(records, problems, status=status)
     assert f'{bag}:/acme/blob: {BLOB_SKIPPED}' in warnings[0] and scene.BLOB in warnings[0]
     assert f'{bag}: {CHOSEN}: /odom of /odom (30), /odometry/filtered (40)' in warnings[-1]
     assert len(warnings) == 2 + bool(status)
-    check_scene(*read(bag / 'metadata.yaml')[:2], status=status)
+    assert_scene(*read(bag / 'metadata.yaml')[:2], status=status)
 
 
 @pytest.mark.parametrize('storage, name', [('sqlite3', 'alone.db3'), ('mcap', 'alone.mcap'),
@@ -132,7 +132,7 @@ def test_a_storage_file_without_metadata_is_read_by_its_content(tmp_path: pathli
     single = tmp_path / name
     shutil.copy(next(p for p in bag.iterdir() if p.name != 'metadata.yaml'), single)
     records, problems, _ = read(single)
-    check_scene(records, problems)
+    assert_scene(records, problems)
 
 
 def test_a_directory_of_split_files_without_metadata_is_read_as_one_bag(tmp_path: pathlib.Path) -> None:
@@ -142,16 +142,16 @@ def test_a_directory_of_split_files_without_metadata_is_read_as_one_bag(tmp_path
     (bag / 'bag_1.db3').rename(bag / 'bag_10.db3')                        # before bag_2 by name
     (bag / 'bag_0.db3').rename(bag / 'bag_2.db3')
     records, problems, _ = read(bag)
-    check_scene(records, problems)
+    assert_scene(records, problems)
 
 
 def test_mcap_files_of_the_record_tool_and_of_mcap_ros2(tmp_path: pathlib.Path) -> None:
     recorded = scene.write_record_tool(tmp_path / 'record.mcap', scene.full_scene())
     records, problems, _ = read(recorded)
-    check_scene(records, problems)            # Blob recorded with an empty definition: unreadable
+    assert_scene(records, problems)            # Blob recorded with an empty definition: unreadable
     written = scene.write_mcap_ros2(tmp_path / 'mcap_ros2.mcap', scene.full_scene())
     records, problems, _ = read(written)
-    check_scene(records, problems, blob=0)
+    assert_scene(records, problems, blob=0)
 
 
 @pytest.mark.parametrize('damage', ['cut short', 'zeros in a chunk'])

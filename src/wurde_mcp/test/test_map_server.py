@@ -41,6 +41,16 @@ def test_a_slanted_wall_is_drawn_without_gaps_and_free_space_stays_free() -> Non
         rasterize(world, 0.0)
 
 
+def _until(manager: CommsManager, server: ChildProcess, predicate, what: str) -> None:  # type: ignore[no-untyped-def]
+    """Step the client until ``predicate()``, failing if the server exits or the deadline passes."""
+    deadline = time.monotonic() + DEADLINE
+    while not predicate():
+        assert server.process.poll() is None, f'{what}: the server exited: {server.stderr}'
+        assert time.monotonic() < deadline, f'{what}: not within {DEADLINE} s'
+        manager.step()
+        manager.wait(0.05)
+
+
 SERVERS = {'map_server': ['map_server', '-m', str(OFFICE), '-R', '0.1'],
            'param_daemon': ['param_daemon', '-R', 'pluto', '-M', '0.1', str(OFFICE),
                             str(ROOT / 'config' / 'carmen' / 'carmen.ini')]}
@@ -59,12 +69,7 @@ def test_the_module_serves_the_office_map_to_late_consumers_and_on_request(ros_d
         manager.register_consumer(maps)
         try:
             def until(predicate, what: str) -> None:
-                deadline = time.monotonic() + DEADLINE
-                while not predicate():
-                    assert server.process.poll() is None, f'{what}: {program} exited: {server.stderr}'
-                    assert time.monotonic() < deadline, f'{what}: not within {DEADLINE} s'
-                    manager.step()
-                    manager.wait(0.05)
+                _until(manager, server, predicate, what)
 
             until(maps.get_next_info, 'the map as info (transient local)')
             info = maps.info
@@ -113,12 +118,7 @@ def test_a_carmen_map_is_served_with_its_own_grid_places_and_off_limits(ros_doma
         maps = MapServer('MapServer')
         manager.register_consumer(maps)
         try:
-            deadline = time.monotonic() + DEADLINE
-            while not maps.get_next_info():
-                assert server.process.poll() is None, server.stderr
-                assert time.monotonic() < deadline, 'the map as info: not within the deadline'
-                manager.step()
-                manager.wait(0.05)
+            _until(manager, server, maps.get_next_info, 'the map as info (transient local)')
             info = maps.info
             assert info.map_name.get_value() == 'lab' and math.isclose(info.resolution.get_value(), 0.1, rel_tol=1e-6)
             cells = np.asarray(info.cells.get_value()).reshape(info.height.get_value(), info.width.get_value())

@@ -27,6 +27,7 @@ from __future__ import annotations
 import argparse
 import pathlib
 import sys
+from typing import Any
 
 from mcap.writer import Writer
 
@@ -56,17 +57,24 @@ def _arguments(argv: list[str]) -> argparse.Namespace:
     return args
 
 
+def _tap(args: argparse.Namespace, open_channel: Any, write: Any, what: str) -> TopicTap:
+    """Record every matching topic through ``open_channel`` and ``write`` until SIGINT, SIGTERM
+    or ``-n`` messages; the tap, for its counts."""
+    with tap_node('wurde_record') as (node, executor, stopped):
+        recorder = TopicTap(node, args.topics, args.exclude, open_channel, write, 'record')
+        print(f'record ready: writing {what}', flush=True)
+        run_tap(recorder, executor, lambda: stopped() or bool(args.count and recorder.count >= args.count))
+    return recorder
+
+
 def _record_file(args: argparse.Namespace) -> str:
     """Record into one MCAP file; the summary line's end."""
-    with tap_node('wurde_record') as (node, executor, stopped), open(args.output, 'wb') as stream:
+    with open(args.output, 'wb') as stream:
         writer = Writer(stream)
         writer.start(profile='ros2', library='wurde_mcp record')
         sink = McapSink(writer, pathlib.Path(args.output).name)
-        recorder = TopicTap(node, args.topics, args.exclude, sink.open_channel, sink.write, 'record')
-        print(f'record ready: writing {args.output}', flush=True)
         try:
-            run_tap(recorder, executor,
-                    lambda: stopped() or bool(args.count and recorder.count >= args.count))
+            recorder = _tap(args, sink.open_channel, sink.write, args.output)
         finally:
             sink.finish(single_file_metadata(sink))
     recorded = sum(1 for c in recorder.channels.values() if c is not None)
@@ -78,14 +86,10 @@ def _record_directory(args: argparse.Namespace) -> str:
     bag = BagDirectorySink(pathlib.Path(args.output), max_bytes=args.max_bag_size,
                            max_seconds=args.max_bag_duration)
     bag.open()
-    with tap_node('wurde_record') as (node, executor, stopped):
-        recorder = TopicTap(node, args.topics, args.exclude, bag.open_channel, bag.write, 'record')
-        print(f'record ready: writing the bag directory {args.output}', flush=True)
-        try:
-            run_tap(recorder, executor,
-                    lambda: stopped() or bool(args.count and recorder.count >= args.count))
-        finally:
-            bag.close()
+    try:
+        recorder = _tap(args, bag.open_channel, bag.write, f'the bag directory {args.output}')
+    finally:
+        bag.close()
     return f'{recorder.count} messages on {len(bag.topics)} topics in {args.output} ({len(bag.files)} files)'
 
 
