@@ -46,7 +46,8 @@ from .errors import MapError
 from .gridmap import GridMap
 from .mapfile import Place
 
-__all__ = ['CarmenMap', 'OCCUPIED_PROBABILITY', 'is_carmen_map', 'load_carmen_map', 'read_bytes']
+__all__ = ['CarmenMap', 'OCCUPIED_PROBABILITY', 'carmen_map_from_bytes', 'is_carmen_map', 'load_carmen_map',
+           'read_bytes']
 
 LABEL = b'CARMENMAPFILEv020'
 GRIDMAP, OFFLIMITS, PLACES, CREATOR = 1, 2, 4, 32
@@ -97,7 +98,14 @@ def load_carmen_map(path: str | os.PathLike[str]) -> CarmenMap:
     :raises MapError: naming the file, where and why.
     """
     path = os.fspath(path)
-    data = read_bytes(path)
+    return carmen_map_from_bytes(read_bytes(path), path)
+
+
+def carmen_map_from_bytes(data: bytes, path: str = '<bytes>') -> CarmenMap:
+    """Read a CARMEN map from a file's (gunzipped) bytes; ``path`` only names it in errors.
+
+    :raises MapError: naming the file, where and why.
+    """
     offset = _label_offset(data)
     if offset is not None:
         return _ChunkReader(path, data, offset + len(LABEL)).read()

@@ -22,11 +22,11 @@ import dataclasses
 import os
 import pathlib
 
-from .carmen_map import is_carmen_map, load_carmen_map, read_bytes
+from .carmen_map import carmen_map_from_bytes, is_carmen_map, read_bytes
 from .errors import MapError
 from .gridmap import GridMap, load_grid_map
 from .gridwalls import grid_walls
-from .mapfile import Bounds, MapData, Place, load_map_data
+from .mapfile import Bounds, MapData, Place, map_data_from_bytes
 
 __all__ = ['AnyMap', 'load_any_map', 'load_map']
 
@@ -61,9 +61,9 @@ def load_any_map(path: str | os.PathLike[str]) -> AnyMap:
     data = read_bytes(path)
     head = data[:4096].lstrip()
     if head.startswith(b'<'):
-        return AnyMap(load_map_data(path), None, 'xml')
+        return AnyMap(map_data_from_bytes(data, path), None, 'xml')
     if is_carmen_map(data):
-        carmen = load_carmen_map(path)
+        carmen = carmen_map_from_bytes(data, path)       # the bytes already read (and gunzipped)
         return AnyMap(_from_grid(path, carmen.grid, carmen.places, carmen.offlimits), carmen.grid, carmen.kind,
                       carmen.notes)
     if any(key in head for key in _YAML_KEYS):
