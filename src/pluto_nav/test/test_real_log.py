@@ -36,12 +36,12 @@ CONFIG = f'''<?xml version="1.0"?>
     <binary>pluto_nav/slam_module</binary>
     <options>-n slamModule -s PlutoLaser -a -e scans -f fr079.xml</options>
   </module>
-  <module name="carmenLog" managed="unmanaged">
-    <binary>pluto_nav/carmen_log</binary>
-    <options>play {LOG} -R 2 -w 120 -W localModule,slamModule -n carmenLog</options>
-  </module>
 </mcp-config>
 '''
+#: The player, started by the test once its own readers of the modules' outputs are matched (the
+#: modules' outputs are volatile: what they send before that is not seen here); it waits itself
+#: for the modules to read its streams (-W).
+PLAY = ['play', str(LOG), '-R', '2', '-w', '120', '-W', 'localModule,slamModule', '-n', 'carmenLog']
 
 
 def test_sixty_seconds_of_fr079_through_carmen_log_play_into_the_slam_module_beat_the_odometry(
@@ -57,8 +57,8 @@ def test_sixty_seconds_of_fr079_through_carmen_log_play_into_the_slam_module_bea
     node = rclpy.create_node('test_post_pose', context=context)
     executor = SingleThreadedExecutor(context=context)
     executor.add_node(node)
-    node.create_subscription(LocalizationPoseInfo, topic(STREAMS[2], 'request'), posts.append,
-                             QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE))
+    raw = node.create_subscription(LocalizationPoseInfo, topic(STREAMS[2], 'request'), posts.append,
+                                   QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE))
     original = watcher.pump
 
     def pump() -> None:                 # the watcher's streams, then what came for the raw reader
@@ -71,10 +71,14 @@ def test_sixty_seconds_of_fr079_through_carmen_log_play_into_the_slam_module_bea
         with ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', str(tmp_path / 'mcp-config.xml'),
                            '-m', str(tmp_path / 'mcp-mappings.xml'), '-a'], env=env) as mcp:
             mcp.expect('MCP ready', timeout=90)
-            player = tmp_path / 'mcp-modules' / 'carmenLog.log'
-            watcher.until(lambda: _played(player), 'the log played', timeout=240)
-            assert f'played {SCANS} scans' in player.read_text(), player.read_text()[-2000:]
-            assert player.read_text().rstrip().endswith('--- exit code 0'), player.read_text()[-2000:]
+            # On a loaded machine the test's readers of the modules' outputs matched after the
+            # localModule's first scans had gone out (85 and 90 of 95 seen in fresh-clone runs).
+            watcher.until(lambda: watcher.objects[LASER_DR].peers('data') > 0 and watcher.objects[STATUS].peers('data') > 0
+                          and raw.get_publisher_count() > 0, "this test reading the modules' outputs", timeout=120)
+            with ChildProcess([find_executable('pluto_nav', 'carmen_log'), *PLAY], env=env) as player:
+                watcher.until(lambda: player.process.poll() is not None, 'the log played', timeout=240)
+                assert player.process.returncode == 0, player.stderr[-2000:]
+                assert f'played {SCANS} scans' in player.stdout, player.stdout[-2000:]
             watcher.until(lambda: len(watcher.events[LASER_DR]) >= SCANS - 1, 'a Laser_Dead-Reckoning pose '
                           'per scan (the last scan comes after the last odometry: not placed)', timeout=120)
             watcher.until(lambda: watcher.events[STATUS][-1].element[2] >= len(watcher.events[LASER_DR]) - 1,
@@ -98,15 +102,10 @@ def test_sixty_seconds_of_fr079_through_carmen_log_play_into_the_slam_module_bea
     # stopping the module at the end saved the map, as the suite's XML and a map_server pair
     assert (tmp_path / 'fr079.xml').read_text().count('<wall') > 50
     assert (tmp_path / 'fr079.yaml').exists() and (tmp_path / 'fr079.pgm').exists()
-    for module in ('localModule', 'slamModule', 'carmenLog'):
+    for module in ('localModule', 'slamModule'):
         text = (tmp_path / 'mcp-modules' / f'{module}.log').read_text()
         assert 'Traceback' not in text, text[-2000:]
-
-
-def _played(log: pathlib.Path) -> bool:
-    """The MCP's log of the player shows the run after the registration pass ended."""
-    runs = log.read_text().split(' start: ') if log.exists() else []
-    return len(runs) >= 3 and '--- exit code' in runs[-1]
+    assert 'Traceback' not in player.stderr, player.stderr[-2000:]
 
 
 def _score(messages: dict[float, Any], relations: Any) -> Any:
