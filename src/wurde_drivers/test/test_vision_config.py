@@ -170,3 +170,18 @@ def test_a_python_plugin_supplies_operators(tmp_path: pathlib.Path) -> None:
     bad = _vision(tmp_path, '<operator name="o" type="Counter" camera="c"/>', '<plugin path="no_such.module"/>')
     with pytest.raises(ConfigError, match=r':7: plugin no_such.module cannot be imported'):
         load_plugins(load_vision_config(bad).plugins, lambda _: None)
+
+
+@pytest.mark.parametrize('mode', [0o664, 0o646])
+def test_a_plugin_file_others_may_write_is_refused_before_it_runs(tmp_path: pathlib.Path, mode: int) -> None:
+    ran = tmp_path / 'ran'
+    plugin = tmp_path / 'my_ops.py'
+    plugin.write_text(f'open({str(ran)!r}, "w").close()\n')
+    plugin.chmod(mode)
+    path = _vision(tmp_path, '<operator name="o" type="Counter" camera="c"/>', '<plugin path="my_ops.py"/>')
+    with pytest.raises(ConfigError, match=r':7: plugin .*my_ops.py is writable by others than its owner'):
+        load_plugins(load_vision_config(path).plugins, lambda _: None)
+    assert not ran.exists()
+    plugin.chmod(0o644)
+    load_plugins(load_vision_config(path).plugins, lambda _: None)
+    assert ran.exists()

@@ -20,6 +20,11 @@ path                  method   answer
 ===================== ======== ==============================================================
 
 A frame counts as shown (ImageDisplay ``frames_shown``) the first time it is served.
+
+Only the page itself may send clicks and keys: a POST whose ``Origin`` is not the page's own (any
+other web page open in the user's browser) is refused with 403. On a loopback address every
+request must also name a loopback host in ``Host`` (no DNS rebinding of another site's name to
+127.0.0.1).
 """
 
 from __future__ import annotations
@@ -27,6 +32,7 @@ from __future__ import annotations
 import dataclasses
 import html
 import http.server
+import ipaddress
 import json
 import socket
 import threading
@@ -132,6 +138,15 @@ class WebDisplay:
             self._thread.join(timeout=2.0)
 
 
+def _is_loopback(host: str) -> bool:
+    if host == 'localhost':
+        return True
+    try:
+        return ipaddress.ip_address(host.strip('[]')).is_loopback
+    except ValueError:
+        return False
+
+
 class _Server6(http.server.ThreadingHTTPServer):
     """The server on an IPv6 address (``-b ::1``)."""
 
@@ -161,7 +176,30 @@ class _Handler(http.server.BaseHTTPRequestHandler):
         url = urllib.parse.urlsplit(self.path)
         return url.path, {k: v[-1] for k, v in urllib.parse.parse_qs(url.query).items()}
 
+    def _host_allowed(self) -> bool:
+        """On a loopback address, ``Host`` must be a loopback name with this server's port."""
+        if not _is_loopback(self.display.address):
+            return True
+        host = urllib.parse.urlsplit(f'//{self.headers.get("Host", "")}')
+        try:
+            return _is_loopback(host.hostname or '') and host.port in (None, self.display.port)
+        except ValueError:      # a port that is not a number
+            return False
+
+    def _origin_allowed(self) -> bool:
+        """A browser's POST carries ``Origin``: it must be this page's (``Host`` as asked)."""
+        origin = self.headers.get('Origin')
+        return origin is None or origin == f'http://{self.headers.get("Host", "")}'
+
+    def _refuse_foreign(self, post: bool) -> bool:
+        if self._host_allowed() and (not post or self._origin_allowed()):
+            return False
+        self._send(403, b'not from this page\n')
+        return True
+
     def do_GET(self) -> None:   # noqa: N802 - http.server's name
+        if self._refuse_foreign(post=False):
+            return
         path, query = self._query()
         store, settings = self.display.store, self.display.store.settings
         if path == '/':
@@ -202,6 +240,8 @@ class _Handler(http.server.BaseHTTPRequestHandler):
                                             'X-Source-Frame': str(frame.source_index)})
 
     def do_POST(self) -> None:   # noqa: N802 - http.server's name
+        if self._refuse_foreign(post=True):
+            return
         path, query = self._query()
         scale = self.display.store.settings.scale
         try:

@@ -10,7 +10,8 @@ vision config's ``<plugin path>`` modules (a dotted module or a ``.py`` file: ev
 entry points of group ``wurde.vision_operators`` (how a package ships operators: the shipped
 ImageWriter, ImagePublisher and StereoDataCollector are registered that way in setup.py). A
 WURDE C++ plugin library (``.so``) is skipped with a notice (guide 7.2.2's plugins; their operators
-are built in).
+are built in). A ``.py`` plugin runs with the module's rights, so one that others than its owner
+may write is refused.
 """
 
 from __future__ import annotations
@@ -18,6 +19,8 @@ from __future__ import annotations
 import importlib
 import importlib.util
 import inspect
+import os
+import stat
 import sys
 from collections.abc import Callable, Iterable
 from importlib.metadata import entry_points
@@ -56,8 +59,21 @@ def camera_class(type_name: str) -> type[Camera]:
     return _load(CAMERA_CLASSES[type_name])
 
 
+def _check_owner_only(plugin: PluginSpec) -> None:
+    """Refuse a plugin file that others than its owner may write: loading it runs its code."""
+    try:
+        mode = os.stat(plugin.path).st_mode
+    except OSError as error:
+        raise ConfigError(plugin.file, plugin.line, f'plugin {plugin.path}: {error.strerror}') from error
+    if mode & (stat.S_IWGRP | stat.S_IWOTH):
+        raise ConfigError(plugin.file, plugin.line,
+                          f'plugin {plugin.path} is writable by others than its owner '
+                          f'(mode {stat.filemode(mode)}); loading it would run their code: chmod go-w')
+
+
 def _import(plugin: PluginSpec) -> ModuleType:
     if plugin.path.endswith('.py'):
+        _check_owner_only(plugin)
         name = f'wurde_vision_plugin_{abs(hash(plugin.path))}'
         spec = importlib.util.spec_from_file_location(name, plugin.path)
         if spec is None or spec.loader is None:
@@ -83,6 +99,8 @@ def load_plugins(plugins: Iterable[PluginSpec], report: Callable[[str], None]) -
             continue
         try:
             module = _import(plugin)
+        except ConfigError:
+            raise
         except Exception as error:  # an import runs arbitrary code: report whatever it raises
             raise ConfigError(plugin.file, plugin.line,
                               f'plugin {plugin.path} cannot be imported: {error!r}') from error
