@@ -1,4 +1,4 @@
-"""pluto_nav imports only what DESIGN.md's "Who may import whom" allows."""
+"""pluto_nav imports only what docs/design.md's "Who may import whom" allows."""
 
 import pathlib
 

@@ -1,4 +1,4 @@
-"""wurde_core imports only what DESIGN.md's "Who may import whom" allows."""
+"""wurde_core imports only what docs/design.md's "Who may import whom" allows."""
 
 import pathlib
 

@@ -1,4 +1,4 @@
-"""Quality of service of the three channels (DESIGN: Topics and QoS).
+"""Quality of service of the three channels (docs/design.md: Topics and QoS).
 
 - info: reliable, transient-local, depth 1 — a consumer that starts late gets the current info;
   in queue mode as deep as the data's, so that a burst of info events reaches a queue-mode

@@ -1,4 +1,4 @@
-"""wurde_drivers imports only what DESIGN.md's "Who may import whom" allows.
+"""wurde_drivers imports only what docs/design.md's "Who may import whom" allows.
 
 Package level: only wurde_interfaces and wurde_core of ours.  File level, following imports inside
 the package to the end (a codec that imports a helper which imports rclpy breaks the rule too):

@@ -1,4 +1,4 @@
-"""The NMEA 0183 codec: the golden sentences of PROTOCOLS.md 4, framing rules, fuzzing."""
+"""The NMEA 0183 codec: the golden sentences of docs/protocols.md 4, framing rules, fuzzing."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from wurde_drivers.gps.codec import (GGA, KNOT, RMC, ChecksumError, MissingCheck
                                        NmeaDeframer, RawSentence, checksum, decode, encode,
                                        parse_frame)
 
-# PROTOCOLS.md 4, verbatim.
+# docs/protocols.md 4, verbatim.
 GOLDEN_GGA = b'$GPGGA,123519,4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,*47'
 GOLDEN_RMC = b'$GPRMC,123519,A,4807.038,N,01131.000,E,022.4,084.4,230394,003.1,W*6A'
 
@@ -85,7 +85,7 @@ def test_other_sentence_types_are_raw() -> None:
 
 
 def test_nmea_41_rmc_with_navigational_status_still_decodes() -> None:
-    # The pynmea2 gotcha (PROTOCOLS.md 4): mode and navigational status after the variation.
+    # The pynmea2 gotcha (docs/protocols.md 4): mode and navigational status after the variation.
     body = b'GPRMC,123519,A,4807.038,N,01131.000,E,022.4,084.4,230394,003.1,W,A,V'
     rmc = decode(b'$' + body + f'*{checksum(body):02X}'.encode())
     assert isinstance(rmc, RMC) and rmc.status == 'A' and rmc.mode == 'A'

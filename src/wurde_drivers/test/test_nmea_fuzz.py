@@ -1,7 +1,7 @@
 """NMEA codec fuzzers that reach the sentence bodies (issue 10, section 6).
 
 - sentences with a correct checksum whose fields are drawn, one by one, from hand-annotated
-  pools of good and bad field texts (NMEA 0183, PROTOCOLS.md 4): each decodes to exactly the
+  pools of good and bad field texts (NMEA 0183, docs/protocols.md 4): each decodes to exactly the
   values its fields stand for, or — when any field is bad — is refused;
 - valid sentences with one character corrupted: never decoded (the XOR checksum catches it),
   except a checksum digit changed to its other case, which is the same number;

@@ -1,4 +1,4 @@
-"""The PTU-46 codec: golden lines from PROTOCOLS.md 2 and the manual, fuzzing, the deframer."""
+"""The PTU-46 codec: golden lines from docs/protocols.md 2 and the manual, fuzzing, the deframer."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from wurde_drivers.ptu.codec import (RESET_STRING, Command, Error, LimitHit, Ok,
 
 # -- golden -----------------------------------------------------------------------------------
 def test_player_init_sequence_bytes() -> None:
-    # Player ptu46.cc sends " ", "ft ", "ed ", "ci ", "i " (PROTOCOLS.md 2).
+    # Player ptu46.cc sends " ", "ft ", "ed ", "ci ", "i " (docs/protocols.md 2).
     assert [encode_command(name) for name in ('ft', 'ed', 'ci', 'i')] == \
         [b'ft ', b'ed ', b'ci ', b'i ']
     assert encode_command('PR') == b'pr '          # drivers send lower case

@@ -51,7 +51,7 @@ def settle(ptu: Ptu46, timeout: float = 20.0) -> None:
 
 # -- the emulator, byte for byte -----------------------------------------------------------
 def test_emulator_answers_the_manuals_examples(unit: Ptu46Emulator) -> None:
-    # PTU-D46 manual 4.3-4.5 examples (echo on, verbose: the power-on state), PROTOCOLS.md 2.
+    # PTU-D46 manual 4.3-4.5 examples (echo on, verbose: the power-on state), docs/protocols.md 2.
     dialogue = [
         (b'PN ', b'PN * Minimum Pan position is -3090'),
         (b'PX ', b'PX * Maximum Pan position is 3090'),

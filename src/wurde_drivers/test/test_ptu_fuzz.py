@@ -2,7 +2,7 @@
 
 The PTU's frames are lines and carry no checksum, so a corrupted line may well be another valid
 reply: every line — a reply with a random body, a valid reply with one byte corrupted, an echoed
-command before its reply, junk — must be read as exactly what PROTOCOLS.md 2 and the deframer's
+command before its reply, junk — must be read as exactly what docs/protocols.md 2 and the deframer's
 documented rules make of it, written out here independently:
 
 - a reply is ``*`` | ``* <text>`` | ``! <message>`` | ``!P`` | ``!T`` | ``!T!T!P!P*`` (text and
@@ -36,7 +36,7 @@ def printable(text: bytes) -> bool:
 
 
 def expected_reply(line: bytes) -> Reply | None:
-    """PROTOCOLS.md 2's five reply forms (None: not a reply)."""
+    """docs/protocols.md 2's five reply forms (None: not a reply)."""
     line = line.rstrip(b' \r\n')
     if line == b'*':
         return Ok()

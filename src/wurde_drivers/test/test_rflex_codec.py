@@ -1,4 +1,4 @@
-"""rFLEX codec: PROTOCOLS.md 3 golden vectors, stuffing, the deframer, the 0x1B workaround, fuzz."""
+"""rFLEX codec: docs/protocols.md 3 golden vectors, stuffing, the deframer, the 0x1B workaround, fuzz."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ def hexbytes(text: str) -> bytes:
     return bytes.fromhex(text.replace(' ', ''))
 
 
-# PROTOCOLS.md 3 "Test vectors (verified)", verbatim.
+# docs/protocols.md 3 "Test vectors (verified)", verbatim.
 ODOMETRY_ON = hexbytes('1b 02 02 00 22 08 00 01 86 a0 00 00 00 03 0c 1b 03')
 SET_DEFAULTS = hexbytes('1b 02 02 00 0a 00 08 1b 03')
 BRAKE_RELEASE = hexbytes('1b 02 02 00 0c 00 0e 1b 03')
@@ -181,7 +181,7 @@ escapy_packets = st.builds(rflex.Packet, _ESCAPY, _ESCAPY, _ESCAPY,
 
 
 def dlu_reading(body: bytes) -> rflex.Packet | None:
-    """What a reader that un-stuffs like DLu (PROTOCOLS.md 3) makes of the bytes between
+    """What a reader that un-stuffs like DLu (docs/protocols.md 3) makes of the bytes between
     ``ESC STX`` and ``ESC ETX``: ``ESC NUL`` is an ESC, ``ESC SOH`` nothing, ``ESC STX`` or
     ``ESC ETX`` end the frame early (None), an ESC before any other byte is a raw ESC; then
     length and XOR CRC must hold (else None)."""
@@ -247,7 +247,7 @@ def test_encode_then_decode_gives_the_packet_back(packet: rflex.Packet, stuff: b
     elif not ambiguous:
         assert rflex.decode(frame) == packet        # a raw ESC before any other byte is data
     else:
-        # An unstuffed sender's ESC before 00-03 reads as an escape (PROTOCOLS.md 3): the frame
+        # An unstuffed sender's ESC before 00-03 reads as an escape (docs/protocols.md 3): the frame
         # is read as DLu reads it — refused, or (the XOR CRC being weak) another packet.
         expected = dlu_reading(body)
         if expected is None:

@@ -1,7 +1,7 @@
 """rFLEX codec fuzzers that reach the frame bodies (issue 10, section 6).
 
 - validly framed reports with random data: the frame decodes to exactly the packet, and
-  :func:`decode_report` gives what PROTOCOLS.md 3 says those bytes mean, or refuses;
+  :func:`decode_report` gives what docs/protocols.md 3 says those bytes mean, or refuses;
 - valid (stuffed) frames with one byte corrupted anywhere: never decoded;
 - a stream of valid frames, corrupted frames and junk, cut anywhere: exactly the valid frames
   come out, in order — nothing lost, nothing spurious.
@@ -18,7 +18,7 @@ from wurde_drivers.rflex import codec as rflex
 
 FUZZ = settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
-#: The reports of PROTOCOLS.md 3 ("Base -> host reports"), by (port, opcode).
+#: The reports of docs/protocols.md 3 ("Base -> host reports"), by (port, opcode).
 REPORTS = {'motor': (2, 33), 'status': (1, 1), 'dio': (5, 1), 'sonar': (4, 2), 'joystick': (3, 0)}
 
 
@@ -27,7 +27,7 @@ def be(data: bytes, start: int, size: int, signed: bool = False) -> int:
 
 
 def expected_report(kind: str, data: bytes) -> object | None:
-    """The report ``data`` holds, read from PROTOCOLS.md 3's layouts; None: too short/malformed."""
+    """The report ``data`` holds, read from docs/protocols.md 3's layouts; None: too short/malformed."""
     if kind == 'motor':       # rv timestamp (4 each) axis (1) position velocity accel torque (4)
         if len(data) < 25:
             return None

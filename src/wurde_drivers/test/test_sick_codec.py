@@ -1,4 +1,4 @@
-"""SICK LMS/PLS codec: the golden vectors of PROTOCOLS.md 1.3 and 1.6, then fuzzing."""
+"""SICK LMS/PLS codec: the golden vectors of docs/protocols.md 1.3 and 1.6, then fuzzing."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from wurde_drivers.errors import CodecError
 from wurde_drivers.sick import codec as sick
 
-# PROTOCOLS.md 1.3, the table verbatim: (request builder, bytes on the wire).
+# docs/protocols.md 1.3, the table verbatim: (request builder, bytes on the wire).
 GOLDEN_REQUESTS = [
     (sick.start_continuous_request, '02 00 02 00 20 24 34 08'),
     (sick.stop_continuous_request, '02 00 02 00 20 25 35 08'),

@@ -307,7 +307,7 @@ def test_reconnect_to_a_device_left_streaming_at_500k(emulator: SickEmulator) ->
 
 
 def test_emulator_answers_raw_requests() -> None:
-    """The emulator's side of PROTOCOLS.md 1.4/1.5, spoken with plain pyserial."""
+    """The emulator's side of docs/protocols.md 1.4/1.5, spoken with plain pyserial."""
     with SickEmulator(scan_source=source) as emulator, \
             serial.Serial(emulator.path, 9600, timeout=0.05) as port:
         deframer = sick.Deframer()

@@ -1,7 +1,7 @@
 """SICK codec fuzzers that reach the frame bodies (issue 10, section 6).
 
 - validly framed telegrams with random bodies: the frame decodes to exactly what was sent, and
-  each reply's body decoder gives what PROTOCOLS.md 1.5/1.6 says those bytes mean, or refuses;
+  each reply's body decoder gives what docs/protocols.md 1.5/1.6 says those bytes mean, or refuses;
 - valid replies with one byte corrupted anywhere: never decoded (the CRC catches it);
 - a stream of valid frames, corrupted frames, ACK/NAK bytes and junk, cut anywhere: exactly the
   valid frames come out, in order — nothing lost, nothing spurious.
@@ -28,7 +28,7 @@ def sized_binary(low: int, high: int) -> st.SearchStrategy[bytes]:
     return st.integers(low, high).flatmap(lambda n: st.binary(min_size=n, max_size=n))
 
 
-# -- what each body means, written from PROTOCOLS.md, not from the codec ------------------------
+# -- what each body means, written from docs/protocols.md, not from the codec ------------------------
 def expect_b0(data: bytes) -> sick.ScanValues | None:
     """1.6: count word bits 0-9 count, 11-12 partial index, 14-15 units; LE16 values with
     13-bit range and 3 flag bits.  None: too short for what it announces."""
@@ -51,7 +51,7 @@ B1_WORDS = {'motor_revolutions': 67, 'scan_angle': 107, 'resolution': 109}
 
 
 def check_body(command: int, data: bytes) -> None:
-    """Decode ``data`` as the body of reply ``command`` and check it against PROTOCOLS.md."""
+    """Decode ``data`` as the body of reply ``command`` and check it against docs/protocols.md."""
     if command == 0xB0:
         expected = expect_b0(data)
         if expected is None:

@@ -1,6 +1,6 @@
 """wrist_module end to end: the module as a real process in its no-hardware mode (emulate="true").
 
-python-can's virtual bus connects buses inside one process only (PROTOCOLS.md 5), so the module
+python-can's virtual bus connects buses inside one process only (docs/protocols.md 5), so the module
 hosts the wrist emulator itself; the test commands it through its ActuatorState stream, exactly as
 a client of the dummy wrist would, and silences the emulated modules with SIGUSR1 (the module's
 fault switch in emulate mode). The last test brings up the shipped config/wrist under the MCP.

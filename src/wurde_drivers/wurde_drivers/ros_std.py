@@ -1,4 +1,4 @@
-"""Standard ROS 2 messages published alongside the WURDE streams (DESIGN, "Topics and QoS").
+"""Standard ROS 2 messages published alongside the WURDE streams (docs/design.md, "Topics and QoS").
 
 ROS tools (RViz, Nav2, ``ros2 topic echo``) expect standard messages; the device modules give
 them next to their WURDE streams. For a device module ``N`` (a base ``N``, a laser ``N``, ...):

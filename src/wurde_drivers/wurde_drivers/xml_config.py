@@ -1,7 +1,7 @@
 """Reading the drivers' XML files (device configs, maps): attributes checked, errors with file:line.
 
 Every file goes through the suite's hardened parser (``wurde_idl.safe_xml``). Unknown tags and
-attributes are refused by name, as launch_xml does (STYLE), so a typo never passes silently: the
+attributes are refused by name, as launch_xml does (docs/style.md), so a typo never passes silently: the
 element and attribute checks (:class:`Attributes`, :func:`children`, :func:`local_name`) are
 :mod:`wurde_idl.xml_elements`, shared with the map format (:mod:`wurde_idl.mapfile`); this module
 adds what only device configs have (``<device name=...>`` lists).

@@ -2,7 +2,7 @@
 
 One home for the format that the simulator (``wurde_drivers.sim``), Pluto's poseModule (a-priori
 maps) and slamModule (saved maps) and a CARMEN map-server bridge all read, so none of them imports
-another (DESIGN, "Who may import whom").  The model is CARMEN's (programming-with-carmen.txt,
+another (docs/design.md, "Who may import whom").  The model is CARMEN's (programming-with-carmen.txt,
 section 5): walls, a place list (5.2) and off-limits regions (5.3).  Units are metres and radians,
 angles counter-clockwise from +x (REP-103).  ``config/maps/README.md`` documents the format::
 

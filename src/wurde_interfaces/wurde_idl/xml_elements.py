@@ -2,7 +2,7 @@
 
 Every reader of the suite's XML files (maps, device configs) takes an element's attributes
 through :class:`Attributes` and its children through :func:`children`, so an unknown tag or
-attribute is refused by name, as launch_xml does (STYLE), and every conversion error names the
+attribute is refused by name, as launch_xml does (docs/style.md), and every conversion error names the
 file, the line, the element and the attribute (:class:`~wurde_idl.errors.ConfigError`).  Parse
 the file first with :func:`wurde_idl.safe_xml.parse_file`.  Pure Python (lxml only).
 """

@@ -1,4 +1,4 @@
-"""The import rules of the suite (DESIGN: "Who may import whom"), checked on the source tree.
+"""The import rules of the suite (docs/design.md: "Who may import whom"), checked on the source tree.
 
 ``wurde_core`` imports ``wurde_interfaces`` and nothing else of ours; the MCP, drivers and Pluto
 packages import ``wurde_core`` and talk to each other only through interfaces at run time

@@ -256,7 +256,7 @@ def test_readme_example_runs_against_a_daemon(ros_domain: int, tmp_path: pathlib
     subscribed change."""
     code = re.search(r'<!-- example: carmen_params -->\n```python\n(.*?)```', README.read_text(),
                      re.S)
-    assert code, 'README.md has no carmen_params example (docs/carmen_params.md moves there)'
+    assert code, 'README.md has no carmen_params example'
     script = tmp_path / 'carmen_example.py'
     script.write_text(code.group(1))
     with daemon(tmp_path):

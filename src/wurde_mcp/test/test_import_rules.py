@@ -1,4 +1,4 @@
-"""wurde_mcp imports only what DESIGN.md's "Who may import whom" allows."""
+"""wurde_mcp imports only what docs/design.md's "Who may import whom" allows."""
 
 import pathlib
 

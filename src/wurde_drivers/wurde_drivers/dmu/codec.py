@@ -19,7 +19,7 @@ manual itself was not found, so these are family facts):
   with the temperature word unsigned and the others signed; RR and GR are the unit's rate range
   (deg/s) and g range.
 
-*Family convention, not confirmed in a DMU manual* (PROTOCOLS.md 7, AHRS400 sources): ``R`` ping
+*Family convention, not confirmed in a DMU manual* (docs/protocols.md 7, AHRS400 sources): ``R`` ping
 (reply ``H``), ``r`` voltage mode (reply ``R``), ``S`` serial number; checksum = sum of the bytes
 after the header, modulo 256; default baud 38400.
 

@@ -10,7 +10,7 @@ Pluto's dmuModule had no documented configuration file; the format follows WURDE
 - ``port`` (a serial port or pyserial URL) and ``name`` (unique; the module picks its device by
   its ``-n`` name) are required;
 - ``baud``: 9600, 19200, 38400, 57600 or 115200 (default 38400, the Crossbow default,
-  PROTOCOLS.md 7);
+  docs/protocols.md 7);
 - ``mode``: ``angle`` (roll and pitch from the sensor's own filter, default) or ``scaled``
   (rates and accelerations only; pitch and roll are then published as 0);
 - ``cutoff``: the low-pass cut-off of the filtered DMUstate in Hz (> 0, default 5);

@@ -112,7 +112,7 @@ class DmuRunner:
 
 #: The raw sample's noise for ``/N/imu``'s covariances: rate 0.1 deg/s, acceleration 10 mg,
 #: roll and pitch 0.5 deg (1 sigma). Assumed, not measured: the DMU's manual is not at hand
-#: (PROTOCOLS.md 7); put the unit's datasheet figures here.
+#: (docs/protocols.md 7); put the unit's datasheet figures here.
 NOISE = ImuNoise(rate=math.radians(0.1), accel=0.01 * 9.80665, angle=math.radians(0.5))
 
 

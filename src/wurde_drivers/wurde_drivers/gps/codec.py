@@ -1,9 +1,9 @@
-"""Codec of NMEA 0183 sentences from a GPS receiver: GGA and RMC (PROTOCOLS.md 4).
+"""Codec of NMEA 0183 sentences from a GPS receiver: GGA and RMC (docs/protocols.md 4).
 
 A sentence is ``$<talker><type>,f1,...,fn*HH\\r\\n``; the checksum ``HH`` is the XOR of every
 character between ``$`` and ``*``. As Player's ``garminnmea`` does, sentences without a checksum
 are refused, lines are split on ``\\n`` and lines longer than 128 characters are dropped.
-Written here rather than taken from pynmea2 (PROTOCOLS.md 4: low maintenance, and the XOR is
+Written here rather than taken from pynmea2 (docs/protocols.md 4: low maintenance, and the XOR is
 trivial).
 
 Units: time of day in s since midnight UTC, latitude/longitude in signed decimal degrees (north,

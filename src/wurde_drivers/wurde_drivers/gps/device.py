@@ -1,4 +1,4 @@
-"""Device layer of an NMEA 0183 GPS receiver (PROTOCOLS.md 4; Pluto doc 8.4, the GPS module).
+"""Device layer of an NMEA 0183 GPS receiver (docs/protocols.md 4; Pluto doc 8.4, the GPS module).
 
 :class:`GpsReceiver` reads GGA and RMC sentences from a
 :class:`~wurde_drivers.ports.serial_link.SerialLink` (4800 Bd unless the receiver is set otherwise)

@@ -1,7 +1,7 @@
-"""An NMEA 0183 GPS receiver on a pseudo-terminal (PROTOCOLS.md 4).
+"""An NMEA 0183 GPS receiver on a pseudo-terminal (docs/protocols.md 4).
 
 Every ``1 / rate_hz`` seconds it writes a GGA and a classic RMC sentence (the 11 data fields
-without the NMEA 4.1 navigational status, which trips pynmea2, PROTOCOLS.md 4) for the position
+without the NMEA 4.1 navigational status, which trips pynmea2, docs/protocols.md 4) for the position
 its source gives. The line runs at ``baudrate`` (4800, the NMEA 0183 rate, unless told
 otherwise); a driver that opens the port at another speed reads only framing garbage, as it
 would from a real receiver.

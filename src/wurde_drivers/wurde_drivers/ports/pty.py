@@ -2,7 +2,7 @@
 
 The emulator owns the master side; the driver opens the slave path (``device.path``) with pyserial
 exactly as it would open ``/dev/ttyS0``. Baud-rate changes the driver makes on the slave are visible
-on the master (PROTOCOLS.md 6), so an emulator can follow a device's baud switching through
+on the master (docs/protocols.md 6), so an emulator can follow a device's baud switching through
 :attr:`PtyDevice.baudrate`. The slave fd is kept open here: reads on a master fail with EIO once no
 slave fd is open, which would make the emulator die whenever the driver reconnects.
 

@@ -1,7 +1,7 @@
 """The port layer of the serial drivers: a pyserial URL opened, read and reopened, with counters.
 
 A port is a pyserial URL (pyserial's ``serial_for_url``), so ``/dev/ttyS0``, a pty path from an
-emulator and ``loop://`` all work (STYLE: transport chosen by URL). :class:`SerialLink` never raises
+emulator and ``loop://`` all work (docs/style.md: transport chosen by URL). :class:`SerialLink` never raises
 on a read or write that the *port* fails; what failed is told apart (:mod:`.faults`) and handled
 as it is:
 
@@ -73,7 +73,7 @@ class SerialLink:
     :param url: a pyserial URL or device path.
     :param baudrate: the initial line speed.
     :param parity: ``serial.PARITY_NONE`` or ``serial.PARITY_EVEN`` (SICK PLS); set at construction,
-        because changing parity on an open pty fails (PROTOCOLS.md 6).
+        because changing parity on an open pty fails (docs/protocols.md 6).
     :param retry_s: least time between two attempts to reopen a vanished device.
     :param write_timeout: longest wait for the device to take a write's bytes (then the write
         fails as ``would_block``; the port stays open).

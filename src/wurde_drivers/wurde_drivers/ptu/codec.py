@@ -1,4 +1,4 @@
-"""Codec of the Directed Perception PTU-46 ASCII protocol (PROTOCOLS.md 2; PTU-D46 manual 4.2-4.5).
+"""Codec of the Directed Perception PTU-46 ASCII protocol (docs/protocols.md 2; PTU-D46 manual 4.2-4.5).
 
 Commands are a mnemonic, an optional signed integer and a delimiter (``pp-500 ``); drivers send
 them in lower case with a space, as Player's ``ptu46`` does, and numbers are never zero-padded

@@ -10,7 +10,7 @@ files (``laser-config``, guide 7.5)::
 - ``port`` (a serial port or pyserial URL) and ``name`` (unique; the module picks its device by
   its ``-n`` name) are required;
 - ``baud``: the unit's line speed, 600 to 38400 (default 9600, the PTU-46's factory setting,
-  PROTOCOLS.md 2);
+  docs/protocols.md 2);
 - ``rate``: how often the measured pan and tilt are read and published, in Hz (1 to 30, default
   10; each reading is four round trips on the line);
 - ``mount-x``, ``mount-y``, ``mount-z``, ``mount-yaw``: where the unit's base sits on the robot

@@ -1,4 +1,4 @@
-"""Device layer of the Directed Perception PTU-46 pan-tilt unit (PROTOCOLS.md 2; WURDE guide 7.4).
+"""Device layer of the Directed Perception PTU-46 pan-tilt unit (docs/protocols.md 2; WURDE guide 7.4).
 
 :class:`Ptu46` speaks the unit's ASCII protocol over a :class:`~wurde_drivers.ports.serial_link.SerialLink`
 (9600 8N1) and works in SI units: angles in rad (pan counter-clockwise positive, tilt up

@@ -1,4 +1,4 @@
-"""A Directed Perception PTU-46 on a pseudo-terminal (PROTOCOLS.md 2; PTU-D46 manual 4.2-4.5).
+"""A Directed Perception PTU-46 on a pseudo-terminal (docs/protocols.md 2; PTU-D46 manual 4.2-4.5).
 
 The unit powers up as the manual shows it: echo on (``ED`` turns it off), verbose feedback
 (``FT`` makes it terse), immediate execution (``I``; ``S`` slaves position commands until ``A``,

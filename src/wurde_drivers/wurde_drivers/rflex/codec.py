@@ -1,6 +1,6 @@
 """rFLEX (iRobot/RWI B21r, ATRV-Jr base controller) codec: frames, deframer, commands, reports.
 
-Frame (PROTOCOLS.md 3)::
+Frame (docs/protocols.md 3)::
 
     ESC STX | PORT | ID | OPCODE | DLEN | DATA[DLEN] | CRC | ESC ETX      (ESC=1B STX=02 ETX=03)
 
@@ -253,7 +253,7 @@ class Deframer:
 def esc_free(value: int, width: int = 4) -> int:
     """The value nearest to ``value`` whose ``width`` big-endian bytes hold no 0x1B.
 
-    Player's "hardware bug" workaround (``rflex_set_velocity``, PROTOCOLS.md 3) rounds a
+    Player's "hardware bug" workaround (``rflex_set_velocity``, docs/protocols.md 3) rounds a
     rotational velocity whose second or fourth byte is 0x1B to the nearest 0x1C00.. or 0x1AFF..;
     this applies the same rule to every byte, highest first (for the lowest byte, down to 0x1A).
     ``value`` may be negative (two's complement); the result has the same sign.
@@ -291,7 +291,7 @@ def esc_free_set_dir(axis: int, velocity: int, acceleration: int, torque: int,
     raise CodecError(f'no ESC-free SET_DIR for velocity {velocity}')  # unreachable in practice
 
 
-# -- host commands (PROTOCOLS.md 3, "Host -> base payloads") ----------------------------------
+# -- host commands (docs/protocols.md 3, "Host -> base payloads") ----------------------------------
 def _u32(*values: int) -> bytes:
     try:
         return struct.pack(f'>{len(values)}I', *values)
@@ -362,7 +362,7 @@ def jstk_poll() -> Packet:
     return Packet(Port.JSTK, 0, Jstk.GET_STATE)
 
 
-# -- base reports (PROTOCOLS.md 3, "Base -> host reports") ------------------------------------
+# -- base reports (docs/protocols.md 3, "Base -> host reports") ------------------------------------
 def _pack(fmt: str, *values: int) -> bytes:
     try:
         return struct.pack(fmt, *values)
@@ -445,7 +445,7 @@ class DioReport:
 class SonarReport:
     """SONAR_REPORT: ``(sonar id, raw range)`` triplets; 1476 units per metre, 32766 = no echo.
 
-    The protocol text says "/2", but every driver reads 3-byte triplets (PROTOCOLS.md 3).
+    The protocol text says "/2", but every driver reads 3-byte triplets (docs/protocols.md 3).
     """
 
     readings: tuple[tuple[int, int], ...]

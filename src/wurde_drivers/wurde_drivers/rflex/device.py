@@ -1,10 +1,10 @@
 """The rFLEX base driver (B21r, ATRV-Jr) over a :class:`SerialLink` at 115200 8N1; no ROS.
 
-Life cycle (STYLE): construct (no I/O) -> :meth:`RFlexDriver.connect` (may raise) -> call
+Life cycle (docs/style.md): construct (no I/O) -> :meth:`RFlexDriver.connect` (may raise) -> call
 :meth:`~RFlexDriver.poll` in the module's loop (never blocks longer than asked, never raises on bad
 bytes) -> :meth:`~RFlexDriver.close` (idempotent). One thread uses a driver.
 
-``connect`` sends what Player, CARMEN and DLu send at start-up (PROTOCOLS.md 3): SET_DEFAULTS,
+``connect`` sends what Player, CARMEN and DLu send at start-up (docs/protocols.md 3): SET_DEFAULTS,
 odometry reports every 100000 us for axes 0 and 1 (mask 3), SONAR_RUN on, DIO reports on, and
 BRAKE_RELEASE only if the configuration allows it (WURDE 7.6 "whether the module should be allowed
 to reset the brake"), then a SYS_STATUS poll. ``poll`` re-polls SYS_STATUS every

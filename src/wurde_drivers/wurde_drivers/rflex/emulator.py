@@ -1,6 +1,6 @@
 """An rFLEX base (B21r or ATRV-Jr) on a pseudo-terminal, speaking the real protocol at 115200 8N1.
 
-What it does (PROTOCOLS.md 3):
+What it does (docs/protocols.md 3):
 
 - accepts every host command of the codec; SET_DIR sets an axis' signed velocity (counts/s) and
   acceleration (counts/s^2); the emulator ramps each axis towards it and integrates axis 0 into the
@@ -12,7 +12,7 @@ What it does (PROTOCOLS.md 3):
   ``sonar_ranges()``, metres in the robot's sonar order; default: no echo), and a DIO_REPORT when a
   test presses a bumper (:meth:`set_bumper`) while DIO reports are on.
 
-By default no 0x1B is put inside a packet (PROTOCOLS.md's recommendation): fields are moved to the
+By default no 0x1B is put inside a packet (docs/protocols.md's recommendation): fields are moved to the
 nearest ESC-free value (:func:`esc_free`: at most 128 counts away below 0x1B0000, i.e. 17 m of
 distance) and report IDs whose CRC would be 0x1B are skipped. ``stuff_esc=True`` sends exact
 values with each ESC as ``1B 00``.

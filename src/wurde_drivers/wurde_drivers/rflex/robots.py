@@ -2,7 +2,7 @@
 
 Pure data and arithmetic; no I/O. WURDE 7.6 supports exactly these two robots.
 
-**Units per metre / radian** (PROTOCOLS.md 3 lists two rows per robot):
+**Units per metre / radian** (docs/protocols.md 3 lists two rows per robot):
 
 - B21r: **103000 / 35000**, the row of Player's ``b21r_rflex_lms200.cfg`` and DLu's ``b21_config.h``
   (two sources agree, and the golden SET_DIR vector is built with 103000); CARMEN's 101230 /

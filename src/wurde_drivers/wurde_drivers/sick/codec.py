@@ -1,6 +1,6 @@
 """SICK LMS 2xx / PLS telegrams: CRC, framing, a stream deframer, requests and replies.
 
-Pure functions over bytes (DESIGN "Drivers"); every fact here is from PROTOCOLS.md section 1:
+Pure functions over bytes (docs/design.md "Drivers"); every fact here is from docs/protocols.md section 1:
 frame ``STX ADR LEN_lo LEN_hi CMD DATA.. [STATUS] CRC_lo CRC_hi`` (1.2), the SICK CRC-16 (1.3),
 lone ACK/NAK bytes (1.4), the request table (1.5) and the B0 measurement reply (1.6).
 Bad input raises :class:`~wurde_drivers.errors.CodecError` and nothing else.
@@ -23,7 +23,7 @@ HOST_ADDRESS = 0x00     #: ADR of frames the host sends
 DEVICE_ADDRESS = 0x80   #: ADR of frames an LMS at address 0 sends
 MAX_PAYLOAD = 812       #: largest LEN (CMD + DATA + STATUS)
 
-#: Request command codes (reply = request + 0x80, PROTOCOLS.md 1.4).
+#: Request command codes (reply = request + 0x80, docs/protocols.md 1.4).
 CMD_RESET, CMD_MODE, CMD_SCAN, CMD_STATUS = 0x10, 0x20, 0x30, 0x31
 CMD_TYPE, CMD_VARIANT, CMD_READ_CONFIG, CMD_WRITE_CONFIG = 0x3A, 0x3B, 0x74, 0x77
 #: Reply codes.  0x90 (power-on) and 0x91 (reset acknowledged) belong to our reset sequence.
@@ -33,7 +33,7 @@ REPLY_VARIANT, REPLY_READ_CONFIG, REPLY_WRITE_CONFIG = 0xBB, 0xF4, 0xF7
 
 #: Operating modes of request 0x20.
 MODE_INSTALL, MODE_CONTINUOUS, MODE_ON_REQUEST = 0x00, 0x24, 0x25
-#: Baud rate → mode code of request 0x20 (sicktoolbox enum, PROTOCOLS.md 1.5).
+#: Baud rate → mode code of request 0x20 (sicktoolbox enum, docs/protocols.md 1.5).
 BAUD_CODES = {9600: 0x42, 19200: 0x41, 38400: 0x40, 500000: 0x48}
 BAUD_BY_CODE = {code: baud for baud, code in BAUD_CODES.items()}
 PASSWORDS = {'LMS': b'SICK_LMS', 'PLS': b'SICK_PLS'}
@@ -424,7 +424,7 @@ def decode_f7(data: bytes) -> tuple[bool, SickConfig]:
 
 @dataclasses.dataclass(frozen=True)
 class SickStatus:
-    """The B1 fields drivers read; offsets count the command byte as 0 (PROTOCOLS.md 1.5)."""
+    """The B1 fields drivers read; offsets count the command byte as 0 (docs/protocols.md 1.5)."""
 
     operating_mode: int = MODE_ON_REQUEST
     error: int = 0

@@ -12,7 +12,7 @@ Optional attributes of ours, with their defaults (Pluto 8.1's: cm, 361 values, 3
 - ``units``: ``cm`` (81.82 m max, default) or ``mm`` (8.182 m max).  A PLS runs at 0.5° in cm only;
 - ``parity``: ``none`` or ``even``, default the device's own: ``even`` for a PLS (8E1), ``none``
   for an LMS (8N1).  Say ``none`` for a PLS on a pseudo-terminal, e.g. ``sick_emulator``'s link:
-  a pty cannot carry parity (PROTOCOLS.md 6: reconfiguring it with PARENB fails with EINVAL);
+  a pty cannot carry parity (docs/protocols.md 6: reconfiguring it with PARENB fails with EINVAL);
 - ``mount-x``, ``mount-y``, ``mount-z``: where the laser sits on the robot, m
   (:mod:`wurde_drivers.mounting`; default 0, 0, 0.4).
 
@@ -39,7 +39,7 @@ __all__ = ['DEFAULT_PARITY', 'LaserDevice', 'device_named', 'load_laser_config']
 
 _BAUDS = ('9600', '19200', '38400', '500000')
 _RESOLUTIONS = {'1.0': 1.0, '1': 1.0, '0.5': 0.5}
-#: The line parity each type speaks (PROTOCOLS.md 1.1: a PLS is 8E1, an LMS 8N1).
+#: The line parity each type speaks (docs/protocols.md 1.1: a PLS is 8E1, an LMS 8N1).
 DEFAULT_PARITY = {'PLS': 'even', 'LMS': 'none'}
 
 

@@ -1,10 +1,10 @@
 """The SICK LMS 2xx / PLS driver over a :class:`~wurde_drivers.ports.serial_link.SerialLink` (no ROS).
 
-Life cycle (STYLE 5): construct (no I/O) → :meth:`SickLaser.connect` (may raise) →
+Life cycle (docs/style.md 5): construct (no I/O) → :meth:`SickLaser.connect` (may raise) →
 :meth:`SickLaser.poll` (never blocks longer than asked, never raises on bad bytes) → :meth:`close`
 (idempotent).  One thread uses an instance.
 
-``connect`` replays a CARMEN-like start-up (PROTOCOLS.md 1.7): find the device's current speed by
+``connect`` replays a CARMEN-like start-up (docs/protocols.md 1.7): find the device's current speed by
 trying 9600, 19200, 38400 and 500000 baud (the last known one first) with a stop-continuous and
 then a status request until a reply telegram arrives; enter installation mode; switch to the target
 speed (the device answers at the old one, then we change termios); for an LMS read the type and set
@@ -47,7 +47,7 @@ from ..ports.serial_link import LinkStats, SerialLink
 from . import codec as sick
 from . import facts
 
-#: Speeds tried when looking for the device, in CARMEN's order (PROTOCOLS.md 1.7).
+#: Speeds tried when looking for the device, in CARMEN's order (docs/protocols.md 1.7).
 SEARCH_BAUDS = (9600, 19200, 38400, 500000)
 
 
@@ -88,7 +88,7 @@ class Scan:
 class SickLaser:
     """A SICK LMS 2xx or PLS on ``port`` (a pyserial URL or path).
 
-    :param kind: ``'LMS'`` or ``'PLS'`` (a PLS line is 8E1, PROTOCOLS.md 1.1).
+    :param kind: ``'LMS'`` or ``'PLS'`` (a PLS line is 8E1, docs/protocols.md 1.1).
     :param baudrate: target speed, one of 9600, 19200, 38400, 500000.
     :param resolution: degrees between beams over 180°: 1.0 (181 values) or 0.5 (361).
     :param units: ``'cm'`` (81.82 m max) or ``'mm'`` (8.182 m max); a PLS supports cm only.
@@ -96,7 +96,7 @@ class SickLaser:
     :param reply_timeout: seconds to wait for the reply to a request (plus, while a frame is
         half received, the time the longest telegram takes on the wire at the current speed).
     :param parity: ``serial.PARITY_NONE`` or ``serial.PARITY_EVEN``; default even for a PLS,
-        none for an LMS (the devices speak 8E1 / 8N1).  A pty cannot do parity (PROTOCOLS.md 6:
+        none for an LMS (the devices speak 8E1 / 8N1).  A pty cannot do parity (docs/protocols.md 6:
         reconfiguring an open pty with PARENB fails with EINVAL), so a PLS emulator is driven with
         ``serial.PARITY_NONE`` (``parity="none"`` in laser-config.xml).
     """

@@ -1,4 +1,4 @@
-"""An emulated SICK LMS 2xx or PLS on a pseudo-terminal, with the real telegrams (PROTOCOLS.md 1).
+"""An emulated SICK LMS 2xx or PLS on a pseudo-terminal, with the real telegrams (docs/protocols.md 1).
 
 What it does, as the real device does:
 
@@ -23,7 +23,7 @@ device sends it); an upside-down mounting is the driver's business, not the emul
 or anything past the maximum becomes 8183 (value > maximum), ``nan`` or a negative range 8191.
 
 **PLS parity:** a PLS speaks 8E1.  Parity cannot be emulated on a pty (PARENB does not stick, and
-reconfiguring an open pty that was opened with even parity fails with EINVAL, PROTOCOLS.md 6), so
+reconfiguring an open pty that was opened with even parity fails with EINVAL, docs/protocols.md 6), so
 this emulator ignores parity and a driver talking to it opens the pty without parity
 (``parity="none"`` on the ``<device>`` of laser-config.xml, or ``SickLaser(...,
 parity=serial.PARITY_NONE)``); on a real line the driver uses even parity.

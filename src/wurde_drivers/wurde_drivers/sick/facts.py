@@ -1,5 +1,5 @@
 """Facts of the SICK LMS 2xx / PLS that the driver, the emulator, the stream contract and the
-dummy laser all need, stated once (PROTOCOLS.md section 1, Pluto 8.1).
+dummy laser all need, stated once (docs/protocols.md section 1, Pluto 8.1).
 
 - **Beam counts**: a 180° scan has 181 values at 1° and 361 at 0.5° (1.6); Pluto's ``N/RWI``
   stream carries the 181 of a 1° scan.
@@ -21,7 +21,7 @@ from . import codec
 __all__ = ['FOV_DEG', 'KINDS', 'MIRROR_HZ', 'RWI_VALUES', 'UNITS', 'VALUES_AT', 'centre_offset_s',
            'max_range_m', 'scan_period_s', 'sweeps', 'variant_error', 'wire_time_s']
 
-#: Degrees one scan covers (the variants we run; 100° exists, PROTOCOLS.md 1.5).
+#: Degrees one scan covers (the variants we run; 100° exists, docs/protocols.md 1.5).
 FOV_DEG = 180
 #: Mirror turns per second.
 MIRROR_HZ = 75.0

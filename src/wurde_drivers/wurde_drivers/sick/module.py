@@ -28,7 +28,7 @@ down, or logging switched on and off, while the module runs; each takes effect a
 
 The line's parity is the ``<device>``'s ``parity`` attribute (:mod:`~wurde_drivers.sick.config`:
 ``none|even``, default even for a PLS, none for an LMS).  A pseudo-terminal cannot carry parity
-(PROTOCOLS.md 6: it refuses PARENB), so a PLS on ``sick_emulator``'s link says ``parity="none"``.
+(docs/protocols.md 6: it refuses PARENB), so a PLS on ``sick_emulator``'s link says ``parity="none"``.
 """
 
 from __future__ import annotations

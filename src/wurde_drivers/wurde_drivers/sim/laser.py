@@ -1,6 +1,6 @@
 """The dummy SICK: geometry, units and timing of an LMS 2xx / PLS, ranges raycast from the map.
 
-Geometry, units and timing are the real device's, from :mod:`wurde_drivers.sick.facts` (PROTOCOLS.md
+Geometry, units and timing are the real device's, from :mod:`wurde_drivers.sick.facts` (docs/protocols.md
 1.6; Pluto 8.1): 181 values at 1° or 361 at 0.5° over 180°, counter-clockwise from the right (−90°)
 to the left (+90°); cm mode reads up to 81.82 m in 1 cm steps, mm mode up to 8.182 m in 1 mm
 steps, a PLS (0.5°, cm only) up to 50 m. A laser mounted

@@ -7,7 +7,7 @@ vanishes (a backend raises :class:`~wurde_drivers.errors.DeviceError`), reportin
 once through ``report`` — so a missing or unplugged camera never ends the module. Frames are
 paced to the camera's ``frameRate`` option when it has one.
 
-Life cycle (STYLE 5): construct (no I/O) → :meth:`attach` (a backend that consumes streams, the
+Life cycle (docs/style.md 5): construct (no I/O) → :meth:`attach` (a backend that consumes streams, the
 ``sim`` camera, registers them) → :meth:`read` → :meth:`close` (idempotent).
 """
 

@@ -2,7 +2,7 @@
 
 An operator is a small class. The module builds it from an ``<operator name type>`` entity
 (:class:`~wurde_drivers.vision.vision_config.OperatorSpec`), then follows a fixed life cycle
-(STYLE 5, as py_trees' behaviours):
+(docs/style.md 5, as py_trees' behaviours):
 
 - ``__init__(spec)``: no I/O; the options are checked against :attr:`Operator.OPTIONS` (unknown
   ones refused with the config's file and line) and the cameras against :attr:`Operator.CAMERAS`;

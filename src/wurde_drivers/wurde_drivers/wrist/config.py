@@ -14,12 +14,12 @@ Pluto's wristModule had no documented configuration file; the format follows WUR
   1 and 2, see :mod:`wurde_drivers.wrist.codec`);
 - ``emulate`` (true/false, default false): the module hosts the wrist emulator itself on the same
   channel -- the no-hardware mode. python-can's virtual bus connects buses inside one process
-  only (PROTOCOLS.md 5), so the emulator must live in the module's process; hence ``emulate``
+  only (docs/protocols.md 5), so the emulator must live in the module's process; hence ``emulate``
   is refused unless ``interface="virtual"``;
 - ``mount-x``, ``mount-y``, ``mount-z``, ``mount-yaw``: where the wrist's base sits on the robot
   (:mod:`wurde_drivers.mounting`, default 0).
 
-``udp_multicast`` is refused: it would carry the bus out over the network (PROTOCOLS.md 5).
+``udp_multicast`` is refused: it would carry the bus out over the network (docs/protocols.md 5).
 """
 
 from __future__ import annotations

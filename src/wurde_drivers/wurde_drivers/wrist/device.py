@@ -2,7 +2,7 @@
 
 The caller opens the bus from a python-can interface and channel (``can.Bus(interface='virtual',
 channel='wrist')`` in tests, ``interface='socketcan'`` on the robot) and hands it over; the driver
-owns it from then on and shuts it down in :meth:`WristDriver.close` (PROTOCOLS.md 5: always
+owns it from then on and shuts it down in :meth:`WristDriver.close` (docs/protocols.md 5: always
 ``bus.shutdown()``; 11-bit ids, ``is_extended_id=False``, on both sides). The frames are those of
 :mod:`wurde_drivers.wrist.codec` (PowerCube-style modules, see there what is confirmed).
 

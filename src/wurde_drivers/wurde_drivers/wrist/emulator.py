@@ -1,6 +1,6 @@
 """The pan/tilt wrist on a python-can virtual bus: two PowerCube-like modules with ramp motion.
 
-A :class:`can.Listener` on its own ``can.Bus(interface='virtual', channel=...)`` (PROTOCOLS.md 5:
+A :class:`can.Listener` on its own ``can.Bus(interface='virtual', channel=...)`` (docs/protocols.md 5:
 virtual buses on one channel see each other only inside one process, so the driver under test
 runs in the same process). It answers the frames of :mod:`wurde_drivers.wrist.codec`:
 Reset, Home, Halt, SetExtended / GetExtended of the parameters listed there, and ramp moves.
@@ -138,7 +138,7 @@ class WristEmulator(can.Listener):
             self._thread.join(timeout=5.0)
         notifier, self._notifier = self._notifier, None
         if notifier is not None:
-            notifier.stop()  # before bus.shutdown (PROTOCOLS.md 5)
+            notifier.stop()  # before bus.shutdown (docs/protocols.md 5)
         if self._bus is not None:
             self._bus.shutdown()
             self._bus = None

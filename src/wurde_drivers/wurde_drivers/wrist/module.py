@@ -20,7 +20,7 @@ published while they are silent (never stale data); their return is logged.
 **No-hardware mode, chosen by configuration:** with ``emulate="true"`` (``interface="virtual"``
 only) the module hosts :class:`~wurde_drivers.wrist.emulator.WristEmulator` on the same virtual
 channel in its own process -- python-can's virtual bus connects buses inside one process only
-(PROTOCOLS.md 5) -- so there is no separate wrist emulator program. In that mode SIGUSR1 toggles
+(docs/protocols.md 5) -- so there is no separate wrist emulator program. In that mode SIGUSR1 toggles
 the emulated modules' silence, to try the module's fault handling.
 """
 
