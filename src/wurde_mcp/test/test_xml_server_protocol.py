@@ -262,7 +262,7 @@ def test_allcopy_sends_every_variable_of_the_structure(client: Raw, line: str) -
         f'<{tag} info="done"/>']
 
 
-def test_var_help_is_the_seeds_without_what_is_not_there(client: Raw) -> None:
+def test_var_help_is_the_seeds(client: Raw) -> None:
     client.send('<var help/>\n')
     lines = client.until_done()
     assert lines[:3] == ['<help subject="VAR">', '-------------------- Available VAR options:',
@@ -270,7 +270,12 @@ def test_var_help_is_the_seeds_without_what_is_not_there(client: Raw) -> None:
     assert lines[-3:] == ['See also VARPUSH (update event handling)', '</help>',
                           '<var info="done"/>']
     assert '[struct.]allCopy        Get list of all variables for var pool copy' in lines
-    assert not [line for line in lines if line.startswith(('call=', 'returnType', 'log', 'type='))]
+    for option in ("type=T                  semi-structure where T='pose' | '3d' | 'dq' | 's' | 't'",
+                   "call='me(par1,par2,..)' Test a method call with name 'me' and some parameters",
+                   'returnType=[lineseg|3d|pose|...] Expected struct result type of call',
+                   'log[=false] struct      Start or stop logging of this struct',
+                   'isLogging   struct      Is this structure beeing logged?'):
+        assert option in lines
 
 
 def test_an_unknown_keyword_is_answered_with_the_clients_tag(client: Raw) -> None:
@@ -281,7 +286,7 @@ def test_an_unknown_keyword_is_answered_with_the_clients_tag(client: Raw) -> Non
 
 def test_help_has_the_seeds_structure(start: Start) -> None:
     def setup(server: XmlServer) -> None:
-        server.add_command('odoPosePush', lambda c, cmd: [], 'Push the odometry pose', group='odo')
+        server.add_command('camGet', lambda c, cmd: [], 'Get an image', group='cam')
 
     server = start(setup=setup)
     raw = Raw(server.port)
@@ -292,7 +297,9 @@ def test_help_has_the_seeds_structure(start: Start) -> None:
     assert lines[3].startswith('running on host ') and lines[3].endswith(f' port {server.port}')
     groups = lines[lines.index('Available commands (from currently loaded modules):') + 1:
                    lines.index('All commands has a help option, e.g.:')]
-    assert groups == ['- push q help quit exit', '- var varPush', '- pt', '- odoPosePush']
+    assert groups == ['- push q help quit exit shelp module alive ping', '- var varPush', '- pt',
+                      '- odoPose odoPosePush', '- utmPose utmPosePush', '- mapPose mapPosePush',
+                      '- laser laserOnConnect', '- laserdata laserobst', '- camGet']
     assert 'var help          Get, set and list variables' in lines
     assert 'pt help           Odometry pose from a robot controller: no reply' in lines
     assert 'q                 Close connection to this client by server' in lines

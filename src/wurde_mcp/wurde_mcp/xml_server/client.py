@@ -10,8 +10,8 @@ Every reply line comes back as a dict of its attributes, with the tag name under
 (``{'': 'var', 'name': 'odoPose.pose', 'typ': 'pose', ...}``; a bare keyword maps to ``''``).  A
 closing tag comes back as ``{'': '/help'}``; a line of help text as ``{'': '', 'text': '...'}``.
 
-Where a reply ends (:meth:`XmlClient.request`): a help block (``<help ...>`` to ``</help>``) is
-always read to its end; a reply ends at a line with ``info="done"``, at the server's closing root
+Where a reply ends (:meth:`XmlClient.request`): a help block (``<help ...>`` to ``</help>``) and
+any other block (``<odoPose name="poses">`` to ``</odoPose>``) are always read to their end; a reply ends at a line with ``info="done"``, at the server's closing root
 tag or when the server closes.  Otherwise one line is the whole reply unless the command is one
 that the server ends with ``info="done"``: ``help`` or ``<cmd help/>``, ``push list``, and a
 ``var`` with other than exactly one variable or with ``list``, ``desc`` or ``allcopy``.  Pass
@@ -29,7 +29,8 @@ from .variables import VarError
 
 __all__ = ['XmlClient']
 
-_VAR_FLAGS = frozenset({'list', 'desc', 'allcopy'})
+_VAR_FLAGS = frozenset({'list', 'desc', 'allcopy', 'copy'})
+_VAR_OPTIONS = frozenset({'type', 'call', 'returntype', 'dest'})
 
 
 class XmlClient:
@@ -50,6 +51,7 @@ class XmlClient:
         self.server_version = ''
         self._buffer = bytearray()
         self._in_help = False
+        self._block = ''                # the tag of an open reply block (<odoPose name="poses">)
         self._closed = False
         self._sock = socket.create_connection((host, port), timeout)
         try:
@@ -88,6 +90,8 @@ class XmlClient:
             replies.append(item)
             if self._in_help or item[''] == '/help':
                 many = True
+            elif self._block:
+                continue
             elif item.get('info') == 'done' or item[''] == f'/{self.root}' or not many:
                 return replies
 
@@ -183,9 +187,13 @@ class XmlClient:
         except CommandError:
             return {'': '', 'text': line}
         if command.is_closing:
+            if command.tag == self._block:
+                self._block = ''
             return {'': f'/{command.tag}'}
         if command.kind == 'opening' and command.tag == 'help':
             self._in_help = True
+        elif command.kind == 'opening' and self.root and command.tag != self.root:
+            self._block = command.tag
         item = {'': command.tag}
         item.update((key, '' if value is None else value) for key, value in command.args)
         return item
@@ -234,7 +242,13 @@ def _ends_with_done(command: Command | None) -> bool:
     if name in ('push', 'varpush'):
         return command.has('list')
     if name == 'var':
-        requests = [key for key, value in command.args if value or key.lower() not in _VAR_FLAGS]
-        flagged = len(requests) != len(command.args)
-        return flagged or len(requests) != 1 or requests[0].lower().endswith('.allcopy')
+        if command.has('log') or command.has('islogging'):
+            return False                # one line per name
+        requests = [key for key, value in command.args if key.lower() not in _VAR_OPTIONS and
+                    (value or key.lower() not in _VAR_FLAGS)]
+        if command.has('call') and not requests:
+            return False                # one <var method=...> block
+        flagged = any(not value and key.lower() in _VAR_FLAGS for key, value in command.args)
+        return flagged or len(requests) != 1 or requests[0].lower().endswith('.allcopy') or \
+            command.has('call')
     return False

@@ -1,7 +1,7 @@
 """``xml_server``: Pluto's xmlServer as a WURDE module — the robot's streams as Mobotware variables
 on a TCP socket (Pluto 2; AU Robot Servers, "Interface description").
 
-    ros2 run wurde_mcp xml_server [-p PORT] [-b ADDRESS] [-B BASE] [-L LASER] [-G GPS]
+    ros2 run wurde_mcp xml_server [-p PORT] [-b ADDRESS] [-d DIR] [-B BASE] [-L LASER] [-G GPS]
 
 One thread: each turn of the guide's loop takes in what arrived on the streams
 (:class:`~.robot_table.RobotPool`) and serves the sockets for up to :data:`SERVE_S` (the turn
@@ -27,6 +27,7 @@ VERSION = '1.0'
 
 HELP = ('  -p PORT     TCP port, 24919..24930 as Mobotware servers, 0 any free one (default 24919)\n'
         '  -b ADDRESS  address to bind (default 127.0.0.1: this host only)\n'
+        '  -d DIR      directory of the var logfile xmlServer.var.log (default .)\n'
         f'  -B NAME     the base module (default {DEVICE_DEFAULTS["base"]})\n'
         f'  -L NAME     the laser module (default {DEVICE_DEFAULTS["laser"]})\n'
         f'  -G NAME     the GPS module (default {DEVICE_DEFAULTS["gps"]})')
@@ -36,10 +37,10 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('xmlServer')
     manager.set_help_string(HELP)
-    opts = manager.parse_options(argv, 'p:b:B:L:G:').user
+    opts = manager.parse_options(argv, 'p:b:d:B:L:G:').user
     try:
         settings = ServerSettings(name='xmlServer', version=VERSION, host=opts.get('b', '127.0.0.1'),
-                                  port=int(opts.get('p', 24919)))
+                                  port=int(opts.get('p', 24919)), data_path=opts.get('d', '.'))
     except ValueError as exc:
         print(f'xml_server: {exc}', file=sys.stderr, flush=True)
         return 2

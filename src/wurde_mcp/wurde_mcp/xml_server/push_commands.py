@@ -73,12 +73,31 @@ class PushCommands:
         client.pushes.append(push)
         return [reply(tag, [('info', f'added push {push.number}'), *push.describe()[:-1]])]
 
-    def _new_push(self, client: Session, command: Command) -> Push:
-        """The push ``command`` asks for. :raises ValueError: why it cannot be."""
-        keyword = command.tag.lower()
-        cmd = command.get('cmd')
+    def event_push(self, client: Session, keyword: str, cmd: str | None, struct: str,
+                   every: str | None) -> EventPush:
+        """An update push of ``client`` running ``cmd`` on every ``every``-th update of ``struct``
+        (a structure or variable), as ``varpush`` and the ``*Push`` commands make; not yet added.
+
+        :raises ValueError: why it cannot be (the client is told).
+        """
+        pushed = self._pushed(client, keyword, cmd, 'struct=name')
+        var = self._pool.find(struct)
+        if struct.strip('.') and self._pool.is_struct(struct):
+            name = self._pool.struct_name(struct)
+        elif var is not None:
+            name = var.name
+        else:
+            raise ValueError(f'struct "{struct}" not found - try: var list')
+        count = _number(every or '1', 'i')
+        if not (math.isfinite(count) and count == int(count) and count >= 1):
+            raise ValueError(f'i={every} is not a count of 1 or more')
+        assert cmd is not None
+        return EventPush(client.new_push_number(), cmd, pushed, name, int(count),
+                         self._pool.updates(name))
+
+    def _pushed(self, client: Session, keyword: str, cmd: str | None, needs: str) -> Command:
+        """``cmd`` parsed, if a push of ``client`` may run it. :raises ValueError: why not."""
         if not cmd:
-            needs = 't=seconds' if keyword == 'push' else 'struct=name'
             raise ValueError(f'{keyword} needs {needs} and cmd="command" - try: {keyword} help')
         try:
             pushed = parse_command(cmd)
@@ -87,32 +106,29 @@ class PushCommands:
         name = pushed.tag.lower()
         if pushed.kind != 'command':
             raise ValueError(f'bad cmd "{cmd}": not a command')
-        if name in self.NOT_PUSHABLE:
+        if name in self.NOT_PUSHABLE or name.endswith('push') or name.endswith('onconnect'):
             raise ValueError(f'a push cannot run {pushed.tag}')
         if not self._is_command(name):
             raise ValueError(f'cmd {pushed.tag}: Unsupported function keyword')
         if len(client.pushes) >= self._max_pushes:
             raise ValueError(f'too many pushes: {len(client.pushes)} (max {self._max_pushes}) '
                              f'- try: {keyword} flush')
-        if keyword == 'push':
-            period = _number(command.get('t'), 't')
-            if not period >= self._min_period or math.isinf(period):
-                raise ValueError(f't={command.get("t")} is not a period of at least '
-                                 f'{self._min_period:g} s')
-            return TimePush(client.new_push_number(), cmd, pushed, period, self._clock())
-        asked = command.get('struct') or ''
-        var = self._pool.find(asked)
-        if asked.strip('.') and self._pool.is_struct(asked):
-            struct = self._pool.struct_name(asked)
-        elif var is not None:
-            struct = var.name
-        else:
-            raise ValueError(f'struct "{asked}" not found - try: var list')
-        every = _number(command.get('i') or '1', 'i')
-        if not (math.isfinite(every) and every == int(every) and every >= 1):
-            raise ValueError(f'i={command.get("i")} is not a count of 1 or more')
-        return EventPush(client.new_push_number(), cmd, pushed, struct, int(every),
-                         self._pool.updates(struct))
+        return pushed
+
+    def _new_push(self, client: Session, command: Command) -> Push:
+        """The push ``command`` asks for. :raises ValueError: why it cannot be."""
+        keyword = command.tag.lower()
+        cmd = command.get('cmd')
+        if keyword != 'push':
+            return self.event_push(client, keyword, cmd, command.get('struct') or '',
+                                   command.get('i'))
+        pushed = self._pushed(client, keyword, cmd, 't=seconds')
+        assert cmd is not None
+        period = _number(command.get('t'), 't')
+        if not period >= self._min_period or math.isinf(period):
+            raise ValueError(f't={command.get("t")} is not a period of at least '
+                             f'{self._min_period:g} s')
+        return TimePush(client.new_push_number(), cmd, pushed, period, self._clock())
 
 
 def _number(text: str | None, key: str) -> float:

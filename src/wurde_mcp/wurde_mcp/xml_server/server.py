@@ -13,7 +13,10 @@ command handler ends only that client's session or command.
 
 Commands are handlers registered by name (:meth:`XmlServer.add_command`): ``help``, ``q`` (``quit``,
 ``exit``), ``push``, ``varpush``, ``var`` and ``pt`` (a robot controller's odometry pose, never
-answered: :mod:`.pose_command`) are built in; the robot's module may add more.
+answered: :mod:`.pose_command`) are built in, and AURS's other commands (:mod:`.standard`); the
+robot's module may add more.  An interface to another server (:mod:`.interface`) has its socket
+watched by the same selector (:meth:`XmlServer.watch`), and pollers run every turn
+(:meth:`XmlServer.add_poller`), so one thread still serves everything.
 """
 
 from __future__ import annotations
@@ -24,6 +27,8 @@ import selectors
 import socket
 import time
 from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Protocol
 
 from .command import (NAME, Command, CommandError, closing, escape, help_block, parse_command,
                       reply)
@@ -31,8 +36,11 @@ from .pose_command import PT_HELP, PoseCommand
 from .push import EventPush, TimePush
 from .push_commands import PushCommands, push_help, varpush_help
 from .session import TOO_LONG, Session
+from .standard import install_standard
 from .settings import PORTS, ServerSettings, ServerStats
+from .user_vars import UserVariables
 from .var_command import VAR_HELP, VarCommand
+from .var_log import VarLog
 from .variables import VariablePool
 
 __all__ = ['Handler', 'PORTS', 'ServerSettings', 'ServerStats', 'XmlServer']
@@ -47,6 +55,12 @@ Handler = Callable[[Session, Command], Sequence[str]]
 _LINGER_S = 2.0
 #: Connections accepted per turn at most (the rest wait in the listen queue for the next turn).
 _ACCEPTS_PER_TURN = 16
+
+
+class Watcher(Protocol):
+    """A socket of the server's own (an interface to another server) the selector watches."""
+
+    def on_event(self, mask: int) -> None: ...
 
 
 @dataclasses.dataclass
@@ -78,23 +92,34 @@ class XmlServer:
         self._port = self.settings.port
         self._hostname = ''
         self._closed = False
+        self._pollers: list[Callable[[float], None]] = []
+        self._turn_start = time.monotonic()
+        #: Seconds between the starts of the last two turns (``alive``).
+        self.turn_gap = 0.0
         s = self.settings
+        #: The variables clients made (``var X="v"``, copies from another server).
+        self.user_vars = UserVariables(pool)
+        #: The var logfile (``var log``).
+        self.var_log = VarLog(pool, Path(s.data_path) / f'{s.name}.var.log')
         pushes = PushCommands(pool, min_period=s.min_push_period, max_pushes=s.max_pushes,
                               is_command=lambda name: name in self._commands, clock=time.monotonic)
         self.add_command('push', pushes, 'Time push: run a command every t seconds',
                          help_text=push_help(s.min_push_period, s.max_pushes), group='server')
         self.add_command('q', self._quit, 'Close connection to this client by server',
                          group='server')
-        self.add_command('help', self._help, 'This help (help CMD: help on command CMD)',
+        self.add_command('help', self.help_handler, 'This help (help CMD: help on command CMD)',
                          group='server')
         self.add_command('quit', self._quit, 'The same as q', group='server')
         self.add_command('exit', self._quit, 'The same as q', group='server')
-        self.add_command('var', VarCommand(pool), 'Get, set and list variables',
+        self.add_command('var', VarCommand(pool, self.user_vars, self.var_log),
+                         'Get, set and list variables',
                          help_text=VAR_HELP, group='var')
         self.add_command('varPush', pushes, 'Update push: run a command on updates of a structure',
                          help_text=varpush_help(s.max_pushes), group='var')
         self.add_command('pt', PoseCommand(pool), 'Odometry pose from a robot controller: no reply',
                          help_text=PT_HELP, group='pt')
+        self.modules = install_standard(self, pushes)
+        self.add_poller(lambda now: self.var_log.poll())
 
     # ---- the API ------------------------------------------------------------------------------
 
@@ -116,6 +141,42 @@ class XmlServer:
             raise ValueError(f'command {name} exists')
         self._commands[name.lower()] = _Entry(name, handler, help_line, help_text)
         self._groups.setdefault(group or name.lower(), []).append(name)
+
+    def remove_command(self, name: str) -> None:
+        """Remove command ``name`` (any case; absent: nothing)."""
+        entry = self._commands.pop(name.lower(), None)
+        for group, names in list(self._groups.items()):
+            if entry is not None and entry.name in names:
+                names.remove(entry.name)
+                if not names:
+                    del self._groups[group]
+
+    def command_groups(self) -> dict[str, list[str]]:
+        """The commands by group, as ``help`` lists them (a copy)."""
+        return {group: list(names) for group, names in self._groups.items()}
+
+    def add_poller(self, poller: Callable[[float], None]) -> None:
+        """Call ``poller(now)`` every turn (monotonic s)."""
+        self._pollers.append(poller)
+
+    def remove_poller(self, poller: Callable[[float], None]) -> None:
+        if poller in self._pollers:
+            self._pollers.remove(poller)
+
+    def watch(self, sock: socket.socket, watcher: Watcher, events: int) -> None:
+        """Have the selector call ``watcher.on_event(mask)`` for ``events`` on ``sock``."""
+        assert self._selector is not None, 'watch() before start()'
+        try:
+            self._selector.modify(sock, events, watcher)
+        except KeyError:
+            self._selector.register(sock, events, watcher)
+
+    def unwatch(self, sock: socket.socket) -> None:
+        if self._selector is not None:
+            try:
+                self._selector.unregister(sock)
+            except (KeyError, ValueError):
+                pass
 
     @property
     def port(self) -> int:
@@ -164,6 +225,7 @@ class XmlServer:
         if self._selector is None or self._closed:
             raise RuntimeError('XmlServer.serve(): start() first')
         now = time.monotonic()
+        self.turn_gap, self._turn_start = now - self._turn_start, now
         try:
             events = self._selector.select(self._wait(now, timeout))
         except InterruptedError:
@@ -171,9 +233,16 @@ class XmlServer:
         for key, mask in events:
             if key.data is None:
                 self._accept(time.monotonic())
+            elif not isinstance(key.data, Session):
+                self._event(key.data, mask)
             elif mask & selectors.EVENT_READ:
                 self._guarded(key.data, self._receive)
         now = time.monotonic()
+        for poller in list(self._pollers):
+            try:
+                poller(now)
+            except Exception:           # a failing poller must not take the server down
+                _log.exception('poller %r failed', poller)
         for session in list(self._sessions):
             self._guarded(session, lambda s: self._turn(s, now))
 
@@ -182,6 +251,8 @@ class XmlServer:
         if self._closed:
             return
         self._closed = True
+        self.modules.close()
+        self.var_log.close()
         bye = closing(self.settings.name).encode()
         for session in list(self._sessions):
             try:                         # a last try: what the socket takes now
@@ -212,6 +283,13 @@ class XmlServer:
                 elif isinstance(push, EventPush) and push.pending(self.pool):
                     return 0.0
         return wait
+
+    @staticmethod
+    def _event(watcher: Watcher, mask: int) -> None:
+        try:
+            watcher.on_event(mask)
+        except Exception:
+            _log.exception('watcher %r failed', watcher)
 
     def _guarded(self, session: Session, step: Callable[[Session], None]) -> None:
         """Run ``step``; a socket error (or any failure) closes only this session."""
@@ -407,7 +485,7 @@ class XmlServer:
         client.end()
         return []
 
-    def _help(self, client: Session, command: Command) -> list[str]:
+    def help_handler(self, client: Session, command: Command) -> list[str]:
         """``help``: the seed's main help, or ``help CMD``: the help of command CMD."""
         for key, value in command.args:
             entry = self._commands.get(key.lower())

@@ -47,6 +47,8 @@ class ServerSettings:
     min_push_period: float = 0.01
     #: Lines handled per client per turn, so that a flooding client cannot starve the others.
     lines_per_turn: int = 50
+    #: Directory of the var logfile ``<name>.var.log`` (AURS's dataPath; ``var log``).
+    data_path: str = '.'
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not NAME.fullmatch(self.name):
@@ -62,6 +64,8 @@ class ServerSettings:
             value = getattr(self, key)
             if isinstance(value, bool) or not isinstance(value, int) or value < least:
                 raise ValueError(f'{key} {value!r} is not an integer of at least {least}')
+        if not isinstance(self.data_path, str) or not self.data_path:
+            raise ValueError(f'data_path {self.data_path!r} is not a directory name')
         if isinstance(self.max_pushes, bool) or not isinstance(self.max_pushes, int) \
                 or self.max_pushes < 0:
             raise ValueError(f'max_pushes {self.max_pushes!r} is not a count')
