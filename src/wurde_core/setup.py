@@ -21,5 +21,7 @@ setup(
     entry_points={'console_scripts': [
         'foo_server = wurde_core.foo_server:main',
         'foo_client = wurde_core.foo_client:main',
+        # The guide's program name (appendix 10.1.1), so that its configuration runs as printed.
+        'fooServer = wurde_core.foo_server:main',
     ]},
 )

@@ -28,6 +28,13 @@ EXECUTABLES = {
     'ros_inputs': 'ros_inputs.module',
     # The guide's program name, so that its configurations run as printed (1.1.5).
     'blindTeleop': 'blind_teleop.program',
+    # The guide's driver names: chapter 1's (1.1.5) and the appendix's (10.1.1).
+    'sickServer': 'sick.module',
+    'sickLaser': 'sick.module',
+    'rFlexServerII': 'rflex.module',
+    'rFlexServer': 'rflex.module',
+    'safePTUserver': 'ptu.module',
+    'visionModule': 'vision.module',
 }
 
 #: The shipped vision operators (WURDE guide 7.2.3), found by type name (wurde_drivers.vision.registry).

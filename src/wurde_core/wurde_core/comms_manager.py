@@ -12,7 +12,9 @@ Nothing blocks longer than asked: waits are sliced so that signals and state com
 within :data:`WAIT_SLICE_S`.  ``step()`` is the deterministic single step for tests.
 
 Run states (guide 5.2.1).  ``run_update()`` returns only RUN or QUIT, so the guide's loop is
-correct as printed: the module lives through the MCP's other states.
+correct as printed: the module lives through the MCP's other states.  A program whose loop
+interprets the states itself, as the guide's main does, asks for them with
+:meth:`CommsManager.set_return_states`; then none of the defaults below runs.
 
 - **Idle**: ``run_update`` does not return; it carries only heartbeat and MCP traffic (no data in
   or out, no busy wait: it sleeps on those channels) until the state is Run again or Quit.
@@ -122,6 +124,8 @@ class CommsManager:
         self._sleep_enabled = True
         self._pre_sleep = False
         self._heartbeat_enabled = True
+        self._trust_ttl = False
+        self._return_states = False
         self._objects: list[RobotObject] = []
         self._system_objects: list[RobotObject] = []
         self._triggers: list[Trigger] = []
@@ -226,10 +230,16 @@ class CommsManager:
         """Sleep after exchanging data (the default)."""
         self._pre_sleep = False
 
-    def set_heartbeat_only(self, ttl: float) -> None:
-        """Set the heartbeat TTL to ``ttl`` seconds (the guide's setHeartbeatOnly)."""
+    def set_heartbeat_only(self, ttl: float, *, trust: bool = False) -> None:
+        """Set the heartbeat TTL to ``ttl`` seconds (the guide's setHeartbeatOnly, 6.1: the TTL is
+        how long the MCP waits).  The MCP clamps TTLs to 1-10 s unless the module says ``trust``:
+        then it waits up to the announced TTL (at most 300 s), for a loop that may really stay
+        away that long (a long computation between two ``run_update`` calls)."""
         self._ttl_s = float(ttl)
         self._heartbeat_enabled = True
+        if trust != self._trust_ttl:
+            self._trust_ttl = trust
+            self._describe()
 
     def set_no_heartbeat(self) -> None:
         """Send no heartbeat (the MCP will not watch this module)."""
@@ -335,7 +345,7 @@ class CommsManager:
 
     def _describe(self) -> None:
         if self._heartbeat is not None and self.node is not None:
-            self._heartbeat.describe(self.state, self._objects)
+            self._heartbeat.describe(self.state, self._objects, trust_ttl=self._trust_ttl)
 
     # -- life cycle ----------------------------------------------------------------------------
     def _open(self) -> None:
@@ -415,6 +425,14 @@ class CommsManager:
             raise InvalidValueError('Quit ends the loop; act on it after run_update returns QUIT')
         self._hooks.setdefault(state, []).append(callback)
 
+    def set_return_states(self, enabled: bool = True) -> None:
+        """Let ``run_update`` return Idle, Reset and Restart to the program's loop, as the guide's
+        main loop interprets them (5.2.1): each call in such a state is one turn on the heartbeat
+        and MCP channels only (no data in or out) and returns the state, until the MCP sets
+        another or the program calls :meth:`set_run`.  ``on_state`` callbacks for Reset and
+        Restart still handle those states instead; no defaults run."""
+        self._return_states = enabled
+
     def set_run(self) -> None:
         """Return to Run after handling Idle, Reset or Restart."""
         self._change_state(RunState.RUN)
@@ -447,6 +465,8 @@ class CommsManager:
             state = self.state
             if state in (RunState.RUN, RunState.QUIT):
                 return
+            if self._return_states and (state == RunState.IDLE or not self._hooks.get(state)):
+                return                                  # the program's loop handles it
             if state == RunState.IDLE:
                 self._idle_turn()
                 if not block:
@@ -493,6 +513,10 @@ class CommsManager:
             self._start()
         self._settle()
         if self.state == RunState.QUIT:
+            return self.state
+        if self.state != RunState.RUN:                  # set_return_states: the loop's to handle
+            self._idle_turn()
+            self._settle()
             return self.state
         if self._sleep_enabled and self._pre_sleep:
             self._nap(self._sleep_s)

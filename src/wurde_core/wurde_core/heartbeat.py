@@ -86,9 +86,11 @@ class ModuleHeartbeat:
         self._last_beat: float | None = None
         self.beats = 0
 
-    def describe(self, state: RunState, objects: Sequence[RobotObject]) -> None:
-        """Publish the process description (info) for the program's ``objects`` in ``state``;
-        called at start and on every change."""
+    def describe(self, state: RunState, objects: Sequence[RobotObject], *,
+                 trust_ttl: bool = False) -> None:
+        """Publish the process description (info) for the program's ``objects`` in ``state``
+        (``trust_ttl``: the MCP is to trust a TTL beyond its usual ceiling); called at start and
+        on every change."""
         info = self.obj.info
         info.managed.set_value(managed_state())
         info.locale.set_value(ProcessLocale.INTERNAL)
@@ -103,6 +105,7 @@ class ModuleHeartbeat:
         info.consumed_interfaces.set_value([o.interface_name for o in consumed])
         info.consumed_streams.set_value([o.stream or '' for o in consumed])
         info.consumed_objects.set_value([o.object_name for o in consumed])
+        info.trust_ttl.set_value(trust_ttl)
         self.obj.publish_info()
 
     @staticmethod

@@ -21,14 +21,20 @@ def configured_device(manager: CommsManager, argv: list[str], file_name: str,
     """Parse the options and return the ``<device>`` of the config named like the module.
 
     ``-c FILE`` names the config (default ``file_name`` in the config directory) and ``-n`` the
-    module, which picks its device by name (WURDE 7.5). A bad config ends the program with status
-    2 and ``file:line: reason`` on stderr.
+    module, which picks its device by name (WURDE 7.5). Without ``-n``, a config whose one
+    ``<device>`` is not named like the program's default names the module after itself: the
+    guide's appendix runs ``rFlexServer`` and ``sickLaser`` with no options on its one-device
+    files (10.1.1, 10.1.4, 10.1.5). A bad config ends the program with status 2 and
+    ``file:line: reason`` on stderr.
     """
     manager.set_help_string(f'  -c FILE  {file_name} (default: <config dir>/{file_name})\n'
                             '  -n NAME  the module and stream name; picks the <device> by name')
     opts = manager.parse_options(argv, 'c:')
     path = config_file(manager, opts.user.get('c'), file_name)
     try:
-        return device_named(load(path), manager.name, path=path)
+        devices = load(path)
+        if opts.name is None and len(devices) == 1 and devices[0].name != manager.name:
+            manager.parse_options([argv[0], '-n', devices[0].name, *argv[1:]], 'c:')
+        return device_named(devices, manager.name, path=path)
     except ConfigError as error:
         raise SystemExit(exit_on_config_error(argv[0], error)) from None

@@ -43,7 +43,7 @@ class _Spinner:
 
 def test_lifecycle_transitions_drive_the_modules(tmp_path, table) -> None:
     config, mappings = write_config(tmp_path, worker('Life'))
-    with start_mcp(tmp_path, config, mappings) as mcp:
+    with start_mcp(tmp_path, config, mappings, '--lifecycle') as mcp:
         node = table.manager.node
         change = node.create_client(ChangeState, '/MCP/change_state')
         get = node.create_client(GetState, '/MCP/get_state')
@@ -153,7 +153,8 @@ def test_assigned_consumer_receives_data_also_after_its_supplier_restarts(tmp_pa
 
     def values() -> list[float]:
         text = log.read_text() if log.exists() else ''
-        return [float(line.split()[-1]) for line in text.splitlines()
+        complete = text[:text.rfind('\n') + 1]          # the listener may be writing the last line
+        return [float(line.split()[-1]) for line in complete.splitlines()
                 if line.startswith('VALUE FooServer')]
 
     def wait_for(predicate, what: str) -> None:

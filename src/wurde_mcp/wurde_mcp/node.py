@@ -1,6 +1,8 @@
 """The MCP executable: a WURDE module and a ROS 2 lifecycle node (seed: WURDE chapter 6).
 
-``mcp -c mcp-config.xml -m mcp-mappings.xml [-a]`` (``ros2 run wurde_mcp mcp ...``):
+``mcp -c mcp-config.xml -m mcp-mappings.xml`` (``ros2 run wurde_mcp mcp ...``), as the guide
+types it (chapter 6), reads its files and starts the system: it configures and activates at once.
+With ``--lifecycle`` it stays unconfigured and waits for the lifecycle transitions:
 
 - configure: read the configuration and mappings (refusing bad ones with file, line and reason)
   and run the registration pass — each internal binary is started with ``-r`` and reports what it
@@ -9,7 +11,10 @@
 - deactivate: set every module to Idle;
 - cleanup and shutdown: Quit every module and reap the internal ones.
 
-``-a`` configures and activates at once.  ``-n NAME`` (or ``WURDE_MCP_NAME``) names the MCP when
+``-a`` (configure and activate at once) is the default and still accepted.  Activation starts
+every internal module the configuration lists (listing a module is asking for it; chapter 6's
+daemon starts modules on request) and, from then on, a supplier a consumer asks for that is not
+running (6.3).  ``-n NAME`` (or ``WURDE_MCP_NAME``) names the MCP when
 several share a domain, one per host: its streams are then ``mcp/NAME`` and ``mcp_control/NAME``,
 its modules are told its name, and it commands only its own (see ``Supervisor.owns``).  Transitions are driven with the standard lifecycle
 services (``/MCP/change_state``), so any ROS 2 lifecycle tool can drive the MCP.  The MCP is one
@@ -37,6 +42,8 @@ from .supervisor import MAX_RESTARTS, RESTART_WINDOW_S, Supervisor
 
 #: How long the registration pass waits for the binaries started with -r.
 REGISTRATION_TIMEOUT_S = 15.0
+#: Keeps the MCP unconfigured until a lifecycle transition (without it the MCP starts the system).
+LIFECYCLE_FLAG = '--lifecycle'
 
 
 class McpNode(LifecycleNode):
@@ -199,10 +206,15 @@ class Mcp:
 
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
+    own_end = argv.index('--ros-args') if '--ros-args' in argv else len(argv)
+    lifecycle = LIFECYCLE_FLAG in argv[1:own_end]      # a long option: not getopt's (5.1.1)
+    argv = [a for i, a in enumerate(argv) if not (0 < i < own_end and a == LIFECYCLE_FLAG)]
     manager = CommsManager(mcp_name(), node_type=McpNode)
     manager.set_help_string('  -c FILE  MCP configuration (default: role config, mcp-config.xml)\n'
                             '  -m FILE  MCP mappings (default: role config, mcp-mapping.xml)\n'
-                            '  -a       configure and activate at once\n'
+                            '  -a       configure and activate at once (the default)\n'
+                            f'  {LIFECYCLE_FLAG}  stay unconfigured: wait for lifecycle transitions '
+                            '(/MCP/change_state)\n'
                             f'  -k N     restarts of a module within {RESTART_WINDOW_S:.0f} s before giving '
                             f'up (default {MAX_RESTARTS})')
     manager.parse_options(argv, 'c:m:ak:')
@@ -219,7 +231,11 @@ def main(argv: list[str] | None = None) -> int:
         print(f'mcp: -k needs a number, not {role.get_option("k")!r}', file=sys.stderr)
         return 2
     mcp = Mcp(manager, config_file, mappings_file, max_restarts)
-    if role.have_option('a'):
+    if role.have_option('a') and lifecycle:
+        print(f'mcp: -a and {LIFECYCLE_FLAG} contradict each other', file=sys.stderr)
+        manager.clean_up()
+        return 2
+    if not lifecycle:
         if mcp.node.trigger_configure() != TransitionCallbackReturn.SUCCESS \
                 or mcp.supervisor is None:
             manager.clean_up()

@@ -46,6 +46,10 @@ RESTART_WINDOW_S = 60.0
 #: for over 0.3 s; a beat still comes at least every 0.1 s, so the floor only delays the verdict
 #: on a module that really hangs.
 TTL_RANGE_S = (1.0, 10.0)
+#: The ceiling for a module that asks to be trusted (its heartbeat info's ``trust_ttl``,
+#: ``CommsManager.set_heartbeat_only(ttl, trust=True)``): guide 6.1's TTL is how long the MCP
+#: waits, and a loop may really stay away longer than 10 s; five minutes bounds a typo.
+TRUSTED_TTL_MAX_S = 300.0
 #: Slack on top of the TTL before a silent module is a zombie.
 TTL_GRACE_S = 0.05
 #: A module silent past its TTL whose process is runnable or uses CPU is starved, not hung
@@ -111,6 +115,10 @@ class Module:
     #: The MCP the module says it belongs to (its heartbeat info; empty: none named or not heard
     #: yet).
     owner: str = ''
+    #: The TTL its last beat announced, and whether it asks for it to be trusted beyond
+    #: :data:`TTL_RANGE_S` (its heartbeat info); :attr:`ttl` is what the MCP makes of them.
+    announced_ttl: float = 1.0
+    trust_ttl: bool = False
 
     @property
     def name(self) -> str:
@@ -398,6 +406,9 @@ class Supervisor:
             module.pid = info.pid.get_value()
             module.host = info.host.get_value()
             module.owner = info.mcp.get_value()
+            if module.trust_ttl != bool(info.trust_ttl.get_value()):
+                module.trust_ttl = not module.trust_ttl
+                self._judge_ttl(module)
             module.supplies = list(zip(info.interfaces.get_value(), info.streams.get_value()))
             described = True
             self._changed = True
@@ -406,14 +417,8 @@ class Supervisor:
         beats = 0
         while heartbeat.get_next_data():
             beats += 1
-            ttl = heartbeat.data.ttl
-            low, high = TTL_RANGE_S
-            if not math.isfinite(ttl) or not low <= ttl <= high:
-                clamped = min(max(ttl if math.isfinite(ttl) else high, low), high)
-                if module.ttl != clamped:
-                    g_warn(f'MCP: {module.name} announces TTL {ttl!r} s; using {clamped} s')
-                ttl = clamped
-            module.ttl = ttl
+            module.announced_ttl = heartbeat.data.ttl
+            self._judge_ttl(module)
         if beats:
             module.last_beat = self.clock.now()
             module.last_beat_at = now
@@ -424,6 +429,21 @@ class Supervisor:
                 module.ever_active = True
                 self._changed = True
                 g_info(f'MCP: {module.name} is alive')
+
+    @staticmethod
+    def _judge_ttl(module: Module) -> None:
+        """Take the module's announced TTL within :data:`TTL_RANGE_S` (up to
+        :data:`TRUSTED_TTL_MAX_S` when it asks to be trusted); again whenever either changes."""
+        ttl = module.announced_ttl
+        low, high = TTL_RANGE_S[0], TRUSTED_TTL_MAX_S if module.trust_ttl else TTL_RANGE_S[1]
+        if not math.isfinite(ttl) or not low <= ttl <= high:
+            clamped = min(max(ttl if math.isfinite(ttl) else high, low), high)
+            if module.ttl != clamped:
+                g_warn(f'MCP: {module.name} announces TTL {ttl!r} s; using {clamped} s'
+                       + ('' if module.trust_ttl or ttl < low else
+                          ' (set_heartbeat_only(ttl, trust=True) asks the MCP to trust it)'))
+            ttl = clamped
+        module.ttl = ttl
 
     def _check_exit(self, module: Module, now: float) -> None:
         process = module.process

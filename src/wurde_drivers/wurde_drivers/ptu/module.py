@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 import sys
 import time
 
@@ -50,6 +51,10 @@ REPLY_TIMEOUT_S = 0.1
 CONNECT_TIMEOUT_S = 0.5
 #: Least time between two connection attempts (s).
 RETRY_S = 1.0
+#: The guide's chapter 1 (1.1.5) runs the PTU server as ``safePTUserver``, with no options, and
+#: maps its PTUnit stream as ``SafePTUServer``: so named, without ``-n``, the module is
+#: ``safePTUserver`` and its stream ``SafePTUServer``.
+GUIDE_PROGRAM, GUIDE_STREAM = 'safePTUserver', 'SafePTUServer'
 
 _READ_ONLY = ('pan_min', 'pan_max', 'tilt_min', 'tilt_max', 'pan_resolution', 'tilt_resolution')
 _NUMBERS = ('pan', 'tilt', 'pan_speed', 'tilt_speed', 'pan_accel', 'tilt_accel')
@@ -260,12 +265,14 @@ class PtuServer:
 
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
-    manager = CommsManager('PTUServer')
+    guide = bool(argv) and os.path.basename(argv[0]) == GUIDE_PROGRAM
+    manager = CommsManager(GUIDE_PROGRAM if guide else 'PTUServer')
     config = configured_device(manager, argv, 'ptu-config.xml', load_ptu_config)
+    stream_name = GUIDE_STREAM if guide and manager.options.name is None else manager.name
     device = Ptu46(SerialLink(config.port, config.baud, retry_s=RETRY_S),
                    reply_timeout=REPLY_TIMEOUT_S, reset_timeout=CONNECT_TIMEOUT_S,
                    connect_timeout=CONNECT_TIMEOUT_S)
-    stream = PTUnit(manager.name)
+    stream = PTUnit(stream_name)
     stream.set_auto_timestamp(False)
     # Every request in order: each sets only some members, so keeping just the latest of two
     # that arrive within one loop would lose the first's (a halt, a mode change).
