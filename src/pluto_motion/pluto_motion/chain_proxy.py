@@ -11,10 +11,11 @@ import time
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from wurde_core import CommsManager, RunState
+from wurde_core import CommsManager
 from wurde_core.interfaces import ActuatorState, FVectorState
 
 from .drive_command import RELEASE
+from .proxy import Proxy
 from .task import Task, TaskResult
 
 #: Seconds between sends of a goal command the link has not echoed yet.
@@ -32,13 +33,13 @@ def _starts(values: Sequence[float], prefix: Sequence[float]) -> bool:
     return len(values) >= len(prefix) and all(math.isclose(a, b, abs_tol=1e-4) for a, b in zip(values, prefix))
 
 
-class ChainProxy:
+class ChainProxy(Proxy):
     """A chain link as seen from ``manager``: requests on ``command``, status from ``status``."""
 
     def __init__(self, manager: CommsManager, command: str, status: str, *, queue_mode: bool = False) -> None:
         """:param queue_mode: keep every status (:meth:`update` returns them all), not the newest,
             and every echo of an accepted command (``command.get_next_data()``)."""
-        self.manager = manager
+        super().__init__(manager)
         self.command = ActuatorState(command)
         self.status = FVectorState(status)
         self.command.set_queue_mode(queue_mode)
@@ -51,8 +52,6 @@ class ChainProxy:
         self.stamp = 0.0
         #: The link's newest echo of a command it accepted: (cmdFlags, position, stamp).
         self.echo: tuple[int, list[float], float] | None = None
-        #: Objects whose request waits for the link's reader to be matched (see :meth:`_request`).
-        self._held: list[Any] = []
         #: The newest command sent and not yet echoed: (cmdFlags, position + velocity, when it
         #: went, refusals then); see :meth:`_resend_unechoed`.
         self._unechoed: tuple[int, list[float], list[float], float, int] | None = None
@@ -64,18 +63,6 @@ class ChainProxy:
         self._unreported_echoes: collections.deque[Any] = collections.deque(maxlen=UNREPORTED_MAX)
         #: Statuses taken in and not yet returned by update() (the newest 1000, as a queue).
         self._unreported: collections.deque[Any] = collections.deque(maxlen=UNREPORTED_MAX)
-
-    def _request(self, obj: Any) -> bool:
-        """Publish ``obj``'s request now, or hold it while the link's reader is not matched yet
-        (a request channel keeps nothing for a reader that comes later, so a command typed or
-        sent before discovery finished would be lost): :meth:`update` publishes the newest
-        request of each held object, in the order they were held, once it is.  Whether it went
-        now."""
-        if obj.peers('request'):
-            return obj.publish_request()
-        if obj not in self._held:
-            self._held.append(obj)
-        return False
 
     def _send(self, flags: int, velocity: Sequence[float], position: Sequence[float],
               force: Sequence[float] = ()) -> bool:
@@ -202,8 +189,7 @@ class ChainProxy:
         """Send held requests whose reader is matched now; take in the statuses for :meth:`update`
         to report (a task's poll must not swallow them: a caller that lists them saw a goto end
         without its final status)."""
-        while self._held and self._held[0].peers('request'):
-            self._held.pop(0).publish_request()
+        self._send_held()
         while self.status.get_next_data():
             self.data, self.element = list(self.status.data.data), list(self.status.data.element)
             self.stamp = self.status.data.timestamp.get_seconds()
@@ -220,21 +206,3 @@ class ChainProxy:
     def code(self) -> int | None:
         """element[0] (None before the first status)."""
         return self.element[0] if self.element else None
-
-    def wait_for(self, test: Callable[[Any], bool], timeout: float) -> bool:
-        """Run the manager's loop until ``test(self)`` holds; False after ``timeout`` s or on Quit."""
-        deadline = time.monotonic() + timeout
-        while True:
-            self._exchange()
-            if test(self):
-                return True
-            if time.monotonic() >= deadline or not self.spin_once(0.05):
-                return False
-
-    def spin_once(self, timeout: float) -> bool:
-        """One turn of the manager's loop, waiting at most ``timeout`` s for something to arrive;
-        False when the module is to quit."""
-        if self.manager.run_update() != RunState.RUN:
-            return False
-        self.manager.wait(timeout)
-        return True

@@ -29,10 +29,11 @@ bumper, 3 sonar front, 4 sonar back, 5 sonar sides; element[1] (ours) the number
 commands.  A request on ``drive/status`` writing element[0] = 0 starts the thread (the proxy's
 start_activity; starting twice does nothing), -10 stops it.
 
-Not done: Pluto 6.1's odometry calibration ("The calibration data are read from a file and written
-to the baseserver when the drive module is started").  The seed gives neither the file's format nor
-the baseserver call, and our bases have no calibration input; there is nothing faithful to read or
-to write.
+Odometry calibration (Pluto 6.1: "The calibration data are read from a file and written to the
+baseserver when the drive module is started"): ``-k FILE`` (default ``odometry-calibration.yaml``
+in the config directory, when it exists; :mod:`pluto_nav.odometry_calibration`) is read at start
+and set in the base (:mod:`pluto_motion.base_calibration`); a wrong file stops the start with
+file:line and reason.
 
 Options: ``-b BASE`` (default PlutoBase), ``-v MAX_TV`` (m/s, 1.0), ``-w MAX_RV`` (rad/s, 1.5),
 ``-a TV_ACCEL`` (m/s^2, 0.5), ``-A RV_ACCEL`` (rad/s^2, 1.5), ``-t TIMEOUT`` (s, 4).  The same
@@ -43,14 +44,19 @@ the node, starting from the options, that ``ros2 param set`` or a ``--params-fil
 from __future__ import annotations
 
 import math
+import os
 import sys
 import time
 
 from wurde_core import CommsManager, Logger
 from wurde_core.interfaces import ActuatorState, Bumper, RangeFinder
-from wurde_core.module_loop import run_loop, set_loop
+from wurde_core.module_loop import config_file, run_loop, set_loop
+from wurde_idl.errors import ConfigError
+
+from pluto_nav.odometry_calibration import DEFAULT_FILE, Calibration, read_calibration
 from wurde_core.parameters import TunedSettings
 
+from .base_calibration import BaseCalibration
 from .chain_link import ChainLink
 from .drive_command import COMMAND, STATUS, DriveCommand, Mode, parse_command
 from .drive_control import DriveController, DriveSettings
@@ -78,13 +84,16 @@ HELP = ('  -b BASE      the base module (default PlutoBase): writes <BASE>Comman
         '  -w MAX_RV    angular velocity limit, rad/s (1.5)\n'
         '  -a TV_ACCEL  linear acceleration limit, m/s^2 (0.5)\n'
         '  -A RV_ACCEL  angular acceleration limit, rad/s^2 (1.5)\n'
-        '  -t TIMEOUT   seconds without a command before the drive stops (4)')
+        '  -t TIMEOUT   seconds without a command before the drive stops (4)\n'
+        '  -k FILE      the odometry calibration set in the base at start (default\n'
+        '               odometry-calibration.yaml in the config directory, if there is one)')
 
 
 class DriveModule:
     """The driveModule's streams around a :class:`DriveController`."""
 
-    def __init__(self, manager: CommsManager, logger: Logger, settings: DriveSettings, *, base: str) -> None:
+    def __init__(self, manager: CommsManager, logger: Logger, settings: DriveSettings, *, base: str,
+                 calibration: Calibration | None = None) -> None:
         self.manager, self.logger = manager, logger
         self.control = DriveController(settings)
         self.link = ChainLink(manager, logger, COMMAND, STATUS,
@@ -108,6 +117,9 @@ class DriveModule:
         self.link.commands.set_auto_timestamp(False)
         self.base_stopped = False
         self.tuned = TunedSettings(manager, settings, TUNABLES)
+        self.calibration = (BaseCalibration(self.base, calibration,
+                                            lambda text: logger.notice(f'{manager.name}: {text}'))
+                            if calibration is not None else None)
 
     # -- inputs ----------------------------------------------------------------------------------
     def _accept(self, command: DriveCommand, now: float) -> None:
@@ -162,6 +174,8 @@ class DriveModule:
         now, self.loop_stamp = time.monotonic(), self.manager.now()   # one instant: rates, stamps
         dt, self.last_step = min(now - self.last_step, MAX_DT), now
         self.link.take_commands(now)
+        if self.calibration is not None:
+            self.calibration.step()
         self._take_sensors(now)
         self.heading.update()
         regulating = self.control.command.mode is Mode.REGULATOR and self.control.running
@@ -193,19 +207,28 @@ def _settings(manager: CommsManager, user: dict[str, str]) -> DriveSettings:
     return DriveSettings(**values)
 
 
+def _calibration(manager: CommsManager, given: str | None) -> Calibration | None:
+    """The calibration file's values: ``-k``'s file (must exist), else the default one if any."""
+    path = config_file(manager, given, DEFAULT_FILE)
+    if not given and not os.path.exists(path):
+        return None
+    return read_calibration(path)
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('driveModule')
     manager.set_help_string(HELP)
-    user = manager.parse_options(argv, 'b:v:w:a:A:t:').user
+    user = manager.parse_options(argv, 'b:v:w:a:A:t:k:').user
     try:
         settings = _settings(manager, user)
-    except ValueError as error:
+        calibration = _calibration(manager, user.get('k'))
+    except (ValueError, ConfigError) as error:
         print(f'drive_module: {error}', file=sys.stderr, flush=True)
         return 2
     logger = Logger(manager.name)
     manager.register_supplier(logger)
-    module = DriveModule(manager, logger, settings, base=user.get('b', 'PlutoBase'))
+    module = DriveModule(manager, logger, settings, base=user.get('b', 'PlutoBase'), calibration=calibration)
     set_loop(manager, LOOP_S)
     logger.notice(f'{manager.name}: driving {user.get("b", "PlutoBase")}Command; {settings}')
     return run_loop(manager, module.step, module.close)

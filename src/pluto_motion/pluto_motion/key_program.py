@@ -1,9 +1,12 @@
 """What Pluto's keyboard programs share (Pluto 5: "each module has a simple user interface that
-allows control from the keyboard ... xxx_i"): ``drive_i``, ``avoid_i`` and ``motion_i``.
+allows control from the keyboard ... xxx_i"): the terminal, the loop, ``q`` to quit, a help line
+for an unknown key and a status line printed when it changes (:class:`Keys`, :func:`run_program`)
+— for every program: the chain's ``drive_i``, ``avoid_i``, ``motion_i`` (:class:`KeyProgram`) and
+``base_i``, ``wrist_i``, ``sick_i``, ``dmu_i``, ``gpsmeter``, ``slam_i``, ``local_i``.
 
-Arrow keys change the speed: up/down by 0.1 m/s, left/right by 0.1 rad/s.  Each press starts from the
-link's status data[0..1], the velocities really commanded, not from the last command sent: "By first
-reading the status the interface knows the working command value" (Pluto 6.1) — after a timeout or
+The chain's programs: arrow keys change the speed: up/down by 0.1 m/s, left/right by 0.1 rad/s.
+Each press starts from the link's status data[0..1], the velocities really commanded, not from the
+last command sent: "By first reading the status the interface knows the working command value" (Pluto 6.1) — after a timeout or
 a stop a press continues from standstill.  The programs do not repeat commands, so the drive's
 timeout stops a robot whose keyboard has gone quiet, as the seed intends.  Space stops, ``a``
 starts the threads (start_activity), ``r`` releases the robot (cmdFlags -1), ``q`` stops and quits;
@@ -21,7 +24,7 @@ from wurde_core.module_loop import run_loop, set_loop
 
 from .keyboard import Keyboard
 
-__all__ = ['KeyProgram', 'run_program']
+__all__ = ['KeyProgram', 'Keys', 'run_program', 'step_velocity']
 
 STEP_TV, STEP_RV = 0.1, 0.1
 MAX_TV, MAX_RV = 1.0, 1.5
@@ -36,10 +39,19 @@ def _clamp(value: float, limit: float) -> float:
     return max(-limit, min(limit, round(value, 3)))
 
 
-class KeyProgram:
-    """One link's keys over its proxy (a :class:`pluto_motion.chain_proxy.ChainProxy`)."""
+def step_velocity(key: str, tv: float, rv: float) -> tuple[float, float]:
+    """An arrow key's new (tv, rv) from the working ones: up/down 0.1 m/s, left/right 0.1 rad/s."""
+    tv += {'up': STEP_TV, 'down': -STEP_TV}.get(key, 0.0)
+    rv += {'left': STEP_RV, 'right': -STEP_RV}.get(key, 0.0)
+    return _clamp(tv, MAX_TV), _clamp(rv, MAX_RV)
 
-    #: Keys of the link's own commands and what they do, for the help line.
+
+class Keys:
+    """A keyboard program's keys over its proxy (a :class:`pluto_motion.proxy.Proxy`): ``q``
+    quits, the program's own keys (:meth:`act`), the help line for any other, and the status line
+    (:meth:`status`) printed whenever it changes."""
+
+    #: Keys of the program's own commands and what they do, for the help line.
     KEYS = ''
 
     def __init__(self, proxy: Any, ask: Callable[[str, int], list[float] | None], out: IO[str] = sys.stdout) -> None:
@@ -48,6 +60,48 @@ class KeyProgram:
 
     def say(self, text: str) -> None:
         print(text, file=self.out, flush=True)
+
+    def help_line(self) -> str:
+        return f'keys: {self.KEYS + ", " if self.KEYS else ""}q quit'
+
+    def act(self, key: str) -> bool:
+        """The program's own keys; False when ``key`` is not one of them."""
+        return False
+
+    def quit(self) -> None:
+        """What to do before quitting (a device left at rest)."""
+
+    def press(self, key: str) -> bool:
+        """Act on ``key``; False on quit."""
+        if key == 'q':
+            self.quit()
+            self.say('quit')
+            return False
+        if not self.act(key):
+            self.say(self.help_line())
+        return True
+
+    def status(self) -> str:
+        """The status line ('' when there is nothing to show yet)."""
+        return ''
+
+    def show_status(self) -> None:
+        """Print the status when it changes."""
+        self.proxy.update()
+        text = self.status()
+        if text and text != self.shown:
+            self.shown = text
+            self.say(text)
+
+    def start(self) -> None:
+        """At start, before the first key."""
+
+    def close(self) -> None:
+        """At the end, after the loop (a last command delivered)."""
+
+
+class KeyProgram(Keys):
+    """One chain link's keys over its proxy (a :class:`pluto_motion.chain_proxy.ChainProxy`)."""
 
     # -- what each link defines ------------------------------------------------------------------
     def velocity(self, tv: float, rv: float) -> str:
@@ -67,9 +121,7 @@ class KeyProgram:
         """Act on ``key``; False on quit."""
         tv, rv = self.proxy.velocities or (0.0, 0.0)          # the working command (Pluto 6.1)
         if key in ('up', 'down', 'left', 'right'):
-            tv += {'up': STEP_TV, 'down': -STEP_TV}.get(key, 0.0)
-            rv += {'left': STEP_RV, 'right': -STEP_RV}.get(key, 0.0)
-            tv, rv = _clamp(tv, MAX_TV), _clamp(rv, MAX_RV)
+            tv, rv = step_velocity(key, tv, rv)
             self.say(f'command tv {tv:+.2f} m/s rv {rv:+.2f} rad/s{self.velocity(tv, rv)}')
         elif key == 'space':
             self.velocity(0.0, 0.0)
@@ -85,8 +137,17 @@ class KeyProgram:
             self.say('quit')
             return False
         elif not self.key(key, tv, rv):
-            self.say(f'keys: {COMMON_KEYS}{", " + self.KEYS if self.KEYS else ""}')
+            self.say(self.help_line())
         return True
+
+    def help_line(self) -> str:
+        return f'keys: {COMMON_KEYS}{", " + self.KEYS if self.KEYS else ""}'
+
+    def start(self) -> None:
+        self.proxy.start_activity()      # held until the link is matched, as every command
+
+    def close(self) -> None:
+        self.proxy.command.wait_delivered(1.0)      # the last stop reaches the link
 
     def show_status(self) -> None:
         """Print the status when it changes."""
@@ -102,7 +163,7 @@ class KeyProgram:
 
 
 def run_program(name: str, options: str, help_text: str,
-                make: Callable[[CommsManager, dict[str, str], Callable[[str, int], list[float] | None]], KeyProgram],
+                make: Callable[[CommsManager, dict[str, str], Callable[[str, int], list[float] | None]], Keys],
                 argv: list[str] | None = None) -> int:
     """The keyboard program's main: options, the terminal in cbreak mode, the loop."""
     argv = list(sys.argv if argv is None else argv)
@@ -128,10 +189,15 @@ def run_program(name: str, options: str, help_text: str,
             return None
         return values
 
-    program = make(manager, user, ask)
+    try:
+        program = make(manager, user, ask)
+    except ValueError as error:          # a bad option value
+        print(f'{name}: {error}', file=sys.stderr, flush=True)
+        manager.clean_up()
+        return 2
     set_loop(manager, LOOP_S)
-    print(f'keys: {COMMON_KEYS}{", " + program.KEYS if program.KEYS else ""}', flush=True)
-    program.proxy.start_activity()      # held until the link is matched, as every command
+    print(program.help_line(), flush=True)
+    program.start()
 
     def step() -> None:
         program.show_status()
@@ -140,8 +206,5 @@ def run_program(name: str, options: str, help_text: str,
                 manager.set_state(RunState.QUIT)
                 break
 
-    def close() -> None:
-        program.proxy.command.wait_delivered(1.0)      # the last stop reaches the link
-
     with keyboard:
-        return run_loop(manager, step, close)
+        return run_loop(manager, step, program.close)

@@ -10,11 +10,17 @@ command                what
                        localization shows it, start the thread again and wait for setter 1
 ``wall``               find the longest wall in front: element[1] = 2, wait for the answer, print
                        the number of points, gamma, rho (laser frame) and their standard deviations
+``calibrate [D A]``     calibrate the odometry against the wall in front (Pluto 7.1): back away
+                       ``D`` m (1), turn ``A`` rad (0.5) and back, through the driveModule; the
+                       find-wall's distances and angles against the odometry's give the new
+                       scales, written to the calibration file (:mod:`.calibration_run`,
+                       :mod:`.odometry_calibration`) for the driveModule's next start
 ``quit``               end
 ====================== ==========================================================================
 
 Each command prints one line beginning ``ok`` or ``error``; waits give up after ``-t SECONDS``
-(default 10).
+(default 10).  ``-b BASE`` (PlutoBase) is the base whose odometry ``calibrate`` reads, ``-k FILE``
+the calibration file it writes (default ``odometry-calibration.yaml`` in the config directory).
 """
 
 from __future__ import annotations
@@ -23,11 +29,15 @@ import math
 import select
 import sys
 import time
+from collections.abc import Callable
 
 from wurde_core import CommsManager, RunState
 from wurde_core.interfaces import FVectorState
+from wurde_core.module_loop import config_file
 
+from .calibration_run import CalibrationRun
 from .loc_proxy import LocProxy
+from .odometry_calibration import DEFAULT_FILE, write_calibration
 from .streams import NOBODY, POSE, POSE_SETTER, USER_SETTER
 
 __all__ = ['main']
@@ -113,13 +123,46 @@ class PoseInterface:
             return 'error: the pose thread did not take over'
         return f'ok set {x:.3f} {y:.3f} {theta:.4f}'
 
-    def wall(self) -> str:
+    def _find_wall(self) -> str:
+        """Run the find-wall: '' once its answer is in element[1] and data, else the error."""
         self._take_status()
         self.searching = False
         if not self._request([self.element[0] if self.element else 1, 2]):
             return 'error: no poseModule reads pose/status requests'
         if not self._until(lambda: self.searching and self.element[1] >= 0):
             return 'error: no answer from the find-wall'
+        return ''
+
+    def calibrate(self, run: CalibrationRun, path: str, distance: float = 1.0, angle: float = 0.5) -> str:
+        """Measure the odometry against the wall in front and write the calibration file."""
+        if not (0.1 <= distance <= 5.0 and 0.1 <= angle <= 0.7):
+            return 'error: calibrate D A wants 0.1 <= D <= 5 m and 0.1 <= A <= 0.7 rad'
+
+        def wall() -> tuple[float, float] | str:
+            problem = self._find_wall()
+            if problem:
+                return problem
+            if self.element[1] == 0:
+                return 'error: no wall in front'
+            return self.data[0], self.data[1]
+
+        measured = run.run(wall, distance, angle)
+        if isinstance(measured, str):
+            return measured if measured.startswith('error') else f'error: {measured}'
+        try:
+            write_calibration(path, measured.new)
+        except (OSError, ValueError) as error:
+            return f'error: {path}: {error}'
+        m = measured
+        return (f'ok calibration distance {m.new.distance:.5f} rotation {m.new.rotation:.5f} '
+                f'(was {m.old.distance:.5f} {m.old.rotation:.5f}; wall {m.true_distance:.4f} m '
+                f'{m.true_angle:.4f} rad, odometry {m.odometry_distance:.4f} m {m.odometry_angle:.4f} rad) '
+                f'written to {path}')
+
+    def wall(self) -> str:
+        problem = self._find_wall()
+        if problem:
+            return problem
         if self.element[1] == 0:
             return 'ok wall none'
         gamma, rho, c00, _, _, c11 = self.data[:6]
@@ -127,7 +170,7 @@ class PoseInterface:
                 f'sigma {math.sqrt(max(c00, 0)):.4f} {math.sqrt(max(c11, 0)):.4f}')
 
 
-def _command(ui: PoseInterface, line: str) -> str | None:
+def _command(ui: PoseInterface, line: str, calibrate: Callable[[list[float]], str]) -> str | None:
     words = line.split()
     if not words:
         return ''
@@ -137,20 +180,26 @@ def _command(ui: PoseInterface, line: str) -> str | None:
     try:
         if name == 'set' and len(args) == 3:
             return ui.set(*(float(a) for a in args))
+        if name == 'calibrate' and len(args) in (0, 2):
+            return calibrate([float(a) for a in args])
         if name in ('pose', 'stop', 'start', 'wall') and not args:
             return getattr(ui, name)()
     except ValueError:
         pass
-    return f'error: unknown command {line.strip()!r} (pose, stop, start, set X Y THETA, wall, quit)'
+    return f'error: unknown command {line.strip()!r} (pose, stop, start, set X Y THETA, wall, calibrate [D A], quit)'
 
 
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('pose_i')
     manager.set_help_string('  -t SECONDS  how long a command waits for an answer (default 10)\n'
-                            '  commands on stdin: pose, stop, start, set X Y THETA, wall, quit')
-    opts = manager.parse_options(argv, 't:').user
+                            '  -b BASE     the base whose odometry calibrate reads (PlutoBase)\n'
+                            '  -k FILE     the calibration file calibrate writes (odometry-calibration.yaml)\n'
+                            '  commands on stdin: pose, stop, start, set X Y THETA, wall, calibrate [D A], quit')
+    opts = manager.parse_options(argv, 't:b:k:').user
     ui = PoseInterface(manager, float(opts.get('t', 10.0)))
+    run = CalibrationRun(manager, opts.get('b', 'PlutoBase'), ui.timeout)
+    path = config_file(manager, opts.get('k'), DEFAULT_FILE)
     print('pose_i ready', flush=True)
     try:
         while manager.run_update() == RunState.RUN:
@@ -160,7 +209,7 @@ def main(argv: list[str] | None = None) -> int:
             line = sys.stdin.readline()
             if not line:
                 break
-            answer = _command(ui, line)
+            answer = _command(ui, line, lambda args: ui.calibrate(run, path, *args))
             if answer is None:
                 break
             if answer:

@@ -21,7 +21,7 @@ from wurde_testing import ChildProcess, find_executable
 
 from wurde_drivers.rflex.codec import Mot, Port
 from wurde_drivers.rflex.emulator import RFlexEmulator
-from wurde_drivers.rflex.robots import ATRV_JR, B21R, RobotParams
+from wurde_drivers.rflex.robots import ATRV2, ATRV_JR, B21IR, B21R, RobotParams
 
 CONFIG = pathlib.Path(__file__).resolve().parents[3] / 'config' / 'rflex'
 #: One range per B21r sonar (m); sonar 5 has no echo. Kept below 4.6 m, where the emulator
@@ -121,6 +121,8 @@ def test_sensor_data_flows_with_the_emulated_values_and_the_brake_stays_set(
 @pytest.mark.parametrize(('robot', 'drive', 'fields'), [
     (B21R, 'SynchroDrive', ('trans', 'angular')),
     (ATRV_JR, 'RobotDrive', ('trans_velocity', 'rot_velocity')),
+    (ATRV2, 'RobotDrive', ('trans_velocity', 'rot_velocity')),           # Pluto's own robot
+    (B21IR, 'SynchroDrive', ('trans', 'angular')),                       # guide 10.1.5's type
 ])
 def test_a_drive_request_moves_the_base_and_a_command_that_stops_coming_stops_it(
         ros_domain: int, tmp_path: pathlib.Path, robot: RobotParams, drive: str,

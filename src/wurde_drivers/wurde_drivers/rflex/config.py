@@ -9,7 +9,8 @@ whether the module should be allowed to reset the brake". The guide leaves the e
               command-timeout="1.0"/>
     </rflex-config>
 
-- ``port``, ``name``, ``type`` (``B21r`` or ``ATRVJr``) are required;
+- ``port``, ``name``, ``type`` (``B21r``, ``ATRVJr``, the appendix's ``B21ir`` (10.1.5: a B21r) or
+  Pluto's ``ATRV2``; :data:`wurde_drivers.rflex.robots.ROBOTS`) are required;
 - ``brake-reset`` (true/false, default false): may the module release the brake;
 - ``command-timeout`` (seconds > 0, default 1.0): the base is stopped when no velocity command
   came for that long.

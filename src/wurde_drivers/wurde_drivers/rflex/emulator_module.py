@@ -5,7 +5,7 @@ default), which ``config/rflex/rflex-config.xml`` names as the port of its ``bas
 base powers up with the brake set and obeys the real protocol
 (:class:`~wurde_drivers.rflex.emulator.RFlexEmulator`). Options::
 
-    -t TYPE      robot type: B21r (default) or ATRVJr, as rflex-config.xml's type
+    -t TYPE      robot type: B21r (default), B21ir, ATRVJr or ATRV2, as rflex-config.xml's type
     -v VOLTS     battery voltage the base reports (default 26)
     -s METRES    range every sonar reads (default: no echo)
 """

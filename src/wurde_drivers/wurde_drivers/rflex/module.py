@@ -43,7 +43,7 @@ from ..streams.base import BaseLimits, BaseStreams, VelocityCommand
 from . import codec
 from .config import RFlexDevice, load_rflex_config
 from .device import BAUDRATE, RFlexDriver
-from .robots import DriveKind, RobotParams
+from .robots import BODY_M, ROBOTS, DriveKind, RobotParams
 
 __all__ = ['RFlexRunner', 'limits_for', 'main']
 
@@ -58,8 +58,8 @@ SILENT_AFTER_S = 0.5
 
 #: Speed limits (m/s, rad/s) and track width (m) per robot type. rflex-config.xml names none;
 #: these are estimates of what the robots can do safely indoors, not manufacturer figures.
-SPEED_LIMITS = {'B21r': (1.0, math.pi / 2), 'ATRVJr': (1.0, math.pi / 2)}
-WHEEL_BASE_M = {'B21r': 0.5, 'ATRVJr': 0.42}
+SPEED_LIMITS = {name: (1.0, math.pi / 2) for name in ROBOTS}
+WHEEL_BASE_M = {name: track for name, (_, _, track) in BODY_M.items()}
 #: Polaroid 6500 sonars: reliable to about 10 m, a beam of about +-12.5 degrees.
 SONAR_MAX_RANGE_M = 10.0
 SONAR_HALF_ANGLE = math.radians(12.5)

@@ -1,6 +1,12 @@
-"""The robots an rFLEX controller drives (B21r, ATRV-Jr): units, sonars, bumpers, conversions.
+"""The robots an rFLEX controller drives (B21r, ATRV-Jr, and Pluto's ATRV2): units, sonars, bumpers,
+conversions.
 
-Pure data and arithmetic; no I/O. WURDE 7.6 supports exactly these two robots.
+Pure data and arithmetic; no I/O. WURDE 7.6 names the B21r and the ATRV-Jr; the guide's appendix
+rflex-config (10.1.5) writes ``type="B21ir"``, which is the B21r here (the same rFLEX body, its
+name as the appendix prints it); ``ATRV2`` is Pluto's own robot (Pluto 2: "ATRV2 (baseserver)").
+No public source gives the ATRV2's rFLEX encoder factors or sonar positions: it takes the
+ATRV-Jr's (the same maker's skid-steer family; Pluto's driveModule calibrates the odometry anyway),
+and differs in its body (:data:`BODY_M`).
 
 **Units per metre / radian** (docs/protocols.md 3 lists two rows per robot):
 
@@ -32,7 +38,7 @@ import enum
 import functools
 import math
 
-__all__ = ['ATRV_JR', 'B21R', 'BumperPanel', 'DriveKind', 'ROBOTS', 'RobotParams',
+__all__ = ['ATRV2', 'ATRV_JR', 'B21IR', 'B21R', 'BODY_M', 'BumperPanel', 'DriveKind', 'ROBOTS', 'RobotParams',
            'SONAR_NO_ECHO', 'SONAR_UNITS_PER_M', 'SonarPose', 'robot_named', 'sonar_range_m',
            'sonar_range_raw', 'voltage_raw', 'voltage_v']
 
@@ -187,12 +193,24 @@ ATRV_JR = RobotParams(
     name='ATRVJr', drive=DriveKind.DIFFERENTIAL, units_per_m=90810, units_per_rad=37000,
     sonars=_atrvjr_sonars())
 
+#: The appendix's name of the B21r (guide 10.1.5).
+B21IR = dataclasses.replace(B21R, name='B21ir')
+
+#: Pluto's ATRV2: skid steering, the ATRV-Jr's rFLEX factors and sonars (see the module's doc).
+ATRV2 = dataclasses.replace(ATRV_JR, name='ATRV2')
+
 #: The robots by the names rflex-config.xml uses for ``type``.
-ROBOTS: dict[str, RobotParams] = {B21R.name: B21R, ATRV_JR.name: ATRV_JR}
+ROBOTS: dict[str, RobotParams] = {r.name: r for r in (B21R, B21IR, ATRV_JR, ATRV2)}
+
+#: Body length x width (m) and track width (m) per type.  B21r: a cylinder 0.52 m across (RWI);
+#: ATRV-Jr: 0.80 x 0.55 m (RWI); ATRV2: 1.05 x 0.65 m, the ATRV-2's published size (approximate:
+#: no datasheet is in the seeds); the track widths are estimates (the rFLEX reports none).
+BODY_M: dict[str, tuple[float, float, float]] = {'B21r': (0.52, 0.52, 0.5), 'B21ir': (0.52, 0.52, 0.5),
+                                                 'ATRVJr': (0.80, 0.55, 0.42), 'ATRV2': (1.05, 0.65, 0.55)}
 
 
 def robot_named(name: str) -> RobotParams:
-    """:raises KeyError: for a robot type other than ``B21r`` or ``ATRVJr``."""
+    """:raises KeyError: for a robot type not in :data:`ROBOTS`."""
     try:
         return ROBOTS[name]
     except KeyError:

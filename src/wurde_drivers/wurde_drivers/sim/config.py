@@ -7,7 +7,7 @@ time scale::
       <map file="maps/office.xml" start="start"/>           <!-- path relative to this file -->
       <base name="PlutoBase" type="ATRVJr" rate="10" command-timeout="1.0"
             max-tv="1.0" max-rv="1.5" tv-accel="1.0" rv-accel="2.0" radius="0.35"/>
-      <odometry-noise trans="0" rot="0" drift="0"/>          <!-- zero: Pluto's ideal dummy -->
+      <odometry-noise trans="0" rot="0" drift="0" scale="1" turn-scale="1"/>  <!-- Pluto's ideal dummy -->
       <sonar count="16" radius="0.3" max-range="8.0" half-angle="0.218" rate="10"/>
       <laser name="PlutoLaser" model="LMS" count="361" units="cm" inverted="false"
              baud="38400" mount-x="0.2" noise="0"/>
@@ -22,7 +22,9 @@ time scale::
               mode="loop" radius="0.25" height="1.75"/>            <!-- any number -->
     </sim-config>
 
-Every element but ``map`` and ``base`` is optional; every attribute has the default shown. The
+Every element but ``map`` and ``base`` is optional; every attribute has the default shown, but
+the base's ``radius``: 0.62 for ``type="ATRV2"`` (Pluto's own robot, skid steered; the other types
+are ``ATRVJr``, ``B21r`` and the guide appendix's ``B21ir``, a B21r). The
 ``mount-*`` attributes place a device on the robot (:mod:`wurde_drivers.mounting`); the sonar
 ring and the bumpers are placed by ``<sonar>`` and the base's ``radius``. The
 ground truth of the base is the stream ``<base name>Truth``; the other dummies read it. Wrong
@@ -51,6 +53,7 @@ from collections.abc import Iterable
 from wurde_idl.errors import ConfigError
 
 from ..mounting import MOUNT_ATTRIBUTES, MOUNT_XYZ, Mounting, read_mounting
+from ..rflex.robots import BODY_M, ROBOTS, DriveKind
 from ..sick import facts as sick_facts
 from ..xml_config import Attributes, children, local_name, read_root
 from .body import BumperRing, SonarRing
@@ -63,10 +66,18 @@ __all__ = ['BaseConfig', 'DmuConfig', 'GpsConfig', 'PersonConfig', 'SimConfig', 
            'load_sim_config']
 
 
+#: The bumper disc's radius (m) per base type when ``radius`` is not given: 0.35 as before for the
+#: ATRV-Jr and the B21r (B21ir), the disc round the body (:data:`BODY_M`) for Pluto's ATRV2.
+DEFAULT_RADIUS_M = {'ATRVJr': 0.35, 'B21r': 0.35, 'B21ir': 0.35,
+                    'ATRV2': round(math.hypot(*BODY_M['ATRV2'][:2]) / 2, 2)}
+
+
 @dataclasses.dataclass(frozen=True)
 class BaseConfig:
     name: str = 'PlutoBase'
-    type: str = 'ATRVJr'          # ATRVJr: RobotDrive; B21r: SynchroDrive (as the real rFLEX bases)
+    #: rflex-config's robot types (:data:`wurde_drivers.rflex.robots.ROBOTS`): ATRVJr and ATRV2 (skid
+    #: steer) supply a RobotDrive, B21r and B21ir (synchro drive) a SynchroDrive, as the real bases.
+    type: str = 'ATRVJr'
     rate: float = 10.0            # Hz of simulated time: odometry, bumpers, power
     command_timeout: float = 1.0  # s: the base stops when commands stop coming
     sonar_rate: float = 10.0
@@ -74,6 +85,11 @@ class BaseConfig:
     @property
     def truth_stream(self) -> str:
         return f'{self.name}Truth'
+
+    @property
+    def synchro(self) -> bool:
+        """Whether the base is a synchro drive (SynchroDrive stream) rather than skid steered."""
+        return ROBOTS[self.type].drive is DriveKind.SYNCHRO
 
 
 @dataclasses.dataclass(frozen=True)
@@ -213,7 +229,7 @@ _SCHEMA: dict[str, dict[str, tuple[str, ...]]] = {
     'map': {'required': ('file',), 'optional': ('start',)},
     'base': {'optional': ('name', 'type', 'rate', 'command-timeout', 'max-tv', 'max-rv', 'tv-accel',
                           'rv-accel', 'radius')},
-    'odometry-noise': {'optional': ('trans', 'rot', 'drift')},
+    'odometry-noise': {'optional': ('trans', 'rot', 'drift', 'scale', 'turn-scale')},
     'sonar': {'optional': ('count', 'radius', 'max-range', 'half-angle', 'rate')},
     'laser': {'required': ('name',), 'optional': ('model', 'count', 'units', 'inverted', 'baud',
                                                    *MOUNT_XYZ, 'noise')},
@@ -227,14 +243,15 @@ _SCHEMA: dict[str, dict[str, tuple[str, ...]]] = {
 
 
 def _base(a: Attributes) -> tuple[BaseConfig, DriveLimits, BumperRing]:
-    base = BaseConfig(name=a.text('name', 'PlutoBase'), type=a.choice('type', ('ATRVJr', 'B21r'), 'ATRVJr'),
+    base = BaseConfig(name=a.text('name', 'PlutoBase'), type=a.choice('type', tuple(DEFAULT_RADIUS_M), 'ATRVJr'),
                       rate=a.number('rate', 10.0, minimum=0.1, maximum=1000.0),
                       command_timeout=a.number('command-timeout', 1.0, minimum=0.05))
     limits = DriveLimits(max_tv=a.number('max-tv', 1.0, minimum=0.0),
                          max_rv=a.number('max-rv', 1.5, minimum=0.0),
                          tv_accel=a.number('tv-accel', 1.0, minimum=0.0),
                          rv_accel=a.number('rv-accel', 2.0, minimum=0.0))
-    return base, limits, BumperRing(radius=a.number('radius', 0.35, minimum=0.05, maximum=5.0))
+    radius = a.number('radius', DEFAULT_RADIUS_M[base.type], minimum=0.05, maximum=5.0)
+    return base, limits, BumperRing(radius=radius)
 
 
 def _sonar(a: Attributes | None) -> SonarRing:
@@ -250,7 +267,9 @@ def _noise(a: Attributes | None) -> OdometryNoise:
     if a is None:
         return OdometryNoise()
     return OdometryNoise(trans=a.number('trans', 0.0, minimum=0.0), rot=a.number('rot', 0.0, minimum=0.0),
-                         drift=a.number('drift', 0.0))
+                         drift=a.number('drift', 0.0),
+                         scale=a.number('scale', 1.0, minimum=0.5, maximum=2.0),
+                         turn_scale=a.number('turn-scale', 1.0, minimum=0.5, maximum=2.0))
 
 
 def _laser(a: Attributes) -> LaserGeometry:

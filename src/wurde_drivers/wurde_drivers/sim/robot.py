@@ -34,15 +34,21 @@ class OdometryNoise:
     ``trans`` is the standard deviation of the distance error per metre driven (fraction),
     ``rot`` that of the heading error per radian turned (fraction), ``drift`` a heading error in
     rad per metre driven (a wheel slightly smaller than the other). All 0 by default (Pluto 5).
+    ``scale`` and ``turn_scale`` are a calibration error (Pluto 7.1: the calibration "needs to be
+    set after changes to tire pressure"): the odometry counts ``scale`` times the distance driven
+    and ``turn_scale`` times the angle turned (1: none).
     """
 
     trans: float = 0.0
     rot: float = 0.0
     drift: float = 0.0
+    scale: float = 1.0
+    turn_scale: float = 1.0
 
     @property
     def is_zero(self) -> bool:
-        return self.trans == 0.0 and self.rot == 0.0 and self.drift == 0.0
+        return (self.trans == 0.0 and self.rot == 0.0 and self.drift == 0.0 and self.scale == 1.0
+                and self.turn_scale == 1.0)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -133,6 +139,7 @@ class SimRobot:
         dtheta = after.theta - before.theta
         noise = self.spec.odometry_noise
         if not noise.is_zero:
+            ds, dtheta = ds * noise.scale, dtheta * noise.turn_scale
             ds += float(self.rng.normal(0.0, noise.trans * math.sqrt(abs(ds)))) if noise.trans else 0.0
             dtheta += (float(self.rng.normal(0.0, noise.rot * math.sqrt(abs(dtheta))))
                        if noise.rot else 0.0) + noise.drift * abs(ds)

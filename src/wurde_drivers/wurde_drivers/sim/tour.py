@@ -136,7 +136,7 @@ def main(argv: list[str] | None = None) -> int:
     plot_file = opts.user.get('p') or str(pathlib.Path(manager.config.get_data_directory()) / 'tour.png')
     base = config.base.name
     laser_name = next(iter(config.lasers), None)
-    drive = (SynchroDrive if config.base.type == 'B21r' else RobotDrive)(f'{base}Drive')
+    drive = (SynchroDrive if config.base.synchro else RobotDrive)(f'{base}Drive')
     odometry = Egomotion(f'{base}Motion')
     truth = Egomotion(config.base.truth_stream)      # for the plot only, never for steering
     bumpers = Bumper(f'{base}Bumpers')
@@ -161,7 +161,7 @@ def main(argv: list[str] | None = None) -> int:
         return (sx + ox * math.cos(st) - oy * math.sin(st), sy + ox * math.sin(st) + oy * math.cos(st), st + ot)
 
     def command(tv: float, rv: float) -> None:
-        if config.base.type == 'B21r':
+        if config.base.synchro:
             drive.requests.trans.set_value(tv)
             drive.requests.angular.set_value(rv)
         else:

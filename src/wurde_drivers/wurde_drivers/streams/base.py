@@ -37,6 +37,10 @@ Failing safe:
   refused while ``brake`` (or the drive) is locked against its sender.  A Twist on ``cmd_vel`` or
   a Pluto command never releases it: while the brake is set they are refused and counted.
 - A command with a NaN or infinite value is refused whole and counted (``refused_commands``).
+
+Odometry calibration (Pluto 6.1, 7.1): ``NCommand`` also takes cmdFlags 99 with force[0..1] =
+(distance scale, rotation scale), which scale every later odometry increment on ``NMotion`` and
+``/N/odom`` (:mod:`.calibration`); force[0..1] of ``NCommand``'s data show the scales in use.
 """
 
 from __future__ import annotations
@@ -56,6 +60,7 @@ from ..ros_std import OdometryPublisher, TwistInbox
 from ..ros_std_base import BatteryPublisher, BumperPublisher, SonarPublisher
 from ..ros_std_covariance import OdometryCovariance
 from ..ros_std_frames import StaticFrames, member_frame
+from .calibration import CALIBRATE, OdometryCalibration
 
 __all__ = ['BaseLimits', 'BaseStreams', 'VelocityCommand']
 
@@ -118,6 +123,7 @@ class BaseStreams:
         self.timeouts = 0
         self.refused_commands = 0
         self.odometry = odometry or OdometryCovariance(trans=0.0, rot=0.0, drift=0.0)
+        self.calibration = OdometryCalibration()
         self._odom: OdometryPublisher | None = None
         self._twist: TwistInbox | None = None
         self._sonar_std: SonarPublisher | None = None
@@ -336,17 +342,33 @@ class BaseStreams:
         req = self.command.requests
         flags = req.cmd_flags.get_value()
         velocity = list(req.velocity.get_value())
+        if flags == CALIBRATE:
+            return self._calibrate([float(v) for v in req.force.get_value()])
         if flags != 0 or len(velocity) < 2:
             return self._refuse(f'{self.name}Command cmdFlags={flags} velocity={velocity}',
                                 'the base takes cmdFlags 0 and velocity[0..1] only')
         return self._velocity(float(velocity[0]), float(velocity[1]), f'{self.name}Command')
+
+    def _calibrate(self, scales: list[float]) -> bool:
+        """cmdFlags 99: set the odometry calibration (force[0..1]); shown by the command data."""
+        what = f'{self.name}Command calibration force={scales}'
+        if len(scales) < 2:
+            return self._refuse(what, 'force[0..1] must be the distance and rotation scales')
+        problem = self.calibration.problem(scales[0], scales[1])
+        if problem:
+            return self._refuse(what, problem)
+        self.calibration.set(scales[0], scales[1])
+        if self.logger is not None:
+            self.logger.notice(f'{self.name}: odometry calibration distance x{scales[0]:.5f} '
+                               f'rotation x{scales[1]:.5f}')
+        return True
 
     def _publish_command_state(self) -> None:
         data = self.command.data
         data.cmd_flags = 0
         data.velocity = [self.current.tv, self.current.rv]
         data.position = []
-        data.force = []
+        data.force = [self.calibration.distance, self.calibration.rotation]
         data.acceleration = [self.current.tv_accel, self.current.rv_accel]
         self.command.publish_data()
 
@@ -360,6 +382,8 @@ class BaseStreams:
 
     def publish_motion(self, x: float, y: float, theta: float, tv: float, rv: float,
                        acceleration: float, stamp: float | None = None) -> None:
+        """Publish the odometry (the raw pose and velocities; calibrated here)."""
+        x, y, theta, tv, rv = self.calibration.apply(x, y, theta, tv, rv)
         data = self.motion.data
         data.location = Pose(x, y, theta)
         data.tv, data.rv, data.acceleration = tv, rv, acceleration

@@ -80,7 +80,7 @@ def main(argv: list[str] | None = None) -> int:
     limits = BaseLimits(spec.limits.max_tv, spec.limits.max_rv, spec.limits.tv_accel, spec.limits.rv_accel,
                         wheel_base=2 * spec.bumpers.radius)
     noise = spec.odometry_noise   # the simulator's own error model is the covariance's source
-    streams = BaseStreams(manager.name, synchro=config.base.type == 'B21r', limits=limits,
+    streams = BaseStreams(manager.name, synchro=config.base.synchro, limits=limits,
                           command_timeout=config.base.command_timeout, logger=logger,
                           odometry=OdometryCovariance(trans=noise.trans, rot=noise.rot, drift=noise.drift))
     truth = Egomotion(f'{manager.name}Truth')
