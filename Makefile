@@ -100,6 +100,12 @@ bench-avoid: build
 bench-motion: build
 	$(IN_ENV) python bench/nav_motion.py
 
+# The chain among people (issue 38): moveto on the office and generated maps, empty and with 1, 3
+# and 5 people crossing the robot's way, in one table: goals, contacts, least clearance, time lost.
+.PHONY: bench-people
+bench-people: build
+	$(IN_ENV) python bench/nav_people.py
+
 # The xmlServer (issue 15): var gets per second at 10 clients, and varpush latency beside a raw rclpy
 # subscriber to the same stream in the same run (about a minute).
 .PHONY: bench-xml

@@ -9,7 +9,8 @@ from the one before on the map) are visited in turn, once by moveto and once (th
 again, the robot back at the start) by the simple goto.  Per pair: success (the command's own
 success code and the truth within 0.4 m of the goal), collision (a bumper pressed, or the truth
 nearer a wall than the robot's radius), time, and the truth's path over the shortest path for the
-robot's disc on the map (from where the robot really was).
+robot's disc on the map (from where the robot really was).  Mode ``rays`` is moveto too, with the
+motionModule started with ``-R``: Pluto's own ray following (6.3) on the same map and goals.
 
 Targets (issue 12): moveto reaches 100 % of reachable goals with 0 collisions and a path at most
 1.3 x the shortest; goto's figures are reported as they are (the seed: "it can easily get trapped").
@@ -28,6 +29,7 @@ import pathlib
 import random
 import sys
 import time
+from collections.abc import Callable
 
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
@@ -89,8 +91,9 @@ class Shortest:
 
 
 def run_map(name: str, map_file: pathlib.Path, goals: list[tuple[float, float]], directory: pathlib.Path,
-            mode: str, seed: int) -> list[PairResult]:
-    """Start config/pluto's robot on ``map_file`` and visit ``goals`` by ``mode`` (moveto or goto)."""
+            mode: str, seed: int, *, prepare: Callable[[pathlib.Path], None] | None = None,
+            on_truth: Callable[[float, float, float], None] | None = None) -> list[PairResult]:
+    """Start config/pluto's robot on ``map_file`` and visit ``goals`` by ``mode`` (moveto, rays or goto)."""
     from wurde_core import CommsManager
     from wurde_core.interfaces import Bumper, Egomotion
     from wurde_drivers.sim.mapfile import load_map
@@ -101,6 +104,10 @@ def run_map(name: str, map_file: pathlib.Path, goals: list[tuple[float, float]],
 
     nav_run.write_config(directory, map_file, estimator='poseModule', seed=seed, time_scale=1.0,
                          start_error=None, chain=True)
+    if mode == 'rays':
+        use_rays(directory / 'mcp-config.xml')
+    if prepare is not None:
+        prepare(directory)                      # e.g. people in the sim-config (bench/nav_people.py)
     env = dict(os.environ, WURDE_CONFIG_DIR=str(directory), WURDE_LOG_DIRECTORY=str(directory),
                WURDE_DATA_DIR=str(directory))
     world, shortest = load_map(map_file), Shortest(map_file)
@@ -119,6 +126,8 @@ def run_map(name: str, map_file: pathlib.Path, goals: list[tuple[float, float]],
         motion.update()
         while truth.get_next_data():
             path.append((truth.data.location.x(), truth.data.location.y()))
+            if on_truth is not None:
+                on_truth(truth.data.timestamp.get_seconds(), *path[-1])
         while bumpers.get_next_data():
             bumped[0] = bumped[0] or bool(bumpers.data.bumped)
 
@@ -148,7 +157,7 @@ def run_map(name: str, map_file: pathlib.Path, goals: list[tuple[float, float]],
                 best = shortest.length(start, goal)
                 limit = 30.0 + 3.0 * (best if math.isfinite(best) else math.dist(start, goal)) / 0.3
                 began = time.monotonic()
-                if mode == 'moveto':
+                if mode in ('moveto', 'rays'):
                     task = motion.go_to(*goal, timeout=limit)
                     until(task.is_task_complete, limit + 5)
                     said, why = task.result() is TaskResult.SUCCEEDED, task.reason
@@ -175,6 +184,19 @@ def run_map(name: str, map_file: pathlib.Path, goals: list[tuple[float, float]],
     return results
 
 
+def use_rays(mcp_config: pathlib.Path) -> None:
+    """The motionModule of ``mcp_config`` moves by ray following (``-R``) though it has the map."""
+    from lxml import etree
+    tree = etree.parse(str(mcp_config))
+    for node in tree.getroot().iter('module'):
+        if node.get('name') == 'motionModule':
+            node.find('options').text += ' -R'
+    tree.write(str(mcp_config))
+
+
+LABELS = {'moveto': 'moveto (42)', 'rays': 'moveto, ray following (42, -R)', 'goto': 'goto (32)'}
+
+
 def row(name: str, mode: str, results: list[PairResult]) -> str:
     ok = [r for r in results if r.success]
     ratios = [r.driven_m / r.shortest_m for r in ok if r.shortest_m > 0]
@@ -182,7 +204,7 @@ def row(name: str, mode: str, results: list[PairResult]) -> str:
     mean_ratio = f'{sum(ratios) / len(ratios):.2f}' if ratios else '-'
     worst = f'{max(ratios):.2f}' if ratios else '-'
     seconds = f'{sum(r.seconds for r in ok) / len(ok):.0f}' if ok else '-'
-    return (f'| {name} | {mode} ({32 if mode == "goto" else 42}) | {len(results)} | '
+    return (f'| {name} | {LABELS[mode]} | {len(results)} | '
             f'{100.0 * len(ok) / max(1, len(results)):.0f} % | {collisions} | {seconds} | {mean_ratio} | {worst} |')
 
 
@@ -197,7 +219,7 @@ def main() -> int:
     parser.add_argument('--seed', type=int, default=21, help='first seed of generated maps and goals')
     parser.add_argument('--kinds', default='', help='kinds of generated maps, comma-separated (default all)')
     parser.add_argument('--shipped', default='office,corridor-loop,outdoor', help='shipped maps to run')
-    parser.add_argument('--modes', default='moveto,goto', help='moveto, goto or both')
+    parser.add_argument('--modes', default='moveto,goto', help='moveto, rays (ray following), goto')
     args = parser.parse_args()
     work, maps = nav_run.bench_setup('make bench-motion', args.shipped, args.generated, args.seed, args.kinds)
     table = []

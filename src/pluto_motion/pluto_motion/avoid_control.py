@@ -20,7 +20,8 @@ robot: element[0] = 7 (fail closed).  A slowing by the laser is element[0] = 6. 
 data[0..1] are the velocities the avoidModule commands (slowed); otherwise data and element[0] are
 the drive's.  Release (-1) writes one stop to the drive and then nothing, so another program may
 drive it.  Points of a scan or sonar reading are moved into the current robot frame by the pose
-change since they were taken.
+change since they were taken.  What the laser sees move (people) is avoided where it is about to
+be as well (:mod:`~pluto_motion.moving_obstacles`), by the guard, the goto and the wall follow.
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ import numpy as np
 from .avoid_command import AvoidCommand, Kind
 from .goto_field import FieldSettings, GotoProgress, goto_step
 from .laser_guard import LASER_FATAL, GuardLimits, LaserGuard, LaserWatch
+from .moving_obstacles import MovingObstacles
 from .wall_follow import wall_follow_step
 
 __all__ = ['GOTO_NORMAL', 'GOTO_REACHED', 'GOTO_STUCK', 'HAND_TIMEOUT_S', 'THREAD_STOPPED', 'AvoidController',
@@ -94,6 +96,8 @@ class AvoidController:
         self.stuck_reason = ''
         self.laser = (np.zeros((0, 2)), None)
         self.sonar = (np.zeros((0, 2)), np.zeros(0), None)
+        #: People and other things the laser sees move: where they are about to be is avoided too.
+        self.movers = MovingObstacles()
 
     def tune(self, field: FieldSettings, guard: GuardLimits) -> None:
         """Use these settings from now on (tunables a user changed while the module runs)."""
@@ -121,6 +125,7 @@ class AvoidController:
         """A scan: its raw ranges (for the fatal check), its echoes in the robot frame, its stamp."""
         self.watch.scan(ranges, stamp, now)
         self.laser = (points, pose)
+        self.movers.scan(points, pose, stamp)
 
     def set_sonar(self, points: np.ndarray, cones: np.ndarray, pose: tuple[float, float, float] | None) -> None:
         self.sonar = (points, cones, pose)
@@ -130,6 +135,7 @@ class AvoidController:
         are (in the robot frame when taken) until new ones come."""
         self.laser = (self.laser[0], None)
         self.sonar = (self.sonar[0], self.sonar[1], None)
+        self.movers.forget()
 
     # -- one loop --------------------------------------------------------------------------------
     def step(self, now: float, pose: tuple[float, float, float] | None,
@@ -150,6 +156,8 @@ class AvoidController:
         fresh, self.fresh = self.fresh, False
         self.failure = self.watch.failure(now)
         laser_points = _relative(self.laser[0], self.laser[1], frame) if self.failure is None else np.zeros((0, 2))
+        if self.failure is None and self.laser[1] is not None:
+            laser_points = np.concatenate((laser_points, self.movers.predicted(frame)))
         sonar_points = _relative(self.sonar[0], self.sonar[2], frame)
         if c.laser and self.failure is not None or c.kind is Kind.WALL_FOLLOW and self.failure is not None:
             self.laser_code, self.slowed = LASER_FATAL, (0.0, 0.0)

@@ -26,11 +26,11 @@ from numpy.typing import NDArray
 
 from .grid_planner import Planner
 from .path_follow import FollowSettings, PathFollower, Progress
-from .motion_command import (APPROACHING, AT_GOAL, CIRCLING, FOLLOWING, INVESTIGATE_DONE, MOVETO_SET, NEARING,
-                             SCANNING, UNREACHABLE, Rectangle)
+from .motion_command import (APPROACHING, AT_GOAL, BLOCKED, CIRCLING, FOLLOWING, INVESTIGATE_DONE, MOVETO_SET,
+                             NEARING, SCANNING, UNREACHABLE, Rectangle)
 from .ray_follow import Action, RaySettings, decide
 
-__all__ = ['AvoidRequest', 'Explore', 'Investigate', 'MotionSettings', 'Moveto', 'Situation', 'Step']
+__all__ = ['AvoidRequest', 'Explore', 'Investigate', 'MotionSettings', 'Moveto', 'STOP', 'Situation', 'Step']
 
 log = logging.getLogger(__name__)
 
@@ -54,6 +54,8 @@ class MotionSettings:
     reach: float = 0.25            # a point within this counts as reached
     near: float = 0.8              # a planned path this short is ended by the simple goto
     replans: int = 6               # stuck this often towards one goal: unreachable
+    patience: float = 60.0         # s a moveto waits for a way blocked by what is not on the map
+    retry: float = 1.0             # s between two plans round the scan while it waits
     investigate_distance: float = 1.0   # from the object's edge to the robot's centre while circling
     circle_points: int = 8
     lane: float = 2.0              # explore: distance between the lanes
@@ -92,6 +94,10 @@ class Step:
     done: bool = False
 
 
+#: The avoid request that stops the robot (cmdFlags 0, no velocity).
+STOP = AvoidRequest(0, (), (0.0, 0.0))
+
+
 def goto(target: Sequence[float], settings: MotionSettings, force: float = 1.0) -> AvoidRequest:
     return AvoidRequest(GOTO, (float(target[0]), float(target[1])), (settings.max_tv, settings.max_rv), (force,))
 
@@ -103,7 +109,12 @@ def _reached(s: Situation, target: Sequence[float], reach: float) -> bool:
 class Moveto:
     """Pluto 6.3's moveto to ``goal``: with a ``planner`` along the plan, waypoint by waypoint with
     the avoid goto, replanning when stuck; without, by ray following.  Ends with element[2] 1 at the
-    goal, or 3 (ours) when the plan finds the goal unreachable."""
+    goal, or 3 (ours) when the plan finds the goal unreachable.
+
+    When what the laser sees closes every way while the map alone has one (a person standing in
+    a door), the goal is not given up: the robot stops, element[2] is 4 (ours, BLOCKED), and the
+    plan round the scan is tried every :attr:`MotionSettings.retry` s; the goal is unreachable
+    only after :attr:`MotionSettings.patience` s of that."""
 
     def __init__(self, goal: Sequence[float], planner: Planner | None, settings: MotionSettings,
                  rays: RaySettings = RaySettings()) -> None:
@@ -121,11 +132,15 @@ class Moveto:
         self.turning: float | None = None
         #: Why the goal is unreachable (the planner's reason), when it is.
         self.reason = ''
+        #: Since when (s) what the laser sees has closed the way (None: it has not); the last try.
+        self.blocked_since: float | None = None
+        self.tried_at = -math.inf
 
     def resume(self) -> None:
         """Start again from wherever the robot is (a stop, or driven elsewhere, in between)."""
         self.waypoints, self.ray, self.turning, self.request = None, None, None, None
         self.follower, self.near = None, False
+        self.blocked_since = None
 
     def step(self, s: Situation) -> Step:
         return self._planned(s) if self.planner is not None else self._rays(s)
@@ -137,6 +152,8 @@ class Moveto:
             s.goto == GOTO_STUCK and self.request is not None and self.request.cmd_flags == GOTO
             or self.progress.stuck(math.dist(s.pose[:2], self.goal) if self.near else follower.remaining(s.pose),
                                    s.now))
+        if self.blocked_since is not None:
+            return self._wait(s)
         if follower is None or stuck:
             planner = self.planner
             if stuck:
@@ -144,13 +161,15 @@ class Moveto:
                 log.info('moveto stuck (%d): replanning from %s round what the laser sees', self.stuck, s.pose[:2])
                 planner = _avoiding(self.planner, s.points)
             plan = planner.plan(s.pose[:2], self.goal)
+            if not plan.reachable and planner is not self.planner \
+                    and self.planner.plan(s.pose[:2], self.goal).reachable:
+                log.info('moveto blocked at %s by what is not on the map: waiting', s.pose[:2])
+                self.blocked_since, self.tried_at, self.stuck = s.now, s.now, self.stuck - 1
+                return self._stopped()
             if not plan.reachable or self.stuck > self.settings.replans:
                 self.reason = plan.reason or f'stuck {self.stuck} times'
                 return Step(None, UNREACHABLE, SCANNING, done=True)
-            self.follower = PathFollower(s.pose[:2], plan.waypoints, self.follow, planner.grid.clearance_at)
-            self.progress, self.near, self.request = Progress(self.follow), False, None
-            self.waypoints = list(plan.waypoints)
-            return Step(None, MOVETO_SET, SCANNING)
+            return self._follow(s.pose[:2], plan.waypoints, planner)
         distance = math.dist(s.pose[:2], self.goal)
         if self.near and (s.goto == GOTO_REACHED and self.request is not None and self.request.cmd_flags == GOTO
                           or distance <= self.settings.reach):
@@ -163,6 +182,34 @@ class Moveto:
         heading, speed = follower.command(s.pose, self.settings.max_tv)
         self.request = AvoidRequest(FOLLOW, (0.0, heading), (speed,))
         return Step(self.request, MOVETO_SET, FOLLOWING)
+
+    def _follow(self, start: Sequence[float], waypoints: Sequence[tuple[float, float]], planner: Planner) -> Step:
+        self.follower = PathFollower(start, waypoints, self.follow, planner.grid.clearance_at)
+        self.progress, self.near, self.request = Progress(self.follow), False, None
+        self.waypoints = list(waypoints)
+        return Step(None, MOVETO_SET, SCANNING)
+
+    def _stopped(self) -> Step:
+        self.follower, self.near, self.request = None, False, STOP
+        return Step(STOP, BLOCKED, SCANNING)
+
+    def _wait(self, s: Situation) -> Step:
+        """Stopped on a blocked way: plan round the scan again every ``retry`` s; follow the first
+        plan that passes, or give the goal up after ``patience`` s."""
+        assert self.planner is not None and self.blocked_since is not None
+        if s.now - self.tried_at < self.settings.retry:
+            return self._stopped()
+        self.tried_at = s.now
+        planner = _avoiding(self.planner, s.points)
+        plan = planner.plan(s.pose[:2], self.goal)
+        if plan.reachable:
+            log.info('moveto: the way is clear again after %.1f s', s.now - self.blocked_since)
+            self.blocked_since = None
+            return self._follow(s.pose[:2], plan.waypoints, planner)
+        if s.now - self.blocked_since >= self.settings.patience:
+            self.reason = f'the way stayed blocked for {s.now - self.blocked_since:.0f} s ({plan.reason})'
+            return Step(None, UNREACHABLE, SCANNING, done=True)
+        return self._stopped()
 
     def _rays(self, s: Situation) -> Step:
         if self.turning is not None:
@@ -220,14 +267,17 @@ def closest_object(points: NDArray, pose: Sequence[float], gap: float = 0.3) -> 
 
 
 class Investigate:
-    """Pluto 6.3's investigate: "move to closest object, unfold arm, circle the object".  The arm
-    step is logged as unavailable (no arm here).  element[3] 11 approaching, 12 circling; element[2]
-    2 when done."""
+    """Pluto 6.3's investigate: "move to closest object, unfold arm, circle the object".  No robot
+    here has an arm: with a ``wrist`` the arm step is the wrist turned at the object
+    (:mod:`.active_scan`, from :attr:`centre`), without one it is logged as unavailable.  element[3]
+    11 approaching, 12 circling; element[2] 2 when done."""
 
     def __init__(self, settings: MotionSettings, inside: Callable[[float, float], bool],
-                 warn: Callable[[str], object]) -> None:
-        self.settings, self.inside, self.warn = settings, inside, warn
+                 warn: Callable[[str], object], wrist: bool = False) -> None:
+        self.settings, self.inside, self.warn, self.wrist = settings, inside, warn, wrist
         self.targets: list[tuple[float, float]] | None = None
+        #: The object's centre, once found.
+        self.centre: tuple[float, float] | None = None
         self.approached = False
         self.request: AvoidRequest | None = None
         self.sent_at = math.inf
@@ -235,12 +285,14 @@ class Investigate:
 
     def resume(self) -> None:
         self.targets, self.approached, self.request, self.looking_since = None, False, None, None
+        self.centre = None
 
     def _plan(self, s: Situation) -> bool:
         found = closest_object(s.points, s.pose)
         if found is None:
             return False
         centre, radius = found
+        self.centre = (float(centre[0]), float(centre[1]))
         r = radius + self.settings.investigate_distance
         start = math.atan2(s.pose[1] - centre[1], s.pose[0] - centre[0])
         n = self.settings.circle_points
@@ -264,7 +316,8 @@ class Investigate:
             self.request = None
             if not self.approached:
                 self.approached = True
-                self.warn('investigate: the arm step (unfold the arm) is not available on this robot')
+                self.warn('investigate: no arm on this robot; the wrist turns to the object instead' if self.wrist
+                          else 'investigate: the arm step (unfold the arm) is not available on this robot')
         code = CIRCLING if self.approached else APPROACHING
         if not self.targets:
             return Step(None, INVESTIGATE_DONE, CIRCLING, done=True)

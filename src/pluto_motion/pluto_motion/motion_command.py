@@ -21,14 +21,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = ['COMMAND', 'STATUS', 'CommandRefused', 'Kind', 'MotionCommand', 'Rectangle', 'parse_command',
-           'AT_GOAL', 'INVESTIGATE_DONE', 'MOVETO_SET', 'NEARING', 'UNREACHABLE', 'NO_MOVETO',
+           'AT_GOAL', 'BLOCKED', 'INVESTIGATE_DONE', 'MOVETO_SET', 'NEARING', 'UNREACHABLE', 'NO_MOVETO',
            'THREAD_STOPPED', 'IDLE_RECTANGLE', 'IDLE', 'SCANNING', 'FOLLOWING', 'APPROACHING', 'CIRCLING']
 
 COMMAND = 'motion/command'
 STATUS = 'motion/status'
 
-#: element[2] (Pluto 6.3), and ours: 3 the moveto goal is unreachable on the map (the plan failed).
-MOVETO_SET, NEARING, NO_MOVETO, AT_GOAL, INVESTIGATE_DONE, UNREACHABLE = -1, -2, 0, 1, 2, 3
+#: element[2] (Pluto 6.3), and ours: 3 the moveto goal is unreachable on the map (the plan failed);
+#: 4 the moveto waits, stopped, for something not on the map (a person in a door) to clear the way.
+MOVETO_SET, NEARING, NO_MOVETO, AT_GOAL, INVESTIGATE_DONE, UNREACHABLE, BLOCKED = -1, -2, 0, 1, 2, 3, 4
 #: element[3] (Pluto 6.3).
 THREAD_STOPPED, IDLE_RECTANGLE, IDLE, SCANNING, FOLLOWING, APPROACHING, CIRCLING = -10, -1, 0, 1, 3, 11, 12
 

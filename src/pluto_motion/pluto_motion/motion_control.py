@@ -7,7 +7,8 @@ out.
   is stopped (element[3] = -10) commands are ignored.
 * cmdFlags < 40 pass through to the avoidModule and stop a running motion (it is kept: 44 with
   no values or 45 resume it).
-* 42 moveto, 43 investigate, 44 explore start a behaviour (:mod:`.motion_behaviours`); 46 sets or
+* 42 moveto (on the map's plan, or by Pluto's ray following without a map or with ``rays_only``),
+  43 investigate, 44 explore start a behaviour (:mod:`.motion_behaviours`); 46 sets or
   removes the rectangle.  Goals outside the rectangle are refused.
 * element[2], element[3]: the behaviour's codes while it runs; when none runs element[3] is -1 with a
   rectangle set, 0 without, and element[2] keeps the last behaviour's outcome.
@@ -19,9 +20,10 @@ import dataclasses
 import math
 from collections.abc import Callable
 
+from .active_scan import Aim, aim_for, is_wall_follow
 from .grid_planner import Planner
 from .motion_behaviours import (GOTO, GOTO_NORMAL, GOTO_REACHED, GOTO_STUCK, AvoidRequest, Explore, Investigate,
-                                MotionSettings, Moveto, Situation, Step)
+                                MotionSettings, Moveto, STOP, Situation, Step)
 from .motion_command import (IDLE, IDLE_RECTANGLE, MOVETO_SET, NO_MOVETO, THREAD_STOPPED, CommandRefused, Kind,
                              MotionCommand, Rectangle)
 from .planning_grid import PlanningGrid
@@ -44,8 +46,15 @@ class MotionController:
     both return the avoid requests to send (in order)."""
 
     def __init__(self, grid: PlanningGrid | None, settings: MotionSettings = MotionSettings(),
-                 rays: RaySettings = RaySettings(), warn: Callable[[str], object] = print) -> None:
+                 rays: RaySettings = RaySettings(), warn: Callable[[str], object] = print,
+                 rays_only: bool = False) -> None:
         self.grid, self.settings, self.rays, self.warn = grid, settings, rays, warn
+        #: moveto by ray following even with a map (Pluto 6.3's "42 moveto using ray_following").
+        self.rays_only = rays_only
+        #: A wrist is there (investigate's arm step turns it; :mod:`.active_scan`).
+        self.wrist = False
+        #: The avoidModule follows a wall at this module's command (the wrist turns left).
+        self.wall_follow = False
         self.running = True
         self.rectangle: Rectangle | None = None
         self.behaviour: Behaviour | None = None
@@ -87,7 +96,7 @@ class MotionController:
         return self.rectangle is None or bool(self.rectangle.contains(x, y))
 
     def moveto(self, goal: tuple[float, float]) -> Moveto:
-        return Moveto(goal, self.planner(), self.settings, self.rays)
+        return Moveto(goal, None if self.rays_only else self.planner(), self.settings, self.rays)
 
     def start(self) -> None:
         """start_activity: the thread runs (a stopped behaviour stays stopped until resumed)."""
@@ -102,12 +111,13 @@ class MotionController:
         kind = command.kind
         if kind is Kind.RELEASE:
             self._stop(keep=False)
-            self.running = False
+            self.running, self.wall_follow = False, False
             return [AvoidRequest(-1)]
         if not self.running:
             raise CommandRefused(f'thread stopped: cmdFlags {command.cmd_flags} ignored (start_activity first)')
         if kind is Kind.PASS:
             self._stop(keep=True)
+            self.wall_follow = is_wall_follow(command.cmd_flags)
             return [AvoidRequest(command.cmd_flags, command.position, command.velocity, command.force)]
         if kind is Kind.SET_RECTANGLE:
             self.rectangle, self._planner = command.rectangle, None
@@ -130,7 +140,7 @@ class MotionController:
         if pose is None:
             raise CommandRefused(f'cmdFlags {command.cmd_flags}: no pose yet')
         if kind is Kind.INVESTIGATE:
-            self._begin(Investigate(self.settings, self._inside, self.warn))
+            self._begin(Investigate(self.settings, self._inside, self.warn, wrist=self.wrist))
             self.element2 = NO_MOVETO
             return []
         assert kind is Kind.EXPLORE and command.rectangle is not None
@@ -142,7 +152,13 @@ class MotionController:
 
     def _begin(self, behaviour: Behaviour) -> None:
         self.behaviour, self.paused, self.motion_code = behaviour, None, None
-        self.request = None
+        self.request, self.wall_follow = None, False
+
+    def aim(self, pose: tuple[float, float, float] | None, now: float) -> Aim | None:
+        """Where the wrist should look now (Pluto 4's active scanning); None: nowhere."""
+        if not self.running and not self.wall_follow:
+            return None
+        return aim_for(self.behaviour, self.motion_code, self.element2, self.wall_follow, pose, now)
 
     def _stop(self, keep: bool) -> None:
         if self.behaviour is not None and keep:
@@ -169,7 +185,7 @@ class MotionController:
                 self.reason = self.behaviour.reason
                 self.warn(f'moveto unreachable: {self.reason}')
             self.behaviour, self.motion_code, self.request = None, None, None
-            return [AvoidRequest(0, (), (0.0, 0.0))]                # stop: the behaviour is over
+            return [STOP]                                           # the behaviour is over
         if result.request is not None and result.request != self.request:
             self.request, self.sent_at, self.answered = result.request, now, False
             return [result.request]

@@ -17,8 +17,9 @@ from .motion_proxy import MotionProxy
 
 __all__ = ['MotionKeys', 'main']
 
-#: element[2] and element[3] of motion/status (Pluto 6.3; 3 of element[2] is ours: unreachable).
-MOVETO_CODES = {-1: 'moveto set', -2: 'nearing', 1: 'at goal', 2: 'investigate done', 3: 'unreachable', 0: '-'}
+#: element[2] and element[3] of motion/status (Pluto 6.3; 3 and 4 of element[2] are ours).
+MOVETO_CODES = {-1: 'moveto set', -2: 'nearing', 1: 'at goal', 2: 'investigate done', 3: 'unreachable',
+                4: 'blocked, waiting', 0: '-'}
 MOTION_CODES = {-10: 'thread stopped', -1: 'idle, rectangle set', 0: 'idle', 1: 'scanning', 3: 'following',
                 11: 'approaching', 12: 'circling'}
 

@@ -13,9 +13,9 @@ cmdFlags what
 -1       release the robot: motion and avoid threads stop (element[3] = -10)
 0..39    passed to the avoidModule; a running motion stops (44 with no values or 45 resume it)
 42       moveto position x, y: with a map (``-m FILE``) planned and followed waypoint by waypoint
-         with the avoid goto (32), replanned when stuck; without one by ray following
-43       investigate: go to the closest object the laser sees, circle it (the arm step is logged
-         as unavailable)
+         with the avoid goto (32), replanned when stuck; without one (or with ``-R``) by ray following
+43       investigate: go to the closest object the laser sees, circle it (the arm step: the wrist
+         turns to the object; without a wrist it is logged as unavailable)
 44       explore: rectangle b, h = velocity[0..1], home = the current pose; cover it, then moveto home
 45       start/resume explore/moveto/investigate
 46       set the rectangle: b, h = velocity[0..1], home x, y = position[0..1], theta = force[0];
@@ -32,8 +32,13 @@ rectangle set, 0 not in motion without, 1 scanning for new paths, 3 following a 
 investigate approaching, 12 circling.  A request on ``motion/status`` writing element[0] = 0 starts
 the thread and the avoid thread (start_activity), -10 stops the motion thread alone.
 
-Options: ``-m MAP`` (plan on this map; without it moveto is ray following), ``-s LASER``, ``-b BASE``,
-``-v MAX_TV`` (m/s, 0.6), ``-w MAX_RV`` (rad/s, 1.0).
+The wrist (``-W WRIST``, default PlutoWrist; Pluto 4 "active scanning") is turned as
+:mod:`pluto_motion.active_scan` says, through :class:`pluto_motion.wrist_link.WristLink`; without a
+wrist nothing is sent and nothing else changes.
+
+Options: ``-m MAP`` (plan on this map; without it moveto is ray following), ``-R`` (moveto by ray
+following even with ``-m``: Pluto 6.3's "42 moveto using ray_following"; the map then serves the
+pose source alone), ``-s LASER``, ``-b BASE``, ``-W WRIST``, ``-v MAX_TV`` (m/s, 0.6), ``-w MAX_RV`` (rad/s, 1.0).
 
 Tunables (ROS 2 parameters, :data:`TUNABLES`, starting from the options): the speeds and distances
 of :class:`pluto_motion.motion_behaviours.MotionSettings`, taken by the next motion command.
@@ -61,6 +66,7 @@ from .motion_control import MotionController
 from .planning_grid import PlanningGrid, grid_from_map_file
 from .pose_source import PoseSource
 from .ray_follow import ScanGeometry, geometry_from_info, scan_points
+from .wrist_link import WristLink
 
 __all__ = ['MotionModule', 'main']
 LOOP_S = 0.05
@@ -81,8 +87,10 @@ TUNABLES = {'max_tv': ('linear speed of the avoid goto, m/s', 0.05, 2.0),
             'lane': ('explore: distance between the lanes, m', 0.3, 10.0),
             'edge': ('explore: the lanes keep this far inside the rectangle, m', 0.0, 5.0)}
 HELP = ('  -m MAP       plan moveto on this map (config/maps format); without: ray following\n'
+        '  -R           moveto by ray following even with -m (Pluto 6.3)\n'
         '  -s LASER     the laser module (default PlutoLaser)\n'
         '  -b BASE      the base, for its odometry when no localModule runs and no map is given (PlutoBase)\n'
+        '  -W WRIST     the wrist turned for active scanning (default PlutoWrist; none there: not turned)\n'
         '  -v MAX_TV    linear speed of the avoid goto, m/s (0.6)\n'
         '  -w MAX_RV    angular speed of the avoid goto, rad/s (1.0)')
 
@@ -91,9 +99,10 @@ class MotionModule:
     """The motionModule's streams around a :class:`MotionController`."""
 
     def __init__(self, manager: CommsManager, logger: Logger, grid: PlanningGrid | None,
-                 settings: MotionSettings, *, laser: str, base: str = 'PlutoBase') -> None:
+                 settings: MotionSettings, *, laser: str, base: str = 'PlutoBase', wrist: str = 'PlutoWrist',
+                 rays_only: bool = False) -> None:
         self.manager, self.logger = manager, logger
-        self.control = MotionController(grid, settings, warn=self._warn)
+        self.control = MotionController(grid, settings, warn=self._warn, rays_only=rays_only)
         self.tuned = TunedSettings(manager, settings, TUNABLES)
         self.commands = ActuatorState(COMMAND)
         self.commands.set_queue_mode(True)
@@ -116,6 +125,8 @@ class MotionModule:
         self.sent_status: tuple | None = None
         self.status_at = -math.inf
         self.plan = PlanPublisher(manager.node)
+        self.wrist = WristLink(manager, wrist, log=lambda text: logger.notice(f'{manager.name}: {text}'),
+                               trace=lambda text: logger.debug(f'{manager.name}: {text}'))
 
     def _warn(self, text: str) -> None:
         self.logger.warn(f'{self.manager.name}: {text}')
@@ -198,6 +209,8 @@ class MotionModule:
         for request in self.control.step(pose, points, goto_state, now):
             self._send(request)
         self.plan.update(self.control.behaviour, self.manager.node.get_clock().now().to_msg())
+        self.control.wrist = self.wrist.present
+        self.wrist.update(self.control.aim(pose, now), now)
         self._publish_status(now)
 
 
@@ -205,7 +218,7 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('motionModule')
     manager.set_help_string(HELP)
-    user = manager.parse_options(argv, 'm:s:b:v:w:').user
+    user = manager.parse_options(argv, 'm:s:b:v:w:W:R').user
     grid = None
     try:
         settings = MotionSettings(max_tv=float(user.get('v', 0.6)), max_rv=float(user.get('w', 1.0)))
@@ -224,10 +237,15 @@ def main(argv: list[str] | None = None) -> int:
     logger = Logger(manager.name)
     manager.register_supplier(logger)
     module = MotionModule(manager, logger, grid, settings, laser=user.get('s', 'PlutoLaser'),
-                          base=user.get('b', 'PlutoBase'))
+                          base=user.get('b', 'PlutoBase'), wrist=user.get('W', 'PlutoWrist'), rays_only='R' in user)
     set_loop(manager, LOOP_S, PLANNING_TTL_S)
-    logger.notice(f'{manager.name}: ' + (f'planning on {user["m"]} ({grid.shape[1]} x {grid.shape[0]} cells of '
-                                         f'{grid.resolution} m)' if grid is not None else 'no map: ray following'))
+    if grid is None:
+        how = 'no map: ray following'
+    elif 'R' in user:
+        how = f'map {user["m"]} for the pose; moveto by ray following (-R)'
+    else:
+        how = f'planning on {user["m"]} ({grid.shape[1]} x {grid.shape[0]} cells of {grid.resolution} m)'
+    logger.notice(f'{manager.name}: {how}')
     return run_loop(manager, module.step, lambda: None)
 
 

@@ -64,7 +64,8 @@ class MotionProxy(ChainProxy):
 
     @property
     def moveto_status(self) -> int | None:
-        """element[2]: -1 moveto set, -2 nearing, 1 at goal, 2 investigate done, 3 unreachable, 0."""
+        """element[2]: -1 moveto set, -2 nearing, 1 at goal, 2 investigate done, 3 unreachable, 4 blocked
+        (waiting for the way to clear), 0."""
         return self.element[2] if len(self.element) > 2 else None
 
     @property

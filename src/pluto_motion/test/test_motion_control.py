@@ -1,7 +1,9 @@
 """The motionModule's command parsing and control (pluto_motion.motion_command, .motion_control),
 pure: flags and refusals, the rectangle's geometry (Pluto 6.3's last paragraph), pass-through stops
 and resumes a motion, release, unreachable ends with element[2] = 3, a planned moveto steps through
-its plan to element[2] = 1 (on an ideal robot), explore covers its rectangle and ends at home."""
+its plan to element[2] = 1 (on an ideal robot), a person standing in the only door makes it wait
+(element[2] = 4) and go on when the door clears, or give up after the patience, explore covers its
+rectangle and ends at home."""
 
 from __future__ import annotations
 
@@ -11,7 +13,7 @@ import numpy as np
 import pytest
 
 from pluto_motion.motion_behaviours import FOLLOW, GOTO, MotionSettings, lawn_mower
-from pluto_motion.motion_command import (AT_GOAL, FOLLOWING, IDLE, IDLE_RECTANGLE, MOVETO_SET, NEARING,
+from pluto_motion.motion_command import (AT_GOAL, BLOCKED, FOLLOWING, IDLE, IDLE_RECTANGLE, MOVETO_SET, NEARING,
                                          THREAD_STOPPED, UNREACHABLE, CommandRefused, Kind, Rectangle,
                                          parse_command)
 from pluto_motion.motion_control import MotionController
@@ -142,6 +144,46 @@ def test_nearing_on_the_last_stretch() -> None:
     assert request.cmd_flags == FOLLOW and c.element2 == MOVETO_SET
     (request,) = c.step((7.5, 4.0, 0.0), NO_POINTS, None, 0.2)
     assert request.cmd_flags == GOTO and request.position == (8.0, 4.0) and c.element2 == NEARING
+
+
+#: A person standing in the door of the dividing wall below (x 5, y 6-8): the laser's points on them.
+PERSON_IN_DOOR = np.array([(x, y) for x in np.arange(4.8, 5.21, 0.05) for y in np.arange(6.0, 8.01, 0.05)])
+
+
+def _blocked_at_the_door(patience: float) -> tuple[MotionController, tuple[float, float, float], float]:
+    """A moveto through the only door, the robot held where it plans (the person in the door is
+    what the laser sees) until it is stuck and finds the way closed round the scan."""
+    grid = build_grid(ROOM + [(5, 0, 5, 6)], bounds=(0, 0, 10, 8))
+    c = MotionController(grid, MotionSettings(patience=patience), warn=lambda _: None)
+    pose, t = (2.0, 2.0, 0.0), 0.0
+    c.accept(parse_command(42, [8, 2], [], []), pose)
+    requests: list = []
+    while c.element2 != BLOCKED and t < 60.0:
+        requests += c.step(pose, PERSON_IN_DOOR, None, t)
+        t += 0.1
+    assert c.element2 == BLOCKED and c.behaviour is not None, 'the moveto must wait, not give up'
+    assert requests[-1].cmd_flags == 0 and requests[-1].velocity == (0.0, 0.0)     # stopped
+    return c, pose, t
+
+
+def test_a_person_in_the_door_makes_moveto_wait_then_go_on() -> None:
+    c, pose, t = _blocked_at_the_door(patience=60.0)
+    for _ in range(100):                                 # 10 s: the person stays, the robot waits
+        assert all(r.cmd_flags == 0 for r in c.step(pose, PERSON_IN_DOOR, None, t))
+        t += 0.1
+    assert c.element2 == BLOCKED and c.behaviour is not None
+    pose, _, path, _ = drive(c, pose, t)                 # the person has gone: NO_POINTS
+    assert c.element2 == AT_GOAL and math.dist(pose[:2], (8.0, 2.0)) <= MotionSettings().reach
+
+
+def test_a_door_that_stays_blocked_ends_the_moveto_after_its_patience() -> None:
+    c, pose, t = _blocked_at_the_door(patience=5.0)
+    start = t
+    while c.behaviour is not None and t < start + 30.0:
+        c.step(pose, PERSON_IN_DOOR, None, t)
+        t += 0.1
+    assert c.element2 == UNREACHABLE and 'blocked' in c.reason
+    assert 5.0 <= t - start <= 7.0
 
 
 @pytest.mark.parametrize('home', [(5.0, 1.0), (5.02, 1.03)])   # on a cell border, and between
