@@ -14,7 +14,9 @@
 DDS stays on loopback (env.sh sets ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST). Options (``make demo
 DEMO_ARGS="..."``): ``--time-scale X`` simulated seconds per wall second (the config is copied to
 ``<output>/config`` with its sim-config's ``time-scale`` set, and the MCP and its modules take their
-time from the simulator's ``/clock``); ``--live [PORT]`` also serves every topic to Foxglove on
+time from the simulator's ``/clock``); ``--people N`` the crowded variant: the config copied there
+with the first N of ``config/pluto-people``'s people walking the office (issue 38);
+``--live [PORT]`` also serves every topic to Foxglove on
 ``ws://127.0.0.1:PORT`` (``live_view``, default 8765) while the mission runs; ``--config-dir DIR``
 another config directory, ``--output DIR`` where the plot goes, ``--places a,b,c`` other places.
 """
@@ -30,6 +32,8 @@ import subprocess
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
+#: The crowded variant's people (config/pluto-people: the same robot and office, with people).
+CROWD = ROOT / 'config' / 'pluto-people' / 'sim-config.xml'
 MISSION_TIMEOUT_S = 900.0
 
 
@@ -51,6 +55,8 @@ def main() -> int:
                         help='simulated seconds per wall second (default: the sim-config\'s)')
     parser.add_argument('--live', type=int, nargs='?', const=8765, default=None, metavar='PORT',
                         help='also serve every topic to Foxglove on ws://127.0.0.1:PORT (8765)')
+    parser.add_argument('--people', type=int, default=0, metavar='N',
+                        help=f'N of the people of {CROWD.relative_to(ROOT)} walk the office (default 0)')
     args = parser.parse_args()
     if os.environ.get('ROS_AUTOMATIC_DISCOVERY_RANGE') != 'LOCALHOST':
         raise SystemExit('demo: DDS must stay on loopback; run through `make demo` or env.sh')
@@ -58,10 +64,11 @@ def main() -> int:
     output = pathlib.Path(args.output).resolve()
     output.mkdir(parents=True, exist_ok=True)
     ros_args: list[str] = []
+    if args.time_scale is not None and not args.time_scale > 0:
+        raise SystemExit(f'demo: --time-scale must be above 0, not {args.time_scale}')
+    if args.time_scale is not None or args.people:
+        config_dir = prepared_config(config_dir, output / 'config', args.time_scale, args.people)
     if args.time_scale is not None:
-        if not args.time_scale > 0:
-            raise SystemExit(f'demo: --time-scale must be above 0, not {args.time_scale}')
-        config_dir = scaled_config(config_dir, output / 'config', args.time_scale)
         ros_args = ['--ros-args', '-p', 'use_sim_time:=true']
     env = dict(os.environ, WURDE_CONFIG_DIR=str(config_dir), WURDE_DATA_DIR=str(output),
                WURDE_LOG_DIRECTORY=str(output))
@@ -94,13 +101,26 @@ def main() -> int:
     return 0 if mission_code == 0 and mcp_code == 0 and record_code == 0 else 1
 
 
-def scaled_config(source: pathlib.Path, target: pathlib.Path, time_scale: float) -> pathlib.Path:
-    """``source`` copied to ``target`` with its sim-config's ``time-scale`` set."""
+def prepared_config(source: pathlib.Path, target: pathlib.Path, time_scale: float | None,
+                    people: int) -> pathlib.Path:
+    """``source`` copied to ``target``, its sim-config's ``time-scale`` set (None: kept) and the
+    first ``people`` ``<person>`` elements of :data:`CROWD` added to it.
+
+    :raises SystemExit: more people than the crowded variant declares, or fewer than 0.
+    """
     from lxml import etree
+    parser = etree.XMLParser(resolve_entities=False, no_network=True)
+    crowd = etree.parse(str(CROWD), parser).getroot().findall('person')
+    if not 0 <= people <= len(crowd):
+        raise SystemExit(f'demo: --people takes 0 to {len(crowd)} (the people of {CROWD}), not {people}')
     shutil.copytree(source, target, dirs_exist_ok=True)
     path = target / 'sim-config.xml'
-    tree = etree.parse(str(path), etree.XMLParser(resolve_entities=False, no_network=True))
-    tree.getroot().set('time-scale', repr(time_scale))
+    tree = etree.parse(str(path), parser)
+    root = tree.getroot()
+    if time_scale is not None:
+        root.set('time-scale', repr(time_scale))
+    for person in crowd[:people]:
+        root.append(person)
     tree.write(str(path), xml_declaration=True, encoding='utf-8')
     return target
 

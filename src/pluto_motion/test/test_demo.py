@@ -4,6 +4,7 @@ plot at the end — and goes on when a module is killed during the mission (the 
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import pathlib
 import re
@@ -12,6 +13,7 @@ import signal
 import subprocess
 import sys
 
+import pytest
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
 from wurde_core import topic
@@ -67,3 +69,25 @@ def test_demo_visits_places_by_name_and_saves_a_plot(ros_domain: int, tmp_path: 
     assert plot.read_bytes()[:8] == b'\x89PNG\r\n\x1a\n' and plot.stat().st_size > 10_000
     for module in ('PlutoBase', 'localModule', 'motionModule'):
         assert (output / 'mcp-modules' / f'{module}.log').read_text().rstrip().endswith('--- exit code 0')
+
+
+def _demo_module():
+    spec = importlib.util.spec_from_file_location('demo', DEMO)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.mark.parametrize('people', [0, 1, 3])
+def test_the_crowded_variant_puts_that_many_people_in_the_office(tmp_path: pathlib.Path, people: int) -> None:
+    """`make demo DEMO_ARGS="--people N"`: config/pluto with N of config/pluto-people's people."""
+    from wurde_drivers.sim.loading import load_sim
+    target = _demo_module().prepared_config(PLUTO, tmp_path / 'config', None, people)
+    config, world, _ = load_sim(str(target / 'sim-config.xml'))
+    assert [p.name for p in config.people] == ['ana', 'ben', 'trolley'][:people]
+    assert len(world.people) == people and config.time_scale == load_sim(str(PLUTO / 'sim-config.xml'))[0].time_scale
+
+
+def test_more_people_than_the_crowded_variant_has_are_refused(tmp_path: pathlib.Path) -> None:
+    with pytest.raises(SystemExit, match='--people takes 0 to 3'):
+        _demo_module().prepared_config(PLUTO, tmp_path / 'config', None, 4)
