@@ -1,7 +1,7 @@
 # The two commands of this workspace:
 #   make demo   build everything, then run the main job
-#   make test   build everything, then run every package's tests (colcon test, three lanes at once:
-#               tools/test_lanes.sh)
+#   make test   build everything, lint it (tools/lint.sh: ruff and mypy), then run every package's
+#               tests (colcon test, three lanes at once: tools/test_lanes.sh)
 # Both set themselves up from nothing: virtual environment with pinned wheels, CMake fix, colcon build.
 
 SHELL := /bin/bash
@@ -37,7 +37,8 @@ $(BUILD_STAMP): $(VENV_STAMP) $(SOURCES)
 
 test: build system
 	@rc=0; \
-	tools/test_lanes.sh $(COLCON_TEST_ARGS) || rc=$$?; \
+	tools/lint.sh || rc=$$?; \
+	tools/test_lanes.sh $(COLCON_TEST_ARGS) || rc=$$((rc ? rc : $$?)); \
 	$(IN_ENV) colcon test-result --verbose || rc=$$((rc ? rc : $$?)); \
 	$(IN_ENV) python tools/test_summary.py build || rc=$$((rc ? rc : $$?)); \
 	exit $$rc
@@ -141,3 +142,14 @@ FUZZ_SECONDS ?= 30
 fuzz: build
 	$(IN_ENV) pip install --quiet -r fuzz/requirements.txt
 	$(IN_ENV) python fuzz/run.py --seconds $(FUZZ_SECONDS)
+
+# The unit lane (issue 42): every package's tests that need neither DDS nor other processes, in
+# about a minute.  `make test` (the README's test command, and CI's) still runs everything.
+.PHONY: test-fast lint
+test-fast: build
+	tools/test_fast.sh
+
+# ruff (ruff.toml) on the whole tree and mypy (mypy.ini) on every package's code, the benchmarks
+# and the tools; `make test` runs it first.
+lint: build
+	tools/lint.sh

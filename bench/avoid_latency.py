@@ -41,7 +41,7 @@ def compute(steps: int) -> dict[str, tuple[float, float]]:
     import numpy as np
     from goto_sim import LASER, box, raycast
 
-    from pluto_motion.avoid_command import parse_command
+    from pluto_motion.avoid_command import AvoidCommand, parse_command
     from pluto_motion.avoid_control import AvoidController
 
     walls = box(0, 0, 10, 6) + box(4.5, 2.5, 5.5, 3.5)
@@ -49,9 +49,15 @@ def compute(steps: int) -> dict[str, tuple[float, float]]:
     poses = [(float(rng.uniform(1, 4)), float(rng.uniform(1, 5)), float(rng.uniform(-1, 1))) for _ in range(50)]
     scans = [raycast(walls, x + 0.2 * math.cos(t), y + 0.2 * math.sin(t), t + LASER.theta) for x, y, t in poses]
     results = {}
+
+    def goto(flags: int) -> AvoidCommand:
+        command = parse_command(flags, [0.5, 1.0], [8.5, 3.0])
+        assert command is not None              # cmdFlags 2x: a goto, never a release
+        return command
+
     for name, flags in (('goto + laser guard (22)', 22), ('laser guard alone (20)', 20)):
         control = AvoidController()
-        control.accept(parse_command(flags, [0.5, 1.0], [8.5, 3.0]), now=0.0)
+        control.accept(goto(flags), now=0.0)
         times = []
         for i in range(steps):
             pose, ranges = poses[i % len(poses)], scans[i % len(scans)]
@@ -61,7 +67,7 @@ def compute(steps: int) -> dict[str, tuple[float, float]]:
             control.step(now, pose)
             times.append((time.perf_counter() - started) * 1000.0)
             if control.goto_code in (1, 2):
-                control.accept(parse_command(flags, [0.5, 1.0], [8.5, 3.0]), now=now)
+                control.accept(goto(flags), now=now)
         results[name] = (statistics.fmean(times), _percentile(times, 0.99))
     return results
 

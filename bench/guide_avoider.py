@@ -27,6 +27,7 @@ from __future__ import annotations
 import argparse
 import pathlib
 import sys
+from typing import Any
 
 import numpy as np
 
@@ -81,13 +82,14 @@ def main() -> int:
 
     radius = AvoidSettings().radius
     # name: settings, the Navigator step, run_avoider's keywords
-    variants = {'now': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, {}),
-                'nomemory': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, {'memory': False}),
-                'before': (AvoidSettings(side_bias=0.0, fan_margin=0.0), 0.1, {'memory': False}),
-                'late': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, LATE),
-                'late-arr': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, {**LATE, 'stamped': False}),
-                'slow': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, SLOW),
-                'slow-arr': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, {**SLOW, 'stamped': False})}
+    variants: dict[str, tuple[AvoidSettings, float, dict[str, Any]]] = {
+        'now': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, {}),
+        'nomemory': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, {'memory': False}),
+        'before': (AvoidSettings(side_bias=0.0, fan_margin=0.0), 0.1, {'memory': False}),
+        'late': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, LATE),
+        'late-arr': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, {**LATE, 'stamped': False}),
+        'slow': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, SLOW),
+        'slow-arr': (AvoidSettings(), avoider_sim.NAV_TURN_STEP, {**SLOW, 'stamped': False})}
     print(f'{"worlds":8} {"avoider":10} {"reached":>9} {"touched":>8} {"least clearance":>16}')
     for kind, make in (('clutter', clutter), ('margin', margin)):
         for name, (settings, step, options) in variants.items():

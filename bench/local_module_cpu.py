@@ -91,7 +91,8 @@ def main() -> int:
         for process in (local, *processes):
             process.stop()
     print(f'| process | CPU (% of one core) over {elapsed:.0f} s |\n|---|---|')
-    print(f'| local_module (odometry {args.rate:.0f} Hz, DMU 50 Hz, scans 5 Hz) | {100 * used[local.process.pid] / elapsed:.1f} |')
+    share = 100 * used[local.process.pid] / elapsed
+    print(f'| local_module (odometry {args.rate:.0f} Hz, DMU 50 Hz, scans 5 Hz) | {share:.1f} |')
     print(f'| dummy_dmu (one stream at 50 Hz), for comparison | {100 * used[dmu] / elapsed:.1f} |')
     print(f'| raw rclpy node, the same traffic ({" and ".join(ready[2:])} in), no estimation | '
           f'{100 * used[raw.pid] / elapsed:.1f} |')

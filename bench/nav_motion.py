@@ -165,7 +165,8 @@ def run_map(name: str, map_file: pathlib.Path, goals: list[tuple[float, float]],
                     command = lambda: motion.send(32, [MAX_TV, 1.0], list(goal), [1.0])  # noqa: E731
                     said = until(lambda: motion.goto_status == -1, 10.0, every=command) and \
                         until(lambda: motion.goto_status in (1, 2), limit) and motion.goto_status == 1
-                    why = {2: 'stuck', 1: ''}.get(motion.goto_status, 'timeout')
+                    reasons: dict[int | None, str] = {2: 'stuck', 1: ''}
+                    why = reasons.get(motion.goto_status, 'timeout')
                 seconds = time.monotonic() - began
                 motion.stop()
                 until(lambda: False, 1.0)                    # the truth of the stop comes in

@@ -80,7 +80,8 @@ def row(name: str, outcome: Outcome, empty: Outcome) -> str:
 
 
 HEADER = ('| map | people | goals reached | contacts with people | least clearance to a person m '
-          '| collisions (bumper or wall) | time s | time lost s (legs from and to goals reached in both runs) |\n|' + '---|' * 8)
+          '| collisions (bumper or wall) | time s | time lost s (legs from and to goals reached in both runs) |\n|'
+          + '---|' * 8)
 
 
 def main() -> int:

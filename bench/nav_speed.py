@@ -55,7 +55,7 @@ def office_scans(count: int = 64, seed: int = 1, world: World | None = None) -> 
     box = world.bounds
     rng = np.random.default_rng(seed)
     laser = LaserModel(LaserGeometry(noise_sigma=0.01, mount_x=0.2), rng)
-    scans = []
+    scans: list[np.ndarray] = []
     while len(scans) < count:
         x, y = rng.uniform((box.xmin, box.ymin), (box.xmax, box.ymax))
         if world.is_free((x, y), 0.4):

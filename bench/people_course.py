@@ -16,8 +16,12 @@ import dataclasses
 import math
 import pathlib
 import random
+from typing import TYPE_CHECKING
 
 from lxml import etree
+
+if TYPE_CHECKING:
+    from wurde_drivers.sim.people import People
 
 #: m: how far either side of the way a crossing reaches at most, and at least in all.
 REACH_M, SHORTEST_CROSSING_M = 2.5, 1.2
@@ -128,7 +132,7 @@ def write_people(sim_config: pathlib.Path, people: list[dict[str, str]], out: pa
 class Clearance:
     """The gap between the robot's disc and the nearest person, over the truth samples given."""
 
-    people: object          # wurde_drivers.sim.people.People
+    people: People
     radius: float
     least: float = math.inf
     contacts: int = 0

@@ -97,7 +97,8 @@ def main() -> int:
         return 0
 
     from wurde_drivers.sick.emulator import SickEmulator
-    with SickEmulator(scan_source=lambda count, fov: [4.0] * count) as emulator:
+    emulator = SickEmulator(scan_source=lambda count, fov: [4.0] * count)
+    with emulator:
         rows = [('SickLaser.poll', measure(emulator, 'driver', args.seconds))]
         # The device stays at 500000 baud in continuous mode after the driver closes the port.
         rows.append(('raw pyserial', measure(emulator, 'raw', args.seconds)))

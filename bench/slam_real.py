@@ -86,7 +86,7 @@ def _quiet(text: str) -> None:
 
 
 def _rows(name: str, metric: str, log: RobotLog, methods: list[str], published: float | None, score,
-          goal: float | None = None) -> bool:  # type: ignore[no-untyped-def]
+          goal: float | None = None) -> bool:
     beats = True
     for method in methods:
         result = run_offline(log, METHODS[method]())
@@ -103,7 +103,7 @@ def _rows(name: str, metric: str, log: RobotLog, methods: list[str], published: 
     return beats
 
 
-def _simulated(count: int):  # type: ignore[no-untyped-def]
+def _simulated(count: int):
     """Logs of the simulated robot (odometry noise, 1 cm laser noise) on the office and
     ``count`` generated maps, with relations from the truth."""
     import random_maps

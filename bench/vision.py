@@ -206,7 +206,7 @@ def main() -> int:
         os.environ['ROS_DOMAIN_ID'] = str(claim.domain_id)
     print(f'vision benchmark, ROS_DOMAIN_ID={os.environ["ROS_DOMAIN_ID"]}, {os.cpu_count()} cores, '
           f'{args.seconds:g} s per figure, OpenCV {cv2.__version__}')
-    rows = []
+    rows: list[tuple[str, str, float, float | None]] = []
     with tempfile.TemporaryDirectory(prefix='bench-vision-') as directory:
         for width, height in SIZES:
             images = frames(width, height)
@@ -216,8 +216,8 @@ def main() -> int:
             for name, (sent, got) in bench_publisher(images, args.seconds, (width, height)).items():
                 rows.append((f'{width}x{height}', name, sent, got))
     print(f'\n{"size":9} {"what":28} {"frames/s":>9} {"received/s":>11}')
-    for size, name, rate, got in rows:
-        print(f'{size:9} {name:28} {rate:9.1f} {"" if got is None else f"{got:11.1f}"}')
+    for size, name, rate, received in rows:
+        print(f'{size:9} {name:28} {rate:9.1f} {"" if received is None else f"{received:11.1f}"}')
     if claim is not None:
         claim.release()
     return 0

@@ -152,10 +152,11 @@ def raw(publisher: Publisher, seconds: float, rate: float) -> list[float]:
     child = subprocess.Popen([sys.executable, __file__, '--raw'], stdout=subprocess.PIPE, text=True)
     lines: list[str] = []
     try:
-        assert child.stdout is not None
-        if child.stdout.readline().strip() != 'raw ready':
+        stdout = child.stdout
+        assert stdout is not None
+        if stdout.readline().strip() != 'raw ready':
             raise SystemExit('bench: the raw subscriber did not start')
-        reader = threading.Thread(target=lambda: lines.extend(iter(child.stdout.readline, '')), daemon=True)
+        reader = threading.Thread(target=lambda: lines.extend(iter(stdout.readline, '')), daemon=True)
         reader.start()
         deadline = time.monotonic() + 30
         while publisher.pose.peers('data') < 2 and time.monotonic() < deadline:   # the server and it

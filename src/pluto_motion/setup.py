@@ -15,7 +15,8 @@ setup(
     zip_safe=True,
     maintainer='WURDE-on-ROS 2 team',
     maintainer_email='wurde@example.org',
-    description="Pluto's movement chain: driveModule, avoidModule and motionModule with the Pluto document's command flags and status codes.",
+    description=("Pluto's movement chain: driveModule, avoidModule and motionModule with the Pluto document's "
+                 "command flags and status codes."),
     license='BSD-3-Clause',
     tests_require=['pytest'],
     entry_points={'console_scripts': [

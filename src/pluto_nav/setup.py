@@ -15,7 +15,8 @@ setup(
     zip_safe=True,
     maintainer='WURDE-on-ROS 2 team',
     maintainer_email='wurde@example.org',
-    description="Pluto's localization: localModule with its five pose streams, poseModule, slamModule and the loc proxy.",
+    description=("Pluto's localization: localModule with its five pose streams, poseModule, slamModule and the "
+                 "loc proxy."),
     license='BSD-3-Clause',
     tests_require=['pytest'],
     entry_points={'console_scripts': [

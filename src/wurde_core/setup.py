@@ -15,7 +15,8 @@ setup(
     zip_safe=True,
     maintainer='WURDE-on-ROS 2 team',
     maintainer_email='wurde@example.org',
-    description="The WURDE programming model on rclpy: CommsManager, RobotObjects with data / info / request channels, Writable locks, triggers, RoleConfiguration and Logger (issue: wurde_core).",
+    description=("The WURDE programming model on rclpy: CommsManager, RobotObjects with data / info / request "
+                 "channels, Writable locks, triggers, RoleConfiguration and Logger (issue: wurde_core)."),
     license='BSD-3-Clause',
     tests_require=['pytest'],
     entry_points={'console_scripts': [

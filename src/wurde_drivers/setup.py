@@ -57,7 +57,8 @@ setup(
     zip_safe=True,
     maintainer='WURDE-on-ROS 2 team',
     maintainer_email='wurde@example.org',
-    description="Device drivers that speak the real protocols (SICK, rFLEX, PTU, CAN wrist, GPS, DMU), their device emulators, and the simulated Pluto robot (issues: drivers, simulated robot).",
+    description=("Device drivers that speak the real protocols (SICK, rFLEX, PTU, CAN wrist, GPS, DMU), their "
+                 "device emulators, and the simulated Pluto robot (issues: drivers, simulated robot)."),
     license='BSD-3-Clause',
     tests_require=['pytest'],
     entry_points={

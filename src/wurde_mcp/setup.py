@@ -15,7 +15,8 @@ setup(
     zip_safe=True,
     maintainer='WURDE-on-ROS 2 team',
     maintainer_email='wurde@example.org',
-    description="The Master Control Program: a lifecycle supervisor node that starts modules from mcp-config and mcp-mappings, watches heartbeats, restarts and assigns streams (issue: wurde_mcp).",
+    description=("The Master Control Program: a lifecycle supervisor node that starts modules from mcp-config and "
+                 "mcp-mappings, watches heartbeats, restarts and assigns streams (issue: wurde_mcp)."),
     license='BSD-3-Clause',
     tests_require=['pytest'],
     entry_points={'console_scripts': [

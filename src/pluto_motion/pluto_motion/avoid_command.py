@@ -85,13 +85,13 @@ def parse_command(cmd_flags: int, velocity: Sequence[float], position: Sequence[
         raise CommandRefused(f'cmdFlags {cmd_flags}: the avoidModule takes 10*A+T with A, T in 0..3 '
                              '(or -1 to release)')
     kind, avoid = Kind(cmd_flags % 10), cmd_flags // 10
-    common = {'kind': kind, 'sonar': bool(avoid & 1), 'laser': bool(avoid & 2)}
+    common = (kind, bool(avoid & 1), bool(avoid & 2))          # kind, sonar, laser
     if kind is Kind.VELOCITY:
         tv, rv = finite('velocity', velocity, 2)
-        return AvoidCommand(tv=tv, rv=rv, **common)
+        return AvoidCommand(*common, tv=tv, rv=rv)
     if kind is Kind.REGULATOR:
         (tv,) = finite('velocity', velocity, 1)
-        return AvoidCommand(tv=tv, heading=finite('position', position, 2)[1], **common)
+        return AvoidCommand(*common, tv=tv, heading=finite('position', position, 2)[1])
     if kind is Kind.GOTO:
         x, y = finite('position', position, 2)
         max_tv, max_rv = finite('velocity', velocity, 2)
@@ -100,9 +100,9 @@ def parse_command(cmd_flags: int, velocity: Sequence[float], position: Sequence[
         strength = finite('force', force, 1)[0] if len(force) else 1.0
         if strength <= 0:
             raise CommandRefused(f'goto force[0] (goal strength) must be > 0, got {strength}')
-        return AvoidCommand(goal=(x, y), max_tv=max_tv, max_rv=max_rv, strength=strength, **common)
+        return AvoidCommand(*common, goal=(x, y), max_tv=max_tv, max_rv=max_rv, strength=strength)
     (tv,) = finite('velocity', velocity, 1)
     distance = finite('position', position, 1)[0] if len(position) else 0.0
     if tv < 0 or distance < 0:
         raise CommandRefused(f'wall follow needs speed >= 0 and distance >= 0, got {tv}, {distance}')
-    return AvoidCommand(tv=tv, distance=distance, **common)
+    return AvoidCommand(*common, tv=tv, distance=distance)

@@ -94,8 +94,9 @@ class AvoidController:
         self.failure: str | None = None
         #: Why the last goto got stuck (for the log).
         self.stuck_reason = ''
-        self.laser = (np.zeros((0, 2)), None)
-        self.sonar = (np.zeros((0, 2)), np.zeros(0), None)
+        self.laser: tuple[np.ndarray, tuple[float, float, float] | None] = (np.zeros((0, 2)), None)
+        self.sonar: tuple[np.ndarray, np.ndarray, tuple[float, float, float] | None] = (
+            np.zeros((0, 2)), np.zeros(0), None)
         #: People and other things the laser sees move: where they are about to be is avoided too.
         self.movers = MovingObstacles()
 

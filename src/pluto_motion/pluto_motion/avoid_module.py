@@ -46,6 +46,7 @@ from __future__ import annotations
 import math
 import sys
 import time
+from typing import Any
 
 import numpy as np
 
@@ -71,12 +72,14 @@ LOOP_S = 0.05
 SONAR_FRESH_S = 1.0
 #: Tunables (ROS 2 parameters of the node, ``ros2 param set /avoidModule goto.reach_goal 0.3``):
 #: the goto's and the laser guard's distances, what each means and its range.
-GOTO_TUNABLES = {'reach_goal': ('a goto has reached its goal within this distance, m', 0.02, 5.0),
-                 'goal_slow': ('a goto slows down within this distance of its goal, m', 0.0, 10.0),
-                 'reach': ('obstacles nearer than this push the goto away, m (Pluto 6.2: 3)', 0.5, 10.0),
-                 'stuck_s': ('a goto with no progress for this long is stuck, s', 1.0, 600.0)}
-LASER_TUNABLES = {'stop': ('laser protection stops at this free distance, m', 0.0, 2.0),
-                  'slow': ('laser protection slows from this free distance, m', 0.1, 10.0)}
+GOTO_TUNABLES: dict[str, tuple[str, float | None, float | None]] = {
+    'reach_goal': ('a goto has reached its goal within this distance, m', 0.02, 5.0),
+    'goal_slow': ('a goto slows down within this distance of its goal, m', 0.0, 10.0),
+    'reach': ('obstacles nearer than this push the goto away, m (Pluto 6.2: 3)', 0.5, 10.0),
+    'stuck_s': ('a goto with no progress for this long is stuck, s', 1.0, 600.0)}
+LASER_TUNABLES: dict[str, tuple[str, float | None, float | None]] = {
+    'stop': ('laser protection stops at this free distance, m', 0.0, 2.0),
+    'slow': ('laser protection slows from this free distance, m', 0.1, 10.0)}
 HELP = ('  -b BASE      the base module (default PlutoBase): reads <BASE>Sonar, <BASE>Motion\n'
         '  -L LASER     the laser (default PlutoLaser): RangeFinder stream LASER\n'
         '  -R RADIUS    the robot\'s radius, m (0.35)\n'
@@ -102,17 +105,17 @@ class Every(Trigger):
         return True
 
 
-def _beams(info: object, count: int) -> Beams:
+def _beams(info: Any, count: int) -> Beams:
     """The beams of a RangeFinder whose readings have ``count`` values: its sensor poses, or a
     uniform fan (the info gives no count: the readings do)."""
-    positions = list(info.sensor_positions.get_value())  # type: ignore[attr-defined]
-    half = float(info.half_angle.get_value())  # type: ignore[attr-defined]
+    positions = list(info.sensor_positions.get_value())
+    half = float(info.half_angle.get_value())
     if positions:
         return Beams.ring([(p.x(), p.y(), p.theta()) for p in positions], half)
-    return Beams.fan(count, first=float(info.theta_offset.get_value()),  # type: ignore[attr-defined]
-                     step=float(info.theta_separation.get_value()),  # type: ignore[attr-defined]
-                     x=float(info.x_offset.get_value()),  # type: ignore[attr-defined]
-                     y=float(info.y_offset.get_value()),  # type: ignore[attr-defined]
+    return Beams.fan(count, first=float(info.theta_offset.get_value()),
+                     step=float(info.theta_separation.get_value()),
+                     x=float(info.x_offset.get_value()),
+                     y=float(info.y_offset.get_value()),
                      half_angle=half)
 
 
@@ -169,10 +172,10 @@ class AvoidModule:
             stamp = self.laser.data.timestamp.get_seconds()
             self.control.set_laser(ranges, self.laser_beams.points(ranges), stamp, now, self._taken_at(stamp))
         if self.sonar.get_next_data() and self.sonar_info:
-            ranges = np.asarray(self.sonar.data.ranges, dtype=float)
-            if self.sonar_beams is None or len(self.sonar_beams) != len(ranges):
-                self.sonar_beams = _beams(self.sonar.info, len(ranges))
-            points = self.sonar_beams.points(ranges)
+            sonar_ranges = np.asarray(self.sonar.data.ranges, dtype=float)
+            if self.sonar_beams is None or len(self.sonar_beams) != len(sonar_ranges):
+                self.sonar_beams = _beams(self.sonar.info, len(sonar_ranges))
+            points = self.sonar_beams.points(sonar_ranges)
             cones = np.full(len(points), self.sonar_beams.half_angle)
             self.control.set_sonar(points, cones, self._taken_at(self.sonar.data.timestamp.get_seconds()))
             self.sonar_at = now

@@ -77,10 +77,10 @@ class AvoidProxy(ChainProxy):
               sonar: bool = True, laser: bool = True, timeout: float | None = None) -> Task:
         """Start a goto (default cmdFlags 32) and return its handle."""
         def outcome() -> tuple[TaskResult, str]:
-            return {GOTO_REACHED: (TaskResult.SUCCEEDED, ''),
-                    GOTO_STUCK: (TaskResult.FAILED, 'goto stuck'),
-                    THREAD_STOPPED: (TaskResult.FAILED, 'avoid thread stopped')}.get(
-                        self.goto_status, (TaskResult.UNKNOWN, ''))
+            ends: dict[int | None, tuple[TaskResult, str]] = {
+                GOTO_REACHED: (TaskResult.SUCCEEDED, ''), GOTO_STUCK: (TaskResult.FAILED, 'goto stuck'),
+                THREAD_STOPPED: (TaskResult.FAILED, 'avoid thread stopped')}
+            return ends.get(self.goto_status, (TaskResult.UNKNOWN, ''))
 
         return self._goal_task(_flags(Kind.GOTO, sonar, laser), (x, y),
                                lambda: self.goto(x, y, max_tv, max_rv, strength=strength, sonar=sonar, laser=laser),

@@ -25,7 +25,7 @@ RESEND_S = 0.5
 class BaseCalibration:
     """Set ``calibration`` in the base behind ``base`` (its ``<base>Command``), once confirmed."""
 
-    def __init__(self, base: ActuatorState, calibration: Calibration, say: Callable[[str], None]) -> None:
+    def __init__(self, base: ActuatorState, calibration: Calibration, say: Callable[[str], object]) -> None:
         self.base, self.calibration, self.say = base, calibration, say
         self.confirmed = False
         self._sent = -math.inf

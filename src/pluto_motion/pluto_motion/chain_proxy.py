@@ -122,28 +122,31 @@ class ChainProxy(Proxy):
         never taken for this one's, and ``outcome()`` judges it.  ``spin``: each poll runs a turn
         of the manager's loop (a client's loop); False for a module whose own loop runs it."""
         refused = self.refused
-        state: dict[str, float | None] = {'sent': -math.inf, 'echoed': None}
+        sent = -math.inf
+        echoed: float | None = None
 
         def resend() -> None:
+            nonlocal sent
             send()
-            state['sent'] = time.monotonic()
+            sent = time.monotonic()
 
         def poll() -> tuple[TaskResult, str]:
+            nonlocal echoed
             if spin:
                 self.spin_once(0.05)
             self._exchange()
             self._take_echoes()
             if self.refused > refused:
                 return TaskResult.FAILED, f'{what} refused (see the module log)'
-            if state['echoed'] is None:
+            if echoed is None:
                 e = self.echo
                 if e is not None and e[0] == flags and len(e[1]) >= len(key) and all(
                         math.isclose(a, b, abs_tol=1e-4) for a, b in zip(e[1], key)):
-                    state['echoed'] = e[2]
-                elif time.monotonic() - state['sent'] > RESEND_S:          # type: ignore[operator]
+                    echoed = e[2]
+                elif time.monotonic() - sent > RESEND_S:
                     resend()
                 return TaskResult.UNKNOWN, ''
-            if self.stamp < state['echoed']:                               # type: ignore[operator]
+            if self.stamp < echoed:
                 return TaskResult.UNKNOWN, ''
             return outcome()
 

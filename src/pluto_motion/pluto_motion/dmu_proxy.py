@@ -9,6 +9,7 @@ and accelerations) and the raw one on ``N/Raw``.  The sensor takes no commands.
 from __future__ import annotations
 
 import dataclasses
+from typing import Any
 
 from wurde_core import CommsManager
 from wurde_core.interfaces import DMUState
@@ -30,9 +31,9 @@ class Inertial:
     stamp: float
 
 
-def _read(d: object) -> Inertial:
-    return Inertial(d.theta, d.phi, d.psi, (d.rate_x, d.rate_y, d.rate_z),  # type: ignore[attr-defined]
-                    (d.accel_x, d.accel_y, d.accel_z), d.timestamp.get_seconds())  # type: ignore[attr-defined]
+def _read(d: Any) -> Inertial:
+    return Inertial(d.theta, d.phi, d.psi, (d.rate_x, d.rate_y, d.rate_z),
+                    (d.accel_x, d.accel_y, d.accel_z), d.timestamp.get_seconds())
 
 
 class DmuProxy(Proxy):

@@ -47,6 +47,7 @@ import math
 import os
 import sys
 import time
+from typing import Any
 
 from wurde_core import CommsManager, Logger
 from wurde_core.interfaces import ActuatorState, Bumper, RangeFinder
@@ -73,11 +74,12 @@ MAX_DT = 0.2
 OPTIONS = {'v': 'max_tv', 'w': 'max_rv', 'a': 'tv_accel', 'A': 'rv_accel', 't': 'timeout'}
 #: The limits as tunables (ROS 2 parameters ``ros2 param set /driveModule max_tv 0.5``): what
 #: each means, its unit, and its range.
-TUNABLES = {'max_tv': ('linear velocity limit, m/s', 0.01, 5.0),
-            'max_rv': ('angular velocity limit, rad/s', 0.01, 6.0),
-            'tv_accel': ('linear acceleration limit, m/s^2', 0.01, 5.0),
-            'rv_accel': ('angular acceleration limit, rad/s^2', 0.01, 10.0),
-            'timeout': ('seconds without a command before the drive stops', 0.01, 60.0)}
+TUNABLES: dict[str, tuple[str, float | None, float | None]] = {
+    'max_tv': ('linear velocity limit, m/s', 0.01, 5.0),
+    'max_rv': ('angular velocity limit, rad/s', 0.01, 6.0),
+    'tv_accel': ('linear acceleration limit, m/s^2', 0.01, 5.0),
+    'rv_accel': ('angular acceleration limit, rad/s^2', 0.01, 10.0),
+    'timeout': ('seconds without a command before the drive stops', 0.01, 60.0)}
 HELP = ('  -b BASE      the base module (default PlutoBase): writes <BASE>Command, reads <BASE>Bumpers,\n'
         '               <BASE>Sonar, <BASE>Motion\n'
         '  -v MAX_TV    linear velocity limit, m/s (1.0)\n'
@@ -197,7 +199,7 @@ class DriveModule:
 
 
 def _settings(manager: CommsManager, user: dict[str, str]) -> DriveSettings:
-    values = {}
+    values: dict[str, Any] = {}                 # DriveSettings' keyword arguments
     for letter, field in OPTIONS.items():
         if letter in user:
             try:

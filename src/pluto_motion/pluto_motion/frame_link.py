@@ -18,6 +18,7 @@ after the robot has stood for :data:`STILL_S`, and it stays as measured while th
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 
 from pluto_nav.geometry import compose, inverse
 
@@ -30,6 +31,12 @@ STILL_S = 0.5
 STILL_M = 0.002
 STILL_RAD = 0.005
 Pose2 = tuple[float, float, float]
+
+
+def _pose2(pose: Iterable[float]) -> Pose2:
+    """A pose of three numbers (numpy's or not) as a tuple of floats."""
+    x, y, theta = pose
+    return float(x), float(y), float(theta)
 
 
 class FrameLink:
@@ -55,8 +62,8 @@ class FrameLink:
         (None: not measured, the robot was not standing)."""
         if self._pose is None or now - self._still_since < STILL_S:
             return None
-        transform = tuple(float(v) for v in compose(pose, inverse(self._pose)))
-        change = tuple(float(v) for v in compose(inverse(self.transform), transform))
+        transform = _pose2(compose(pose, inverse(self._pose)))
+        change = _pose2(compose(inverse(self.transform), transform))
         self.transform = transform
         return change
 

@@ -4,7 +4,8 @@ into waypoints.
 Issue 12 ("Beyond Pluto": Pluto's ray following "can easily get trapped"): with a map, moveto plans
 so that every reachable goal is reached, and an unreachable goal ends with a status, not a wander.
 
-* Search: Dijkstra (``scipy.sparse.csgraph``) over the free cells, 8-connected, from the goal; so
+* Search: Dijkstra (``scipy.sparse.csgraph``) over the free cells, 8-connected (a diagonal step
+  only where both cells beside it are free: no corner of the inflation is cut), from the goal; so
   one search serves every replan towards the same goal (:class:`Planner` keeps the last one).
 * Cost: each step's length times ``1 + weight * ((comfort - c) / comfort)^2`` for a cell clearance
   ``c`` above the inflation that is within ``comfort`` of it: the path keeps away from walls where
@@ -91,6 +92,8 @@ class Planner:
             a, b = index[rows_a, cols_a], index[rows_b, cols_b]
             ca, cb = cost[rows_a, cols_a], cost[rows_b, cols_b]
             both = (a >= 0) & (b >= 0)
+            if dy and dx:       # no corner cutting: a diagonal step needs both cells beside it free
+                both &= (index[rows_b, cols_a] >= 0) & (index[rows_a, cols_b] >= 0)
             rows.append(a[both])
             cols.append(b[both])
             weights.append(math.hypot(dy, dx) * g.resolution * 0.5 * (ca[both] + cb[both]))
@@ -144,12 +147,12 @@ class Planner:
         while node != goal_node:
             node = int(self._predecessors[node])
             path.append(node)
-        cells = [tuple(int(v) for v in self._cells[n]) for n in path]
+        cells = [(int(iy), int(ix)) for iy, ix in (self._cells[n] for n in path)]
         points = [(float(x), float(y)) for x, y in (g.centre(iy, ix) for iy, ix in cells)]
         points[-1] = (float(goal[0]), float(goal[1]))
         waypoints = self._simplify((float(start[0]), float(start[1])), points)
         length = sum(math.dist(a, b) for a, b in zip([start, *waypoints], waypoints))
-        return Plan(True, tuple(waypoints), length, cells=tuple(cells))  # type: ignore[arg-type]
+        return Plan(True, tuple(waypoints), length, cells=tuple(cells))
 
     def _simplify(self, start: tuple[float, float], points: list[tuple[float, float]]) -> list[tuple[float, float]]:
         """Line of sight: from each waypoint, on along the path while the straight line keeps the

@@ -6,7 +6,8 @@ for an unknown key and a status line printed when it changes (:class:`Keys`, :fu
 
 The chain's programs: arrow keys change the speed: up/down by 0.1 m/s, left/right by 0.1 rad/s.
 Each press starts from the link's status data[0..1], the velocities really commanded, not from the
-last command sent: "By first reading the status the interface knows the working command value" (Pluto 6.1) — after a timeout or
+last command sent: "By first reading the status the interface knows the working command value"
+(Pluto 6.1) — after a timeout or
 a stop a press continues from standstill.  The programs do not repeat commands, so the drive's
 timeout stops a robot whose keyboard has gone quiet, as the seed intends.  Space stops, ``a``
 starts the threads (start_activity), ``r`` releases the robot (cmdFlags -1), ``q`` stops and quits;

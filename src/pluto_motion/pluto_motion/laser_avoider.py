@@ -17,7 +17,8 @@ stream / alias         interface                what
 ``SimpleAvoider``      ObstacleAvoiderTransport supplied (``-s`` renames it; BlindTeleop's mapping names it)
 ``LaserClient``        RangeFinder              the laser
 ``EgoClient``          Egomotion                odometry: relative goals are fixed in its frame when given
-                                                (kept through a restart of the base: :mod:`pluto_nav.continuous_odometry`)
+                                                (kept through a restart of the base:
+                                                :mod:`pluto_nav.continuous_odometry`)
 ``VectorMoverClient``  VectorMoverTransport     the mover (the guide's appendix mapping) ...
 ``NavClient``          NavigatorTransport       ... or its Navigator stream (the chapter-1 mapping): goals in the
                                                 Navigator's frame (:mod:`pluto_motion.frame_link`)
@@ -131,12 +132,12 @@ class LaserAvoider:
         self.scan_stamp = -math.inf
         self.warned_stamps = False
         self.fan: tuple[float, float, float, float, float] | None = None
-        self.points = None
+        self.points: np.ndarray | None = None
         #: The last scan and what earlier scans saw near the robot that it cannot see now
         #: (:mod:`pluto_motion.scan_memory`): what the avoider keeps clear of.
         self.memory = ScanMemory()
         self.view: LaserView | None = None
-        self.around = None
+        self.around: np.ndarray | None = None
         self.closest = math.inf
         #: The side of the goal's bearing the way round goes by (:attr:`Choice.side`).
         self.side = 0
@@ -188,8 +189,10 @@ class LaserAvoider:
         if self.points is not None and self.scan_pose is None and self.pose is not None:
             # The scan came before the first odometry: placed now that there is a pose.
             self.scan_pose = self._pose_at(self.scan_stamp)
+            assert self.scan_pose is not None and self.view is not None   # a pose now; the view came with the scan
             self.memory.add(self.scan_pose, self.points, self.view)
         if self.points is not None and self.scan_pose is not None:
+            assert self.pose is not None and self.view is not None        # a scan placed at a pose of the odometry
             seen = np.concatenate((self.points, self.memory.unseen(self.scan_pose, self.view)))
             self.around = moved(seen, self.scan_pose, self.pose)
 
@@ -248,6 +251,7 @@ class LaserAvoider:
                 self.logger.warn(f'{self.manager.name}: the Navigator cannot turn on the spot; '
                                  'a turn is driven as a short step where that is free')
                 self.warned_turn = True
+            assert self.around is not None      # a move is only chosen from a scan (_decide)
             move = navigator_move(self.around, magnitude, angle, self.settings.radius + self.safety, NAV_TURN_STEP)
             if move is None:
                 self._halt()
@@ -299,13 +303,17 @@ class LaserAvoider:
             return IDLE, 0.0, 0.0, None
         if self.pending is not None or now - self.pose_at > EGO_STALE_S or now - self.scan_at > LASER_STALE_S:
             return ERROR, 0.0, 0.0, None
+        # Fresh odometry and a fresh scan: the pose and what is around it are known.
+        assert self.pose is not None and self.around is not None
         settings = dataclasses.replace(self.settings, safety=self.safety)
         self.closest = clearance(self.around, settings.radius)
         if self.mode == MODE_ANGLE:
+            assert self.heading is not None     # fixed with the pose (no command pending)
             angle = wrap(self.heading - self.pose[2])
             if abs(angle) < 0.03:
                 return REACHED, 0.0, 0.0, None
             return ROTATING, 0.0, angle, Choice(angle, 0.0, True, False, False, self.closest)
+        assert self.goal is not None            # MODE_POINT, fixed with the pose (no command pending)
         gx, gy = _to_robot(self.pose, *self.goal)
         choice = choose(self.around, (gx, gy), settings, self.side, self.pose[2])
         self.side = choice.side

@@ -280,8 +280,8 @@ def main(argv: list[str] | None = None) -> int:
         console.print(f'mission: the chain runs; visiting {", ".join(name for name, _ in steps)}')
         with Live(mission.view(None), console=console, refresh_per_second=4) as live:
             for name, area in steps:
-                place = world.places[name] if area is None else area
-                goal = Goal(name, place.x, place.y, time.monotonic() - mission.start)
+                where = world.places[name] if area is None else area
+                goal = Goal(name, where.x, where.y, time.monotonic() - mission.start)
                 mission.log.goals.append(goal)
                 def show(goal: Goal = goal) -> None:
                     live.update(mission.view(goal))
@@ -290,7 +290,7 @@ def main(argv: list[str] | None = None) -> int:
                 else:
                     goal.result = mission.explore(goal, area, timeout, show)
                 goal.ended = time.monotonic() - mission.start
-                live.console.print(f'mission: {name} ({place.x:g}, {place.y:g}): {goal.result} '
+                live.console.print(f'mission: {name} ({where.x:g}, {where.y:g}): {goal.result} '
                                    f'after {goal.ended - goal.started:.1f} s')
         console.print()
         console.print(_summary_table(mission))

@@ -217,7 +217,8 @@ class Moveto:
             if abs(error) > math.radians(10):
                 return Step(AvoidRequest(TURN, (0.0, self.turning), (0.0,)), MOVETO_SET, SCANNING)
             self.turning = None
-        if self.request is not None and self.request.position == self.goal and _reached(s, self.goal, self.settings.reach):
+        if self.request is not None and self.request.position == self.goal \
+                and _reached(s, self.goal, self.settings.reach):
             return Step(None, AT_GOAL, FOLLOWING, done=True)
         d = decide(s.points, s.pose, self.goal, self.ray, self.rays)
         self.ray = d.ray
@@ -296,7 +297,8 @@ class Investigate:
         r = radius + self.settings.investigate_distance
         start = math.atan2(s.pose[1] - centre[1], s.pose[0] - centre[0])
         n = self.settings.circle_points
-        ring = [(centre[0] + r * math.cos(start + 2 * math.pi * k / n), centre[1] + r * math.sin(start + 2 * math.pi * k / n))
+        ring = [(centre[0] + r * math.cos(start + 2 * math.pi * k / n),
+                 centre[1] + r * math.sin(start + 2 * math.pi * k / n))
                 for k in range(n + 1)]
         self.targets = [p for p in ring if self.inside(*p)]
         return bool(self.targets)

@@ -3,7 +3,8 @@
 It reads ``motion/command`` (ActuatorState requests) and writes ``avoidance/command`` requests,
 reading ``avoidance/status``, the laser (``-s LASER``, default PlutoLaser) and the pose
 (:class:`pluto_motion.pose_source.PoseSource`: Localization/Pose, stream 3 of the loc proxy; else
-Dead-Reckoning, stream 0; else the base odometry; each fall-back warned once).  The control is :mod:`pluto_motion.motion_control`.
+Dead-Reckoning, stream 0; else the base odometry; each fall-back warned once).  The control is
+:mod:`pluto_motion.motion_control`.
 
 ``motion/command`` (Pluto 6.3):
 
@@ -79,13 +80,14 @@ PLANNING_TTL_S = 5.0
 #: Scans whose points the ray following and investigate decide on (the laser sees 180 degrees).
 RECENT_SCANS = 8
 #: The motion settings a user may tune while it runs; a motion command takes them when it starts.
-TUNABLES = {'max_tv': ('linear speed of the avoid goto, m/s', 0.05, 2.0),
-            'max_rv': ('angular speed of the avoid goto, rad/s', 0.05, 3.0),
-            'reach': ('a point within this is reached, m', 0.05, 2.0),
-            'near': ('a planned path this short is ended by the simple goto, m', 0.1, 5.0),
-            'investigate_distance': ('investigate: from the object\'s edge to the robot\'s centre, m', 0.3, 5.0),
-            'lane': ('explore: distance between the lanes, m', 0.3, 10.0),
-            'edge': ('explore: the lanes keep this far inside the rectangle, m', 0.0, 5.0)}
+TUNABLES: dict[str, tuple[str, float | None, float | None]] = {
+    'max_tv': ('linear speed of the avoid goto, m/s', 0.05, 2.0),
+    'max_rv': ('angular speed of the avoid goto, rad/s', 0.05, 3.0),
+    'reach': ('a point within this is reached, m', 0.05, 2.0),
+    'near': ('a planned path this short is ended by the simple goto, m', 0.1, 5.0),
+    'investigate_distance': ('investigate: from the object\'s edge to the robot\'s centre, m', 0.3, 5.0),
+    'lane': ('explore: distance between the lanes, m', 0.3, 10.0),
+    'edge': ('explore: the lanes keep this far inside the rectangle, m', 0.0, 5.0)}
 HELP = ('  -m MAP       plan moveto on this map (config/maps format); without: ray following\n'
         '  -R           moveto by ray following even with -m (Pluto 6.3)\n'
         '  -s LASER     the laser module (default PlutoLaser)\n'

@@ -84,8 +84,9 @@ class MotionProxy(ChainProxy):
         def outcome() -> tuple[TaskResult, str]:
             if self.motion_status == THREAD_STOPPED:
                 return TaskResult.FAILED, 'motion thread stopped'
-            return {AT_GOAL: (TaskResult.SUCCEEDED, ''),
-                    UNREACHABLE: (TaskResult.FAILED, 'unreachable')}.get(self.moveto_status, (TaskResult.UNKNOWN, ''))
+            ends: dict[int | None, tuple[TaskResult, str]] = {AT_GOAL: (TaskResult.SUCCEEDED, ''),
+                                                               UNREACHABLE: (TaskResult.FAILED, 'unreachable')}
+            return ends.get(self.moveto_status, (TaskResult.UNKNOWN, ''))
 
         return self._goal_task(42, (x, y), lambda: self.moveto(x, y), outcome, 'moveto', timeout, spin)
 
@@ -98,8 +99,8 @@ class MotionProxy(ChainProxy):
         def outcome() -> tuple[TaskResult, str]:
             if self.motion_status == THREAD_STOPPED:
                 return TaskResult.FAILED, 'motion thread stopped'
-            return {AT_GOAL: (TaskResult.SUCCEEDED, ''),
-                    UNREACHABLE: (TaskResult.FAILED, 'home unreachable')}.get(self.moveto_status,
-                                                                               (TaskResult.UNKNOWN, ''))
+            ends: dict[int | None, tuple[TaskResult, str]] = {AT_GOAL: (TaskResult.SUCCEEDED, ''),
+                                                               UNREACHABLE: (TaskResult.FAILED, 'home unreachable')}
+            return ends.get(self.moveto_status, (TaskResult.UNKNOWN, ''))
 
         return self._goal_task(44, (b, h), lambda: self.explore(b, h), outcome, 'explore', timeout, spin)

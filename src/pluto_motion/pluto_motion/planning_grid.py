@@ -103,7 +103,7 @@ class PlanningGrid:
 
     @property
     def shape(self) -> tuple[int, int]:
-        return self.blocked.shape  # type: ignore[return-value]
+        return self.blocked.shape
 
     def cell(self, x: float, y: float) -> tuple[int, int] | None:
         """``(iy, ix)`` of the cell holding ``(x, y)``, or None outside the grid."""

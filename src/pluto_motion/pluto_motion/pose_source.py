@@ -64,7 +64,8 @@ class PoseSource:
                          None: ('no fresh pose from the localModule: waiting for one' if localization_only
                                 else 'no fresh pose: the robot stops until one comes')}
         self.poses: dict[str, tuple[float, float, float]] = {}
-        self.histories = {name: PoseHistory() for name in ('Localization/Pose', 'Localization/Dead-Reckoning', ODOMETRY)}
+        self.histories = {name: PoseHistory()
+                          for name in ('Localization/Pose', 'Localization/Dead-Reckoning', ODOMETRY)}
         self.heard: dict[str, float] = {}
         self.source: str | None = None
 

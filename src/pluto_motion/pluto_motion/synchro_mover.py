@@ -35,6 +35,7 @@ import math
 import os
 import sys
 import time
+from collections.abc import Callable
 
 from pluto_nav.continuous_odometry import ContinuousOdometry
 from wurde_core import CommsManager, Logger, Point, Pose
@@ -51,6 +52,8 @@ LOOP_S = 0.05
 EGO_STALE_S = 0.5
 #: Seconds between publications of an unchanged state.
 STATUS_PERIOD_S = 1.0
+#: A pose (x, y, theta) in the odometry frame.
+Pose2 = tuple[float, float, float]
 #: NavigatorTransport stop reasons (see its interface description).
 STOP_NONE, STOP_REACHED, STOP_USER, STOP_OTHER = 0, 1, 2, 3
 HELP = ('  -d DRIVE     the base drive stream (default: assigned by the MCP to DriveClient)\n'
@@ -88,7 +91,7 @@ class SynchroMover:
         self.stop_reason = STOP_NONE
         self.moving = False
         #: A goal that came before the first odometry, applied when it comes.
-        self.waiting: tuple | None = None
+        self.waiting: tuple[Callable[[Pose2], None], str] | None = None
         self.sent: tuple | None = None
         self.sent_at = -math.inf
         self._publish_info()
@@ -100,7 +103,7 @@ class SynchroMover:
             self.brake = bool(r.brake.get_value())
             self.caps = (float(r.max_trans_speed.get_value()) or None, float(r.max_rot_speed.get_value()) or None)
             vector = r.vector.get_value()
-            self._goal(lambda: self.follower.set_vector(self.pose, vector.magnitude(), vector.angle()),
+            self._goal(lambda pose: self.follower.set_vector(pose, vector.magnitude(), vector.angle()),
                        f'vector ({vector.magnitude():.2f} m, {vector.angle():.2f} rad)')
             self._publish_info()
         while self.navigator.get_next_request():
@@ -114,10 +117,10 @@ class SynchroMover:
                                  'the mover has no map')
             goal = r.goal.get_value()
             self.brake = False
-            self._goal(lambda: self.follower.set_goal(goal.x(), goal.y()),
+            self._goal(lambda pose: self.follower.set_goal(goal.x(), goal.y()),
                        f'goal ({goal.x():.2f}, {goal.y():.2f})')
 
-    def _goal(self, apply, what: str) -> None:
+    def _goal(self, apply: Callable[[Pose2], None], what: str) -> None:
         if self.brake:
             self.follower.stop()
             return
@@ -126,7 +129,7 @@ class SynchroMover:
             return
         self.waiting = None
         try:
-            apply()
+            apply(self.pose)
         except ValueError as error:
             self.logger.warn(f'{self.manager.name}: {what} refused: {error}')
             return
@@ -197,6 +200,7 @@ class SynchroMover:
             self.stop_reason = STOP_OTHER
             self.logger.warn(f'{self.manager.name}: stopped: {"brake on" if self.brake else "no odometry"}')
         if self.follower.active:
+            assert self.pose is not None        # a goal is set only once a pose came (_goal)
             out = self.follower.step(self.pose, *self.caps)
             if out.done:
                 self.stop_reason = STOP_REACHED

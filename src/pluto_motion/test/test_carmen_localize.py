@@ -68,7 +68,8 @@ def test_an_initialization_while_the_pose_module_holds_the_pose_follows_pluto_7_
     (tmp_path / 'map.xml').write_bytes(OFFICE.read_bytes())
     tree = etree.parse(str(ROOT / 'config' / 'pluto' / 'sim-config.xml'))
     tree.write(str(tmp_path / 'sim-config.xml'))
-    specs = [('wurde_drivers', 'dummy_base', ('-n', 'PlutoBase')), ('wurde_drivers', 'dummy_sick', ('-n', 'PlutoLaser')),
+    specs = [('wurde_drivers', 'dummy_base', ('-n', 'PlutoBase')),
+             ('wurde_drivers', 'dummy_sick', ('-n', 'PlutoLaser')),
              ('pluto_nav', 'local_module', ('-n', 'localModule', '-m', 'map.xml')),
              ('pluto_nav', 'pose_module', ('-n', 'poseModule', '-m', 'map.xml'))]
     with contextlib.ExitStack() as stack:

@@ -173,7 +173,8 @@ def test_the_limits_are_tunables_set_while_running_and_from_a_params_file(
             first = len(driver.statuses)
             driver.until(lambda: any(len(m.data) == 2 and m.data[0] > 0.19 for m in driver.statuses[first:]),
                          'driving at the new limit', every=lambda: d.velocity(0.5, 0.0))
-            assert max(m.data[0] for m in driver.statuses[first:] if len(m.data) == 2) <= 0.2 + 1e-6   # float32 on the wire
+            statuses = driver.statuses[first:]
+            assert max(m.data[0] for m in statuses if len(m.data) == 2) <= 0.2 + 1e-6   # float32 on the wire
             assert max(s.velocity[0] for s in driver.base_states) <= 0.2 + 1e-6   # float32 on the wire
             d.velocity(0.0, 0.0)
         params = tmp_path / 'drive.yaml'

@@ -10,7 +10,7 @@ import pathlib
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 from scipy import ndimage
 
@@ -70,6 +70,7 @@ def test_bad_input_is_refused() -> None:
 
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(boxes, points, points)
+@example([(2.0, 1.25, 1.0, 1.0)], (1.82, 0.9), (4.0, 1.0))   # a diagonal step cut the inflation's corner
 def test_the_path_never_enters_inflated_cells(obstacles, start, goal) -> None:
     grid = build_grid(_clutter(obstacles), bounds=(0, 0, 10, 8))
     plan = Planner(grid).plan(start, goal)

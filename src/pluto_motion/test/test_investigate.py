@@ -21,7 +21,8 @@ ROOM = f"""<?xml version="1.0"?>
 <map name="box-room" version="1.0">
   <bounds xmin="0" ymin="0" xmax="12" ymax="10"/>
   <polyline points="0,0 12,0 12,10 0,10" closed="true"/>
-  <polyline points="{BOX[0] - 0.3},{BOX[1] - 0.3} {BOX[0] + 0.3},{BOX[1] - 0.3} {BOX[0] + 0.3},{BOX[1] + 0.3} {BOX[0] - 0.3},{BOX[1] + 0.3}" closed="true"/>
+  <polyline points="{BOX[0] - 0.3},{BOX[1] - 0.3} {BOX[0] + 0.3},{BOX[1] - 0.3}
+                   {BOX[0] + 0.3},{BOX[1] + 0.3} {BOX[0] - 0.3},{BOX[1] + 0.3}" closed="true"/>
   <place name="start" x="6" y="4" theta="{math.pi / 2}"/>
 </map>
 """

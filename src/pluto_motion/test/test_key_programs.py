@@ -67,7 +67,8 @@ def test_motion_i_moveto_typed_at_its_prompt(ros_domain: int, tmp_path: pathlib.
                 terminal.press('7.5 3\n')
                 terminal.expect(r'moveto -1 \(moveto set\)')
                 terminal.expect(r'moveto 1 \(at goal\)', 240)
-                c.until(lambda: bool(c.truths) and math.dist(c.truths[-1][:2], (7.5, 3.0)) < 0.4, 'the truth in office2')
+                c.until(lambda: bool(c.truths) and math.dist(c.truths[-1][:2], (7.5, 3.0)) < 0.4,
+                        'the truth in office2')
                 terminal.press('q')
                 assert terminal.process.wait(30) == 0
             finally:

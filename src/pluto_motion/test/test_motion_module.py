@@ -35,7 +35,8 @@ def test_moveto_across_a_door_and_the_status_codes(ros_domain: int, tmp_path: pa
             c.until(lambda: m.goto_status not in (None, -10), 'the avoid thread runs', every=m.start_activity)
 
             # The rectangle: set -> -1; removed -> 0 (Pluto 6.3).
-            c.until(lambda: m.motion_status == -1, 'rectangle set', every=lambda: m.set_rectangle(9.0, 8.0, 10.0, 7.5, -math.pi / 2))
+            c.until(lambda: m.motion_status == -1, 'rectangle set',
+                    every=lambda: m.set_rectangle(9.0, 8.0, 10.0, 7.5, -math.pi / 2))
             c.until(lambda: m.motion_status == 0, 'rectangle removed', every=lambda: m.set_rectangle(0.0, 0.0))
 
             # Unreachable: inside the lab's off-limits work cell.

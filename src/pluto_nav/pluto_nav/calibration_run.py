@@ -141,8 +141,12 @@ class CalibrationRun:
         if isinstance(third, str):
             return third
         back = o3[2] - angle
-        self.until(lambda: math.atan2(math.sin(self.pose[2] - back), math.cos(self.pose[2] - back)) <= 0.0,
-                   lambda: self._velocity(0.0, -TURN))
+
+        def turned_back() -> float:
+            assert self.pose is not None
+            return math.atan2(math.sin(self.pose[2] - back), math.cos(self.pose[2] - back))
+
+        self.until(lambda: turned_back() <= 0.0, lambda: self._velocity(0.0, -TURN))
         self._stop()
         (g1, r1), (g2, r2), (g3, _) = first, second, third
         true_d = (r1 - r2) / math.cos(g1)

@@ -47,6 +47,17 @@ class CompressedEKF:
     :param robot_covariance: its covariance (symmetric, positive semi-definite).
     """
 
+    # The phase's state, set by _start_phase: positions of the active keys, A0's indices, x_A,
+    # P_AA, whether Phi, psi and theta are kept, and the three.
+    _position: dict[int, int]
+    _a0: NDArray
+    _xa: NDArray
+    _paa: NDArray
+    _tracking: bool
+    _phi: NDArray
+    _psi: NDArray
+    _theta: NDArray
+
     def __init__(self, robot_mean: ArrayLike, robot_covariance: ArrayLike) -> None:
         capacity = 16
         self._x = np.zeros(ROBOT + BLOCK * capacity)

@@ -55,10 +55,12 @@ class ContinuousOdometry:
             self.resets += 1
             self.bridge = (self.pose, raw)
         self._raw, self._stamp = raw, stamp
-        self.pose = tuple(float(v) for v in compose(self._offset, raw))
+        x, y, theta = compose(self._offset, raw)
+        self.pose = (float(x), float(y), float(theta))
         return self.pose
 
     def _jumped(self, raw: tuple[float, float, float], stamp: float) -> bool:
+        assert self._raw is not None  # called once a sample was taken
         dx, dy, dtheta = relative(self._raw, raw)
         dt = max(stamp - self._stamp, 1e-6)
         return math.hypot(dx, dy) > MAX_SPEED * dt + 0.05 or abs(dtheta) > MAX_TURN_RATE * dt + 0.05

@@ -42,7 +42,7 @@ class Scan:
     def fatal(self) -> bool:
         return bool(np.all(self.ranges == -1.0))
 
-    def lines(self, **options: float) -> list[LineFeature]:
+    def lines(self, **options: Any) -> list[LineFeature]:
         """The scan's straight walls (:func:`.lines.extract_lines` with ``options``), computed once."""
         key = tuple(sorted(options.items()))
         if key not in self._lines:

@@ -12,7 +12,8 @@ The thread (the estimation activity of the module's loop): when it starts it rea
 Laser_Pose (4) and takes the setter; it does not start while another estimator holds the setter;
 when it stops it gives the setter back (a Post_Pose write with cmdFlags 0).
 
-Status (FVectorState ``<name>/status``, published on every change and once a second): element[0] 1 the thread runs, 0 stopped — a request writing
+Status (FVectorState ``<name>/status``, published on every change and once a second): element[0] 1
+the thread runs, 0 stopped — a request writing
 element[0] = 0 or 1 stops or starts it (the proxy's start/stop activity); element[1] = 2 written as
 a request is the estimator's one command (find-wall, save the map); element[2], element[3]: scans
 used, scans whose lines matched nothing.

@@ -14,6 +14,7 @@ over any number of lines.
 from __future__ import annotations
 
 import math
+from typing import overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -25,6 +26,14 @@ __all__ = [
 ]
 
 _TWO_PI = 2.0 * math.pi
+
+
+@overload
+def wrap(angle: float) -> float: ...
+
+
+@overload
+def wrap(angle: ArrayLike) -> NDArray | float: ...
 
 
 def wrap(angle: ArrayLike) -> NDArray | float:
@@ -115,14 +124,14 @@ def transform_points(pose: ArrayLike, points: ArrayLike) -> NDArray:
     return np.column_stack([x + c * xy[:, 0] - s * xy[:, 1], y + s * xy[:, 0] + c * xy[:, 1]])
 
 
-def line_to_frame(gamma: ArrayLike, rho: ArrayLike, pose: ArrayLike) -> tuple[NDArray, NDArray]:
+def line_to_frame(gamma: ArrayLike, rho: ArrayLike, pose: ArrayLike) -> tuple[NDArray | float, NDArray]:
     """Lines ``(gamma, rho)`` of the parent frame as seen from a sensor at ``pose``.
 
     ``gamma' = gamma - theta`` and ``rho' = rho - x cos(gamma) - y sin(gamma)``; where ``rho'``
     comes out negative (the sensor is on the other side of the line than the parent's origin) the
     normal is flipped: ``rho' -> -rho'``, ``gamma' -> gamma' + pi``.
 
-    :returns: ``(gamma', rho')`` arrays, ``gamma'`` wrapped, ``rho' >= 0``.
+    :returns: ``(gamma', rho')`` arrays, ``gamma'`` wrapped (a float for a scalar ``gamma``), ``rho' >= 0``.
     """
     g, r, _, _ = lines_in_frame(gamma, rho, pose)
     return wrap(g), r

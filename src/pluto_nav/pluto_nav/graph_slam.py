@@ -35,7 +35,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .correlative import Window, guesses, search, search_guesses
-from .geometry import compose, relative, transform_points, wrap
+from .geometry import compose, relative, transform_points
 from .graph_slam_settings import GraphSlamSettings, GraphSlamUpdate
 from .icp import IcpResult, refine
 from .lines import scan_points
@@ -143,10 +143,11 @@ class GraphSlam:
         guess = compose(self._pose, increment)
         sample = voxel_filter(points, s.scan_voxel)
         result = self._match_local(sample, guess, increment) if len(sample) >= MIN_POINTS else None
-        matched = result is not None and result.ok
-        pose = result.pose if matched else guess
-        if matched:
-            self._information = _floored(result.information, s.information_scale, s.step_floor)
+        good = result if result is not None and result.ok else None
+        matched = good is not None
+        pose = good.pose if good is not None else guess
+        if good is not None:
+            self._information = _floored(good.information, s.information_scale, s.step_floor)
         self._step = relative(self._pose, pose)
         self._pose = pose
         last = len(self.nodes) - 1

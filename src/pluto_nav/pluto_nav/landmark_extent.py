@@ -95,7 +95,7 @@ def resolve(extents: Sequence[Extent], lines: NDArray, lines_of: Callable[[NDArr
     for end, value in zip(ends, t.tolist()):
         end.t = value
     out = t.reshape(-1, 2)
-    for k in np.flatnonzero(out[:, 0] > out[:, 1]):   # corrections turned it inside out
+    for k in np.flatnonzero(out[:, 0] > out[:, 1]).tolist():   # corrections turned it inside out
         middle = float(out[k].mean())
         line = own[2 * k]
         extents[k].lo, extents[k].hi = End.at(line, middle), End.at(line, middle)

@@ -20,7 +20,8 @@ the robot's centre.
 Start: a process the MCP restarted (``wurde_core.heartbeat.restart_count() > 0``: WURDE_MCP_RESTART)
 goes on where the killed one was: from the state file the MCP gives it (WURDE_MCP_STATE,
 :func:`wurde_core.resume.state_path`; the format is :mod:`pluto_nav.resume`'s; a module started
-by hand has none and keeps none), which the module rewrites (atomically) at most every ``RESUME_PERIOD_S`` of wall time, and once more
+by hand has none and keeps none), which the module rewrites (atomically) at most every
+``RESUME_PERIOD_S`` of wall time, and once more
 on a clean exit: the dead-reckoned pose and its covariance, the adjusted Pose (3) with its
 covariance and setter, and the base's odometry reading they correspond to.  Dead reckoning
 continues from that reading, so the motion the base made while no localModule ran is applied to
@@ -50,7 +51,6 @@ import os
 import pathlib
 import sys
 import time
-from typing import Any
 
 import numpy as np
 
@@ -137,7 +137,8 @@ class LocalModule:
         self.pending_scans: collections.deque[float] = collections.deque()
         #: Scans placed on the dead reckoning: (stamp, robot sample, increment since the scan
         #: before or None), published once the mounting is known.
-        self.held_scans: collections.deque[tuple[float, DrSample, Any]] = collections.deque(maxlen=MAX_HELD_SCANS)
+        self.held_scans: collections.deque[tuple[float, DrSample, tuple[np.ndarray, np.ndarray] | None]] = (
+            collections.deque(maxlen=MAX_HELD_SCANS))
         self.last_scan_stamp: float | None = None
         self.pan = self.tilt = 0.0
         self.mount_z = 0.0
@@ -221,9 +222,9 @@ class LocalModule:
         if latest is None or odometry is None:
             return      # no odometry yet: a resume file from before (if any) still holds
         self.last_resume_wall = now
-        state = ResumeState(odometry_stamp=odometry[0], odometry=tuple(odometry[1]),  # type: ignore[arg-type]
-                            dead_reckoning=tuple(latest.pose), dead_reckoning_covariance=latest.covariance,  # type: ignore[arg-type]
-                            pose=tuple(self.adjuster.pose(latest)),  # type: ignore[arg-type]
+        state = ResumeState(odometry_stamp=odometry[0], odometry=tuple(odometry[1]),
+                            dead_reckoning=tuple(latest.pose), dead_reckoning_covariance=latest.covariance,
+                            pose=tuple(self.adjuster.pose(latest)),
                             pose_covariance=self.adjuster.covariance, setter=self.adjuster.setter,
                             holder=self.adjuster.holder, odometry_sequence=self.odometry_sender.sequence,
                             odometry_session=self.odometry_sender.session)

@@ -39,7 +39,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Sequence
-from typing import NamedTuple
+from typing import NamedTuple, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -188,7 +188,7 @@ def match_lines(lines: Sequence[LineFeature], wall_map: WallMap, pose: ArrayLike
     p_gr = -(hx * p[2, 0] + hy * p[2, 1])
     p_rr = hx * hx * p[0, 0] + 2.0 * hx * hy * p[0, 1] + hy * hy * p[1, 1]
     data = _line_table(lines)            # (L, 10): gamma, rho, R entries, ends, length
-    v_gamma = wrap(data[:, 0:1] - h_gamma)                                       # (L, W)
+    v_gamma = cast(NDArray, wrap(data[:, 0:1] - h_gamma))                        # (L, W)
     v_rho = data[:, 1:2] - h_rho
     a = data[:, 2:3] + p_gg
     b = data[:, 3:4] + p_gr

@@ -33,6 +33,7 @@ import pathlib
 import sys
 import time
 from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -50,6 +51,9 @@ from .slam_methods import METHODS as SLAM_METHODS
 from .slam_metric import MetricError, load_relations, load_trajectory, relation_error, relative_pose_error, save_tum
 from .wall_map import WallMap
 
+if TYPE_CHECKING:
+    from rich.progress import Progress, TaskID
+
 __all__ = ['main']
 
 
@@ -58,7 +62,8 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument('log', help='a CARMEN log (.clf, .log, gzip too) or a rosbag2 bag')
     task = parser.add_mutually_exclusive_group(required=True)
     task.add_argument('--slam', action='store_true', help="the slamModule's SLAM")
-    task.add_argument('--localize', metavar='MAP', help="the poseModule's localization in MAP (XML, map_server YAML or CARMEN map)")
+    task.add_argument('--localize', metavar='MAP',
+                      help="the poseModule's localization in MAP (XML, map_server YAML or CARMEN map)")
     parser.add_argument('--method', choices=('scans', 'lines'), default='scans',
                         help='scans (default): scan matching; lines: line features (Pluto 7)')
     parser.add_argument('--trajectory', metavar='OUT.tum', help='write the trajectory (TUM format)')
@@ -121,7 +126,8 @@ def _beams(log: RobotLog) -> str:
     return f'{len(first.ranges)} beams over {span:.0f} deg'
 
 
-def _localizer(path: str, method: str, start_text: str | None):  # type: ignore[no-untyped-def]
+def _localizer(path: str, method: str, start_text: str | None
+               ) -> tuple[LineLocalizer | ScanLocalizer, tuple[float, float, float], np.ndarray]:
     """The localizer, the robot's start pose and the laser's start covariance for ``--localize``."""
     walls, points, places = _load_map(path)
     localizer = LineLocalizer(WallMap(walls)) if method == 'lines' else ScanLocalizer(points)
@@ -144,7 +150,7 @@ def _load_map(path: str) -> tuple[np.ndarray, np.ndarray, dict[str, tuple[float,
     content): a grid's points are its occupied cells' centres, a wall map's points along its walls."""
     loaded = load_any_map(path)
     walls = np.asarray(loaded.data.walls, dtype=float).reshape(-1, 4)
-    places = {k: tuple(v) for k, v in loaded.data.places.items()}
+    places = {k: (v.x, v.y, v.theta) for k, v in loaded.data.places.items()}
     if loaded.grid is None:
         if not len(walls):
             raise ConfigError(path, None, 'the map has no walls to localize against')
@@ -217,8 +223,8 @@ class _Progress:
 
     def __init__(self, total: int, *, quiet: bool) -> None:
         self.total, self.quiet = total, quiet
-        self.bar = None
-        self.task = None
+        self.bar: Progress | None = None
+        self.task: TaskID | None = None
         self.shown = -1
         self.begun = time.perf_counter()
 
@@ -235,6 +241,7 @@ class _Progress:
         if self.quiet:
             return
         if self.bar is not None:
+            assert self.task is not None  # added with the bar
             self.bar.update(self.task, completed=done)
             return
         tenth = (10 * done) // max(1, total)

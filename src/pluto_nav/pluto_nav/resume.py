@@ -19,7 +19,8 @@ row as 9 numbers)::
 to, and the number and the sender's session of the last odometry message taken (``sequence``,
 ``session``, both optional: a restarted localModule whose first odometry message comes from
 another session, or without sessions is numbered lower, knows the base restarted too,
-:class:`wurde_core.sender_watch.SenderWatch`); ``dead_reckoning`` is stream (0) then, ``pose`` stream (3) (dead reckoning adjusted by the
+:class:`wurde_core.sender_watch.SenderWatch`); ``dead_reckoning`` is stream (0) then, ``pose``
+stream (3) (dead reckoning adjusted by the
 accepted Post_Pose writes) with the setter and the module holding it; its covariance is null while
 no write was accepted (stream (3)'s covariance is then dead reckoning's).  It is written to a
 temporary file beside it (``<file>.<pid>.tmp``) and renamed over it (``os.replace``), so a reader (or a process killed

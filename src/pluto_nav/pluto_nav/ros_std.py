@@ -50,14 +50,15 @@ _XY_YAW = [0, 1, 5]
 _UNKNOWN = [2, 3, 4]
 
 
-def _set_transform(t: TransformStamped, pose: Sequence[float], stamp: float) -> None:
+def _set_transform(t: TransformStamped, pose: Sequence[float] | np.ndarray, stamp: float) -> None:
     set_stamp(t, stamp)
     translation, rotation = t.transform.translation, t.transform.rotation
     translation.x, translation.y, translation.z = float(pose[0]), float(pose[1]), 0.0
     rotation.x, rotation.y, rotation.z, rotation.w = quaternion(float(pose[2]))
 
 
-def _fill(message: Any, with_covariance: Any, pose: Sequence[float], cov3: np.ndarray, stamp: float) -> None:
+def _fill(message: Any, with_covariance: Any, pose: Sequence[float] | np.ndarray, cov3: np.ndarray,
+          stamp: float) -> None:
     """Stamp ``message`` and set its PoseWithCovariance ``with_covariance`` from (x, y, theta)."""
     set_stamp(message, stamp)
     p = with_covariance.pose

@@ -57,10 +57,11 @@ import dataclasses
 import itertools
 import math
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from wurde_idl.mapfile import MapData
+from wurde_idl.mapfile import MapData, Place
 
 from .compressed_ekf import CompressedEKF
 from .geometry import compose, compose_jacobians, inverse, transform_points, wrap
@@ -157,8 +158,8 @@ class SlamFilter:
             map files' places are), the laser's start composed with the inverse mount.
         """
         robot = compose(self._start, inverse(mount))
-        return MapData(name, walls=[tuple(float(v) for v in w) for w in self.walls()],
-                       places={'start': tuple(float(v) for v in robot)})
+        return MapData(name, walls=tuple(map(tuple, self.walls().tolist())),
+                       places={'start': Place(*(float(v) for v in robot))})
 
     # -- the filter -------------------------------------------------------------------------------
 
@@ -222,9 +223,9 @@ class SlamFilter:
         added = []
         if pinned or self._adrift >= s.adrift_scans:
             for k in found.unmatched:
-                key = self._start_landmark(lines[k], pose, candidates)
-                if key is not None:
-                    added.append(key)
+                new_key = self._start_landmark(lines[k], pose, candidates)
+                if new_key is not None:
+                    added.append(new_key)
         merged = self._merge({key for _, key in fix.used} | set(added))
         pruned = self._prune(self._ekf.active)
         committed = self._maybe_repartition()
@@ -287,7 +288,7 @@ class SlamFilter:
         gap = self.settings.extend_gap
         if seen[0] > hi + gap or seen[1] < lo - gap:
             return
-        anchor = dict(exclude=key, radius=self.settings.anchor_radius,
+        anchor: dict[str, Any] = dict(exclude=key, radius=self.settings.anchor_radius,
                       min_angle=self.settings.anchor_min_angle)
         if seen[0] < lo or (extent.lo.anchor is None and seen[0] < lo + gap):
             extent.lo = choose_anchor(landmark, min(seen[0], lo), candidates, **anchor)
@@ -306,7 +307,7 @@ class SlamFilter:
             return None
         key = next(self._keys)
         self._ekf.add(key, landmark, g_pose, g_z @ line.covariance @ g_z.T)
-        anchor = dict(exclude=key, radius=s.anchor_radius, min_angle=s.anchor_min_angle)
+        anchor: dict[str, Any] = dict(exclude=key, radius=s.anchor_radius, min_angle=s.anchor_min_angle)
         extent = Extent(choose_anchor(landmark, seen[0], candidates, **anchor),
                         choose_anchor(landmark, seen[1], candidates, **anchor))
         offset = float(landmark[1] - pose[0] * math.cos(landmark[0]) -

@@ -74,7 +74,8 @@ def find_merges(lines: NDArray, intervals: NDArray, covariance: NDArray, sides: 
             continue
         found.append((best_distance, min(i, j), max(i, j), sign))
     found.sort()
-    merges, used = [], set()
+    merges: list[tuple[int, int, float]] = []
+    used: set[int] = set()
     for _, i, j, sign in found:
         if i in used or j in used:
             continue

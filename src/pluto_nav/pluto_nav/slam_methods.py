@@ -19,7 +19,7 @@ from typing import Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from wurde_idl.mapfile import MapData
+from wurde_idl.mapfile import MapData, Place
 
 from .estimation import Method, Scan
 from .geometry import compose, inverse
@@ -89,7 +89,7 @@ class ScanSlam:
         self.slam = GraphSlam(settings)
         self.resolution = resolution
         self.walls = 0
-        self._grid: tuple[int, Grid] | None = None
+        self._grid: tuple[tuple[int, int, int], Grid] | None = None
 
     @property
     def pose(self) -> NDArray:
@@ -127,7 +127,7 @@ class ScanSlam:
             rays = [(node.angles, node.ranges) for node in self.slam.nodes]
             grid = build_grid(self.slam.graph.poses, rays, resolution=self.resolution,
                               max_range=self.slam.settings.max_range)
-            self._grid = (version, grid)  # type: ignore[assignment]
+            self._grid = (version, grid)
         return self._grid[1]
 
     def map_data(self, name: str, *, mount: ArrayLike = (0.0, 0.0, 0.0)) -> MapData:
@@ -135,8 +135,8 @@ class ScanSlam:
         walls = grid_walls(grid) if grid is not None else np.zeros((0, 4))
         self.walls = len(walls)
         robot = compose(self.slam.origin, inverse(mount))
-        return MapData(name, walls=[tuple(float(v) for v in w) for w in walls],
-                       places={'start': tuple(float(v) for v in robot)})
+        return MapData(name, walls=tuple(map(tuple, walls.tolist())),
+                       places={'start': Place(*(float(v) for v in robot))})
 
 
 #: The methods by their ``-e`` name.

@@ -63,7 +63,7 @@ def _open_text(path: str | os.PathLike[str]) -> Iterable[str]:
     with open(path, 'rb') as probe:
         gz = probe.read(2) == b'\x1f\x8b'
     opener = gzip.open if gz else open
-    with opener(path, 'rt', encoding='utf-8', errors='replace') as stream:  # type: ignore[operator]
+    with opener(path, 'rt', encoding='utf-8', errors='replace') as stream:
         yield from stream
 
 

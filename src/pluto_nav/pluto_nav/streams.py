@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import Any
 
 import numpy as np
 
@@ -79,19 +80,19 @@ def write_pose(target: object, value: LocPose) -> None:
               'covariance': covariance, 'cmd_flags': int(value.setter)}
     write_members(target, fields)
     if hasattr(target, 'timestamp'):
-        target.timestamp = Time(value.stamp)  # type: ignore[attr-defined]
+        target.timestamp = Time(value.stamp)
 
 
 def read_pose(source: object) -> LocPose:
     """A LocPose from a LocalizationPose data struct or request (Writable members)."""
-    def get(name: str) -> object:
+    def get(name: str) -> Any:
         member = getattr(source, name)
         return member.get_value() if hasattr(member, 'get_value') else member
 
     pose = get('pose')
-    covariance = np.asarray(list(get('covariance') or []), dtype=float)  # type: ignore[call-overload]
+    covariance = np.asarray(list(get('covariance') or []), dtype=float)
     cov = covariance.reshape(3, 3) if covariance.size == 9 else np.full((3, 3), math.nan)
-    stamp = source.timestamp.get_seconds() if hasattr(source, 'timestamp') else 0.0  # type: ignore[attr-defined]
-    return LocPose(pose=(pose.x(), pose.y(), pose.z(), pose.theta(), pose.phi(), pose.psi()),  # type: ignore[attr-defined]
-                   pan=float(get('pan')), tilt=float(get('tilt')), covariance=cov,  # type: ignore[arg-type]
-                   setter=int(get('cmd_flags')), stamp=stamp)  # type: ignore[call-overload]
+    stamp = source.timestamp.get_seconds() if hasattr(source, 'timestamp') else 0.0
+    return LocPose(pose=(pose.x(), pose.y(), pose.z(), pose.theta(), pose.phi(), pose.psi()),
+                   pan=float(get('pan')), tilt=float(get('tilt')), covariance=cov,
+                   setter=int(get('cmd_flags')), stamp=stamp)

@@ -68,7 +68,8 @@ DUMMIES = {'PlutoBase': 'dummy_base', 'PlutoLaser': 'dummy_sick', 'PlutoDMU': 'd
 
 
 @contextlib.contextmanager
-def processes(directory: pathlib.Path, dummies: Sequence[str], *nav: tuple[str, Sequence[str]]) -> Iterator[dict[str, ChildProcess]]:
+def processes(directory: pathlib.Path, dummies: Sequence[str],
+              *nav: tuple[str, Sequence[str]]) -> Iterator[dict[str, ChildProcess]]:
     """The named dummies and the pluto_nav executables ``(name, args)``, stopped at the end."""
     with contextlib.ExitStack() as stack:
         running = {}

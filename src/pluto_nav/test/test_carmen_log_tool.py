@@ -55,6 +55,7 @@ def run(*args: str, timeout: float = 60.0) -> ChildProcess:
 
 
 # -- convert -----------------------------------------------------------------------------------------
+@pytest.mark.process
 def test_convert_writes_a_rosbag2_mcap_that_reads_back(tmp_path: pathlib.Path) -> None:
     from mcap.reader import make_reader
     from mcap_ros2.decoder import DecoderFactory
@@ -156,6 +157,7 @@ def test_replay_plays_the_converted_bag_to_a_subscriber(ros_domain: int, rclpy_c
         node.destroy_node()
 
 
+@pytest.mark.process
 def test_convert_refuses_what_it_cannot_read_or_write(tmp_path: pathlib.Path) -> None:
     missing = tmp_path / 'missing.clf'
     child = run('convert', str(missing), str(tmp_path / 'x.mcap'))
@@ -304,6 +306,7 @@ def test_play_keeps_the_logs_pace_on_the_streams_named(ros_domain: int, tmp_path
         watcher.close()
 
 
+@pytest.mark.process
 def test_play_refuses_a_log_it_cannot_read_in_one_line(tmp_path: pathlib.Path) -> None:
     missing = tmp_path / 'missing.clf.gz'
     child = run('play', str(missing), '-R', '0')

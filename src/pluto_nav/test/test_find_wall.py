@@ -17,13 +17,13 @@ def test_the_wall_with_most_points_ahead_is_found():
     # Beside the laser on the right (gamma -90 degrees): close, with the most points.
     ranges = wall_ranges(-math.pi / 2, 0.5, (0.2, 0.9), ranges=ranges)
     lines = extract_lines(ranges)
-    side = [l for l in lines if abs(l.gamma + math.pi / 2) < 0.01]
-    ahead = [l for l in lines if abs(l.gamma) < math.radians(45)]
+    side = [line for line in lines if abs(line.gamma + math.pi / 2) < 0.01]
+    ahead = [line for line in lines if abs(line.gamma) < math.radians(45)]
     assert side and len(ahead) == 2
-    assert side[0].points > max(l.points for l in ahead)
+    assert side[0].points > max(line.points for line in ahead)
     found = find_wall(lines)
     assert found is not None
-    best = max(ahead, key=lambda l: l.points)
+    best = max(ahead, key=lambda line: line.points)
     assert (found.points, found.gamma, found.rho) == (best.points, best.gamma, best.rho)
     assert np.array_equal(found.covariance, best.covariance)
     params = found.parameters()

@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 import random_maps
 import slam_sim
-from nav_sim import MOUNT
 from wurde_drivers.sim.laser import LaserGeometry, LaserModel
 from wurde_drivers.sim.mapfile import load_map
 from wurde_drivers.sim.world import World

@@ -88,11 +88,11 @@ def test_invalid_beams_and_gaps_break_lines():
     assert len(extract_lines(broken)) == 2
     one_nan = ranges.copy()
     one_nan[180] = math.nan
-    assert [(l.first, l.last) for l in extract_lines(one_nan)] == [(113, 179), (181, 247)]
+    assert [(line.first, line.last) for line in extract_lines(one_nan)] == [(113, 179), (181, 247)]
     # A step in depth (a door into a deeper room) breaks the wall, even with no missing beam.
     stepped = wall_ranges(0.0, 3.0, (0.0, 2.0), ranges=wall_ranges(0.0, 3.6, (-2.4, 0.0)))
     lines = extract_lines(stepped)
-    assert sorted(round(l.rho, 6) for l in lines) == [3.0, 3.6]
+    assert sorted(round(line.rho, 6) for line in lines) == [3.0, 3.6]
 
 
 def test_a_corner_gives_two_lines_meeting_there():
@@ -101,9 +101,9 @@ def test_a_corner_gives_two_lines_meeting_there():
     ranges = wall_ranges(math.pi / 2, 1.0, (-3.0, -0.5), ranges=ranges)
     lines = extract_lines(ranges)
     assert len(lines) == 2
-    assert sorted(round(l.gamma, 6) for l in lines) == [0.0, round(math.pi / 2, 6)]
+    assert sorted(round(line.gamma, 6) for line in lines) == [0.0, round(math.pi / 2, 6)]
     corner = np.array([3.0, 1.0])
-    assert min(np.linalg.norm(end - corner) for l in lines for end in (l.start, l.end)) < 0.05
+    assert min(np.linalg.norm(end - corner) for line in lines for end in (line.start, line.end)) < 0.05
 
 
 def test_short_and_sparse_pieces_are_dropped_and_defaults_documented():

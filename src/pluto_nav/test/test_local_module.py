@@ -253,9 +253,9 @@ def test_a_restarted_local_module_goes_on_where_the_killed_one_was(
     (plus the odometry's drift over the gap: the new process's DMU has none):
     both are the same odometry, so the only difference is the heading of the path since the last
     save (at most 0.1 s: RESUME_PERIOD_S) coming from the odometry rather than the DMU (the DMU's
-    history of the dead process is gone), turning the path driven in the gap: a few millimetres.  With exact odometry (EXACT) dead
-    reckoning equals the truth, so the resumed Pose must be the truth too, within the 2 cm and
-    0.02 rad dead reckoning is held to above; with config/pluto's noisy odometry dead reckoning
+    history of the dead process is gone), turning the path driven in the gap: a few millimetres.  With
+    exact odometry (EXACT) dead reckoning equals the truth, so the resumed Pose must be the truth too,
+    within the 2 cm and 0.02 rad dead reckoning is held to above; with config/pluto's noisy odometry dead reckoning
     has drifted from the truth before the kill, so only the odometry check applies."""
     directory = pluto_config(tmp_path, elements=EXACT if noise == 'exact' else None)
     resume_file = directory / 'localModule.resume'

@@ -1,6 +1,6 @@
 """offline_nav on recordings: a CARMEN log of the simulated robot (noise on, a generated map) for
-SLAM, its saved map for localization (as XML and as a CARMEN map), the FR079 excerpt as a rosbag2 MCAP (carmen_log convert),
-scored with relations; and what a user gets for files that are wrong: one line, exit status 2."""
+SLAM, its saved map for localization (as XML and as a CARMEN map), the FR079 excerpt as a rosbag2 MCAP
+(carmen_log convert), scored with relations; and what a user gets for files that are wrong: one line, exit status 2."""
 
 from __future__ import annotations
 

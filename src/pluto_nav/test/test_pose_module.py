@@ -33,7 +33,8 @@ def _error_now(watcher: Watcher) -> tuple[float, float]:
     for message in reversed(watcher.events[POSE]):
         true = interpolate_truth(truth, seconds(message))
         if true is not None:
-            return math.hypot(message.pose.x - true[0], message.pose.y - true[1]), angle_error(message.pose.theta, true[2])
+            return (math.hypot(message.pose.x - true[0], message.pose.y - true[1]),
+                    angle_error(message.pose.theta, true[2]))
     return math.inf, math.inf
 
 
@@ -85,7 +86,8 @@ def test_pose_module_localizes_finds_the_wall_and_takes_a_pose_set_by_hand(
             watcher.until(lambda: watcher.events['PlutoBaseTruth'][-1].location.x > start + 3.0, 'three metres east',
                           timeout=90, every=lambda: drive(0.4))
             drive(0.0)
-            watcher.until(lambda: abs(watcher.events['PlutoBaseTruth'][-1].tv) < 1e-6, 'stopped', every=lambda: drive(0.0))
+            watcher.until(lambda: abs(watcher.events['PlutoBaseTruth'][-1].tv) < 1e-6, 'stopped',
+                          every=lambda: drive(0.0))
             position, heading = _error_now(watcher)
             assert position < 0.05 and heading < math.radians(1.0), (position, heading)
             # The matcher's tunables: a gate below the other is refused with the settings' reason;
@@ -124,7 +126,8 @@ def test_pose_module_localizes_finds_the_wall_and_takes_a_pose_set_by_hand(
 def test_a_bad_map_is_refused_with_file_line_and_reason(ros_domain: int, tmp_path: pathlib.Path) -> None:
     directory = pluto_config(tmp_path)
     bad = tmp_path / 'bad.xml'
-    bad.write_text('<?xml version="1.0"?>\n<map name="x" version="1.0">\n  <wall x1="0" y1="0" x2="0" y2="0"/>\n</map>\n')
+    bad.write_text('<?xml version="1.0"?>\n<map name="x" version="1.0">\n'
+                   '  <wall x1="0" y1="0" x2="0" y2="0"/>\n</map>\n')
     with module('pluto_nav', 'pose_module', directory, '-m', str(bad)) as process:
         assert process.process.wait(timeout=60) == 2
     assert f'{bad}:3:' in process.stderr

@@ -48,6 +48,7 @@ def test_where_am_i_reads_the_pose_of_the_simulated_pluto_under_the_mcp(ros_doma
     assert int(found.group(4)) in (0, 1)     # before or after the pose module took the setter
 
 
+@pytest.mark.process
 def test_readme_offline_nav_and_slam_score_run_as_printed(tmp_path: pathlib.Path) -> None:
     text = README.read_text()
     code = re.search(r'<!-- example: offline_nav -->\n```bash\n(.*?)```', text, re.S).group(1)

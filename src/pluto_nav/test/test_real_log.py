@@ -26,7 +26,7 @@ DATA = pathlib.Path(__file__).resolve().parent / 'data'
 LOG, RELATIONS = DATA / 'fr079-excerpt.clf.gz', DATA / 'fr079-excerpt.relations'
 LASER_DR, STATUS = STREAMS[1], 'slam/status'
 SCANS = 95
-CONFIG = f'''<?xml version="1.0"?>
+CONFIG = '''<?xml version="1.0"?>
 <mcp-config>
   <module name="localModule" managed="managed">
     <binary>pluto_nav/local_module</binary>
@@ -73,8 +73,9 @@ def test_sixty_seconds_of_fr079_through_carmen_log_play_into_the_slam_module_bea
             mcp.expect('MCP ready', timeout=90)
             # On a loaded machine the test's readers of the modules' outputs matched after the
             # localModule's first scans had gone out (85 and 90 of 95 seen in fresh-clone runs).
-            watcher.until(lambda: watcher.objects[LASER_DR].peers('data') > 0 and watcher.objects[STATUS].peers('data') > 0
-                          and raw.get_publisher_count() > 0, "this test reading the modules' outputs", timeout=120)
+            watcher.until(lambda: watcher.objects[LASER_DR].peers('data') > 0
+                          and watcher.objects[STATUS].peers('data') > 0 and raw.get_publisher_count() > 0,
+                          "this test reading the modules' outputs", timeout=120)
             with ChildProcess([find_executable('pluto_nav', 'carmen_log'), *PLAY], env=env) as player:
                 watcher.until(lambda: player.process.poll() is not None, 'the log played', timeout=240)
                 assert player.process.returncode == 0, player.stderr[-2000:]

@@ -233,7 +233,8 @@ def test_unusable_bags_raise_a_log_error_naming_the_file(tmp_path: pathlib.Path)
             read(path)
         assert str(raised.value).startswith(str(path))
     without_scans = scene.write_rosbags(tmp_path / 'no_scans', [i for i in items if i.topic == '/odom'])
-    with pytest.raises(LogError, match=r'no sensor_msgs/msg/LaserScan messages .*: /odom \(nav_msgs/msg/Odometry, 30\)$'):
+    with pytest.raises(LogError,
+                       match=r'no sensor_msgs/msg/LaserScan messages .*: /odom \(nav_msgs/msg/Odometry, 30\)$'):
         load_log(without_scans)
     empty = scene.write_rosbags(tmp_path / 'empty', [])
     with pytest.raises(LogError, match=re.escape(f'{empty}: an empty bag')):

@@ -56,7 +56,8 @@ def test_slam_module_maps_saves_on_command_and_on_stop_and_the_map_localizes(
 
     def drive_until(predicate, what: str, trans: float, rot: float = 0.0) -> None:
         watcher.until(predicate, what, timeout=120, every=lambda: drive(trans, rot))
-        watcher.until(lambda: abs(events['PlutoBaseTruth'][-1].tv) < 1e-6 and abs(events['PlutoBaseTruth'][-1].rv) < 1e-6,
+        watcher.until(lambda: abs(events['PlutoBaseTruth'][-1].tv) < 1e-6
+                      and abs(events['PlutoBaseTruth'][-1].rv) < 1e-6,
                       'stopped', every=lambda: drive(0.0))
 
     def truth():

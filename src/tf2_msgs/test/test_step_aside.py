@@ -67,6 +67,7 @@ def test_own_install_prefix_is_excluded(tmp_path: pathlib.Path) -> None:
     assert real_tf2_msgs.find_real([str(link), str(opt_ros)], exclude=[str(own)]) == opt_ros
 
 
+@pytest.mark.process
 def test_command_line_reads_ament_prefix_path(tmp_path: pathlib.Path) -> None:
     opt_ros = make_prefix(tmp_path, 'opt', real=True)
     script = SOURCE / 'cmake' / 'real_tf2_msgs.py'
@@ -92,6 +93,7 @@ def configure(tmp_path: pathlib.Path, underlay: pathlib.Path,
         env=env, capture_output=True, text=True, timeout=120)
 
 
+@pytest.mark.process
 def test_package_installs_nothing_over_a_real_underlay(tmp_path: pathlib.Path) -> None:
     opt_ros = make_prefix(tmp_path, 'opt_ros_jazzy', real=True)
     install = tmp_path / 'install'
@@ -105,6 +107,7 @@ def test_package_installs_nothing_over_a_real_underlay(tmp_path: pathlib.Path) -
     assert not install.exists() or not any(install.iterdir())
 
 
+@pytest.mark.process
 def test_a_standin_left_in_the_install_prefix_is_refused(tmp_path: pathlib.Path) -> None:
     opt_ros = make_prefix(tmp_path, 'opt_ros_jazzy', real=True)
     stale = make_prefix(tmp_path, 'install', standin=True)

@@ -29,7 +29,6 @@ import os
 import queue
 import sys
 import threading
-import time
 
 from wurde_core import CommsManager, LockMode, RunState
 from wurde_core.interfaces import robot_object_class

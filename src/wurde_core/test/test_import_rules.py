@@ -2,6 +2,7 @@
 
 import pathlib
 
+import pytest
 from wurde_testing.imports import violations
 
 SOURCE = pathlib.Path(__file__).resolve().parents[1] / 'wurde_core'
@@ -12,6 +13,7 @@ def test_imports_follow_the_package_rules() -> None:
     assert violations('wurde_core', SOURCE) == []
 
 
+@pytest.mark.process
 def test_wurde_core_imports_without_a_sourced_workspace(tmp_path: pathlib.Path) -> None:
     """No RobotObject class is bound at import time: with wurde_core and wurde_idl on the path but
     no workspace sourced, importing works and using an interface says what is missing."""

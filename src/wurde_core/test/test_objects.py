@@ -167,6 +167,7 @@ def run_module(*args: str) -> subprocess.CompletedProcess[str]:
                           timeout=60, check=False, cwd=HERE)
 
 
+@pytest.mark.process
 def test_wrong_option_prints_usage_and_exits_2() -> None:
     result = run_module('-z')
     assert result.returncode == 2
@@ -175,6 +176,7 @@ def test_wrong_option_prints_usage_and_exits_2() -> None:
     assert result.returncode == 2 and 'option -c requires argument' in result.stderr
 
 
+@pytest.mark.process
 def test_bad_role_config_is_refused_with_file_and_line(tmp_path) -> None:
     bad = tmp_path / 'bad.xml'
     bad.write_text('<wurde-config>\n<log level="x"\n</wurde-config>\n')

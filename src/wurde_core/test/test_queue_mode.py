@@ -25,7 +25,7 @@ def test_a_burst_of_info_events_reaches_a_queue_mode_consumer(
         supplier.publish_info()
     assert supplier.wait_delivered(20, channel='info')
     seen: list[float] = []
-    
+
     def collect() -> bool:
         while consumer.get_next_info():
             seen.append(consumer.info.max_range.get_value())
@@ -55,7 +55,7 @@ def test_switching_to_queue_mode_after_registration_takes_effect_and_keeps_what_
     # The new, deeper subscription must be matched both ways before a burst can reach it:
     # send markers until one arrives (a volatile stream loses what precedes the match).
     seen: list[float] = []
-    
+
     def marker_arrived() -> bool:
         supplier.data.ranges = [-2.0]
         supplier.publish_data()
@@ -67,7 +67,7 @@ def test_switching_to_queue_mode_after_registration_takes_effect_and_keeps_what_
         supplier.data.ranges = [float(value)]
         supplier.publish_data()
     assert supplier.wait_delivered(20)
-    
+
     def collect() -> bool:
         while consumer.get_next_data():
             seen.append(consumer.data.ranges[0])

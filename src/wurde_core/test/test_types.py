@@ -63,6 +63,10 @@ def test_geometry_views_write_through_to_their_message() -> None:
 
 def test_enums_match_the_seed_names() -> None:
     assert [s.name for s in RunState] == ['RUN', 'IDLE', 'RESET', 'RESTART', 'QUIT']
+    from wurde_core.enums import ENUMS
+    from wurde_idl.types import BUILTIN_ENUMS
+    assert {name: tuple(m.name for m in e) for name, e in ENUMS.items()} == BUILTIN_ENUMS   # the messages' table
+    assert all([m.value for m in e] == list(range(len(e))) for e in ENUMS.values())
     assert {s.name for s in ConnectionStrategy} == {'NORMAL', 'ASSIGNED', 'AUTO'}
     from wurde_interfaces.msg import RunState as RunStateMsg
     assert RunState.QUIT == RunStateMsg.QUIT

@@ -265,7 +265,7 @@ class CarmenParams:
         return self._get(name, ParamType.STRING, 'get_string')
 
     # -- subscribing to changes (6.1) ----------------------------------------------------------
-    def _subscribe(self, module: str, variable: str, kind: ParamType, target: Target | None,
+    def _subscribe(self, module: str, variable: str, kind: ParamType | str, target: Target | None,
                    handler: Handler | None, *, wait: bool = True) -> None:
         """6.1: set ``target`` to each new value, then call ``handler(module, variable, value)``.
         Without ``wait``, returns before the daemon's events are matched: the caller polls
@@ -430,9 +430,9 @@ class CarmenParams:
             if arg == '--ros-args':
                 rest += argv[index:]
                 break
-            p = by_variable.get(arg[1:]) if arg.startswith('-') else None
-            if p is not None and index + 1 < len(argv):
-                overrides[p.name] = argv[index + 1]
+            found = by_variable.get(arg[1:]) if arg.startswith('-') else None
+            if found is not None and index + 1 < len(argv):
+                overrides[found.name] = argv[index + 1]
                 index += 2
                 continue
             rest.append(arg)

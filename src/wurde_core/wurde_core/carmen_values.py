@@ -100,7 +100,7 @@ def text_of(value: Any) -> str:
     return str(value)
 
 
-def convert(value: Any, kind: ParamType, name: str) -> Any:
+def convert(value: Any, kind: ParamType | str, name: str) -> Any:
     """``value`` (a served value, or text) as ``kind`` — the conversion on demand of section 6:
     an int is a fine double, anything is a string (its text).
 
@@ -127,7 +127,7 @@ def param_table(program: str, params: Sequence[Param]) -> str:
     width = max([len(p.name) for p in params] + [4])
     lines = [f'{program}: parameters (from the parameter server; -VARIABLE VALUE overrides one)',
              f'  {"name":<{width}}  type    subscribed']
-    lines += [f'  {p.name:<{width}}  {p.type.value:<6}  {"yes" if p.subscribe else "no"}'
+    lines += [f'  {p.name:<{width}}  {ParamType(p.type).value:<6}  {"yes" if p.subscribe else "no"}'
               for p in params]
     return '\n'.join(lines)
 

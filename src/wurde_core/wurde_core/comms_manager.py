@@ -576,9 +576,9 @@ class CommsManager:
         waiter = self._waiters.get(system_only)
         if waiter is None:
             objects = self._system_objects if system_only else self._objects + self._system_objects
-            entities = self._entities
-            assert entities is not None
-            waiter = SubscriptionWaiter(self._context,
+            entities, context = self._entities, self._context
+            assert entities is not None and context is not None  # both set by _open
+            waiter = SubscriptionWaiter(context,
                                         [s for o in objects for s in o._subscriptions()]
                                         + entities.subscriptions, entities.services)
             self._waiters[system_only] = waiter

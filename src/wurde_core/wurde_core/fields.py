@@ -24,7 +24,7 @@ _COERCE: dict[str, Callable[[Any], Any]] = {
 }
 
 
-class SequenceView(MutableSequence):  # type: ignore[type-arg]
+class SequenceView(MutableSequence):
     """A list of messages seen through a converter (geometry views, enums): writes go through."""
 
     def __init__(self, items: list[Any], wrap: Callable[[Any], Any],

@@ -19,16 +19,16 @@ class _MessageType:
 
     def __init__(self, name: str) -> None:
         self._name = name
-        self._type: type | None = None
+        self._type: type[Any] | None = None
 
-    def __get__(self, _obj: Any, _owner: Any = None) -> type:
+    def __get__(self, _obj: Any, _owner: Any = None) -> type[Any]:
         if self._type is None:
             self._type = getattr(importlib.import_module('wurde_interfaces.msg'), self._name)
         return self._type
 
 
 class _View:
-    _msg_type: ClassVar[type]
+    _msg_type: ClassVar[type[Any]]
     _fields: ClassVar[tuple[str, ...]]
     __slots__ = ('_m',)
 
@@ -64,7 +64,7 @@ class _View:
     def __eq__(self, other: object) -> bool:
         if type(other) is not type(self):
             return NotImplemented
-        return self._m == other._m  # type: ignore[attr-defined]
+        return self._m == other._m
 
     def __repr__(self) -> str:
         values = ', '.join(f'{name}={getattr(self._m, name):g}' for name in self._msg_type.get_fields_and_field_types())
@@ -107,7 +107,7 @@ class Point(_XY):
     """``Point()``, ``Point(x, y)``, ``Point(x, y, w)``."""
 
     __slots__ = ()
-    _msg_type = _MessageType('Point')  # type: ignore[assignment]
+    _msg_type = _MessageType('Point')
     _fields = ('x', 'y', 'weight')
 
 
@@ -115,7 +115,7 @@ class Point3D(_Z, _XY):
     """``Point3D()``, ``Point3D(x, y, z)``, ``Point3D(x, y, z, w)``."""
 
     __slots__ = ()
-    _msg_type = _MessageType('Point3D')  # type: ignore[assignment]
+    _msg_type = _MessageType('Point3D')
     _fields = ('x', 'y', 'z', 'weight')
 
     @classmethod
@@ -129,7 +129,7 @@ class Pose(_Theta, _XY):
     """``Pose()``, ``Pose(x, y)``, ``Pose(x, y, t)``, ``Pose(x, y, t, w)``."""
 
     __slots__ = ()
-    _msg_type = _MessageType('Pose')  # type: ignore[assignment]
+    _msg_type = _MessageType('Pose')
     _fields = ('x', 'y', 'theta', 'weight')
 
 
@@ -140,7 +140,7 @@ class Pose3D(_Theta, _Z, _XY):
     """
 
     __slots__ = ()
-    _msg_type = _MessageType('Pose3D')  # type: ignore[assignment]
+    _msg_type = _MessageType('Pose3D')
     _fields = ('x', 'y', 'z', 'theta', 'phi', 'psi', 'weight')
 
     @classmethod
@@ -162,7 +162,7 @@ class CVector(_View):
     """A Cartesian 2-D vector: ``CVector(x, y)``."""
 
     __slots__ = ()
-    _msg_type = _MessageType('CVector')  # type: ignore[assignment]
+    _msg_type = _MessageType('CVector')
     _fields = ('x', 'y')
 
     def x(self, value: Any = _UNSET) -> Any:
@@ -178,7 +178,7 @@ class PVector(_View):
     """A polar 2-D vector: ``PVector(magnitude, angle)``."""
 
     __slots__ = ()
-    _msg_type = _MessageType('PVector')  # type: ignore[assignment]
+    _msg_type = _MessageType('PVector')
     _fields = ('magnitude', 'angle')
 
     def magnitude(self, value: Any = _UNSET) -> Any:

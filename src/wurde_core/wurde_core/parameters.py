@@ -31,7 +31,7 @@ from __future__ import annotations
 import dataclasses
 import re
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -204,7 +204,7 @@ class TunedSettings:
     """
 
     def __init__(self, manager: Any, settings: Any,
-                 fields: dict[str, tuple[str, float | None, float | None]], prefix: str = '') -> None:
+                 fields: Mapping[str, tuple[str, float | None, float | None]], prefix: str = '') -> None:
         self._settings = settings
         self._prefix = prefix
         self._tunables = {name: manager.tunable(prefix + name, getattr(settings, name), text, low, high)

@@ -140,7 +140,7 @@ class RoleConfiguration:
 
     @staticmethod
     def _check_attributes(path: str, node: etree._Element, allowed: set[str],
-                          required: set[str] = frozenset(), namespaced_ok: bool = False) -> None:
+                          required: set[str] | frozenset[str] = frozenset(), namespaced_ok: bool = False) -> None:
         for attr in node.attrib:
             if attr.startswith('{'):
                 if namespaced_ok:

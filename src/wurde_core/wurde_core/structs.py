@@ -22,6 +22,7 @@ class _Struct:
 
     _fields: dict[str, FieldSpec] = {}
     _message_type: type
+    _msg: Any  # the current event's message, set with object.__setattr__
 
     def __init__(self, message: Any = None) -> None:
         object.__setattr__(self, '_msg', message if message is not None else self._message_type())

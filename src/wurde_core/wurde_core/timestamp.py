@@ -64,12 +64,12 @@ class Time:
         if isinstance(other, _dt.datetime):
             return round(other.timestamp() * _US)
         if hasattr(other, 'sec') and hasattr(other, 'nanosec'):
-            return other.sec * _US + other.nanosec // 1000  # type: ignore[attr-defined]
+            return other.sec * _US + other.nanosec // 1000
         return None
 
     def __eq__(self, other: object) -> bool:
         value = self._other(other)
-        return NotImplemented if value is None else self._us == value  # type: ignore[return-value]
+        return NotImplemented if value is None else self._us == value
 
     def __lt__(self, other: object) -> bool:
         value = self._other(other)

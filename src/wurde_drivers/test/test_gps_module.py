@@ -62,7 +62,7 @@ class RecordingClock:
         self.given: list[datetime.datetime] = []
 
     def __call__(self) -> datetime.datetime:
-        now = datetime.datetime.now(datetime.UTC)
+        now = datetime.datetime.now(datetime.timezone.utc)
         self.given.append(now)
         return now
 

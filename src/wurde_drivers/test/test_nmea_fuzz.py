@@ -19,7 +19,7 @@ from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 from wurde_drivers.errors import CodecError
-from wurde_drivers.gps.codec import GGA, KNOT, RMC, NmeaDeframer, checksum, decode, encode
+from wurde_drivers.gps.codec import GGA, KNOT, RMC, NmeaDeframer, checksum, decode
 
 FUZZ = settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 BAD = object()     # a field text the standard does not allow: the sentence must be refused

@@ -200,6 +200,7 @@ def test_the_command_line_writes_the_map_and_prints_a_route_for_tour(
     assert 'size must be' in capsys.readouterr().err
 
 
+@pytest.mark.process
 def test_the_readme_example_writes_a_map_a_route_and_a_sim_config(tmp_path: pathlib.Path) -> None:
     root = pathlib.Path(__file__).resolve().parents[3]
     text = (root / 'config' / 'maps' / 'README.md').read_text()

@@ -27,7 +27,7 @@ def test_a_wall_ahead_fills_the_rows_its_distance_gives() -> None:
                 wall_height=2.0, max_range=10.0)
     image, distance = render(world, 0.0, 0.0, 0.0, view)
     assert image.shape == (120, 160, 3)
-    centre = 80                                   # focal length 80 px: half width / tan(45 deg)                                   # a column looking (almost) straight ahead
+    centre = 80             # focal length 80 px: half width / tan(45 deg); a column looking (almost) straight ahead
     assert distance[centre] == pytest.approx(2.0, rel=1e-3)
     # Wall from 1 m above the camera to the floor 1 m below, at 2 m: rows 60 -+ focal * 1 / 2.
     column = image[:, centre]

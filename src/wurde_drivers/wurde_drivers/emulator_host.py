@@ -1,7 +1,8 @@
 """Run a device emulator as a program: a pty at a fixed path, supervised like any module.
 
 ``sick_emulator -p /tmp/wurde/ttySICK`` (and the other ``*_emulator`` programs) start the device's
-emulator on a pseudo-terminal and link it to the path given with ``-p`` (``-l`` is WURDE's standard "list capabilities") (default
+emulator on a pseudo-terminal and link it to the path given with ``-p`` (``-l`` is WURDE's standard
+"list capabilities") (default
 ``/tmp/wurde-<device>``), so a device config can name that path as its port — as ``socat``'s
 ``link=`` does — and a user can try a driver and its config without the hardware. The program is
 a WURDE module (heartbeat only), so the MCP starts, watches and stops it like the driver itself.

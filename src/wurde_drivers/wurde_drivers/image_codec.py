@@ -23,6 +23,8 @@ per pixel. Anything else raises :class:`ImageFormatError`.
 
 from __future__ import annotations
 
+from typing import cast
+
 import cv2
 import numpy as np
 import numpy.typing as npt
@@ -44,8 +46,8 @@ class ImageFormatError(CodecError):
     """An image whose encoding, size, step or byte count does not hold together."""
 
 
-def _rows(width: int, height: int, encoding: str, step: int, data: bytes | memoryview | np.ndarray
-          ) -> npt.NDArray[np.uint8]:
+def _rows(width: int, height: int, encoding: str, step: int,
+          data: bytes | bytearray | memoryview | np.ndarray) -> npt.NDArray[np.uint8]:
     """The pixel bytes as (height, width * bytes per pixel), padding cut off; checks everything."""
     if encoding not in BYTES_PER_PIXEL:
         raise ImageFormatError(f'encoding {encoding!r} is none of {", ".join(ENCODINGS)}')
@@ -66,7 +68,7 @@ def _rows(width: int, height: int, encoding: str, step: int, data: bytes | memor
 
 
 def decode(width: int, height: int, encoding: str, step: int,
-           data: bytes | memoryview | np.ndarray) -> Rgb:
+           data: bytes | bytearray | memoryview | np.ndarray) -> Rgb:
     """One ImageTransport image -> RGB pixels, shape (height, width, 3), uint8.
 
     :raises ImageFormatError: for an unknown encoding or sizes that do not fit the bytes.
@@ -77,7 +79,7 @@ def decode(width: int, height: int, encoding: str, step: int,
     if encoding == 'rgb8':
         return rows.reshape(height, width, 3).copy()          # never a view of the message
     if encoding == 'yuv422':
-        return cv2.cvtColor(rows.reshape(height, width, 2), cv2.COLOR_YUV2RGB_UYVY)
+        return cast(Rgb, cv2.cvtColor(rows.reshape(height, width, 2), cv2.COLOR_YUV2RGB_UYVY))
     yuv = rows.reshape(height, width, 3)                      # yuv24: each pixel a UYVY pair
     uyvy = np.ascontiguousarray(yuv[:, :, (1, 0, 2, 0)]).reshape(height, width * 2, 2)
     return np.ascontiguousarray(cv2.cvtColor(uyvy, cv2.COLOR_YUV2RGB_UYVY)[:, ::2])

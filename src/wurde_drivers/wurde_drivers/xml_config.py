@@ -28,9 +28,15 @@ def read_root(path: str | os.PathLike[str], root_tag: str | tuple[str, ...]) -> 
 
 
 class _Named(Protocol):
-    name: str
-    path: str
-    line: int | None
+    # Read-only members: the devices are frozen dataclasses.
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def path(self) -> str: ...
+
+    @property
+    def line(self) -> int | None: ...
 
 
 Device = TypeVar('Device', bound=_Named)

@@ -8,6 +8,8 @@ import pathlib
 import re
 import subprocess
 
+import pytest
+
 ROOT = pathlib.Path(__file__).resolve().parents[3]
 MARKDOWN = re.compile(r'(?<![\w./-])((?:[\w-]+/)*[\w-]+\.md)\b')
 SEEDS = re.compile(r'\b(wurde-programming-guide|pluto-software-documentation|programming-with-carmen|'
@@ -27,6 +29,7 @@ def _resolves(cited: str, source: pathlib.Path) -> bool:
     return any((base / cited).is_file() for base in (ROOT, source.parent, ROOT / 'docs'))
 
 
+@pytest.mark.process
 def test_every_cited_markdown_document_is_in_the_repository():
     missing = []
     for path in _tracked():
@@ -40,6 +43,7 @@ def test_every_cited_markdown_document_is_in_the_repository():
     assert not missing, 'cited but not in the repository:\n' + '\n'.join(missing)
 
 
+@pytest.mark.process
 def test_every_seed_cited_by_file_name_is_listed_in_docs_seeds():
     listed = (ROOT / 'docs' / 'seeds.md').read_text()
     cited = {match for path in _tracked() if path.suffix == '.py'

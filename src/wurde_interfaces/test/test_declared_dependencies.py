@@ -30,7 +30,7 @@ ROSDEP_KEY = {'pyserial': 'python3-serial', 'python-can': 'python3-can', 'pyyaml
               'foxglove-sdk': 'python3-foxglove'}
 PIP_ONLY = {'mcap', 'mcap-ros2-support', 'rosbags', 'foxglove-sdk'}
 # requirements.in lines that no source imports on purpose: the ROS wheels, the build tools.
-TOOLING = re.compile(r'^(ros-jazzy-.*|colcon-.*|cmake)$')
+TOOLING = re.compile(r'^(ros-jazzy-.*|colcon-.*|cmake|ruff|mypy)$')   # build and lint tools, run not imported
 
 
 def _python_files(package: pathlib.Path):

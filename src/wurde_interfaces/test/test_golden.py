@@ -76,6 +76,7 @@ def test_builtins_are_generated_from_the_type_tables(tmp_path: pathlib.Path) -> 
     assert 'uint8 RUN=0\n' in run_state and 'uint8 QUIT=4\n' in run_state
 
 
+@pytest.mark.process
 def test_command_line_prints_generated_paths(tmp_path: pathlib.Path) -> None:
     result = subprocess.run(
         # As package wurde_interfaces, so that the installed Foo is not a duplicate of this one.

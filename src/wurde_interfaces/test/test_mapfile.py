@@ -129,6 +129,7 @@ def test_refusals_name_file_and_line_and_are_config_errors(tmp_path: pathlib.Pat
                             'net')
 
 
+@pytest.mark.process
 def test_the_format_is_importable_from_the_package_and_needs_no_numpy() -> None:
     assert wurde_idl.load_map_data is load_map_data and wurde_idl.MapError is MapError
     code = 'import sys, wurde_idl.mapfile; print("numpy" in sys.modules)'

@@ -133,6 +133,7 @@ def test_type_clashing_with_generated_message_is_refused(tmp_path: pathlib.Path)
         read_interface(path)
 
 
+@pytest.mark.process
 def test_command_line_reports_file_line_reason_and_fails(tmp_path: pathlib.Path) -> None:
     path = tmp_path / 'Thing.xml'
     text, line, reason = CASES['unknown type']

@@ -76,6 +76,7 @@ def received() -> Iterator[dict[tuple[str, str], Any]]:
         claim.release()
 
 
+@pytest.mark.process
 @pytest.mark.parametrize('name', EXPECTED_INTERFACES)
 @pytest.mark.parametrize('channel', ['data', 'info'])
 def test_message_arrives_intact_in_another_process(

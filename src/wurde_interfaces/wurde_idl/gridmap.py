@@ -22,6 +22,7 @@ import math
 import os
 import pathlib
 import tempfile
+from collections.abc import Callable
 
 import numpy as np
 import yaml
@@ -96,7 +97,8 @@ def load_grid_map(path: str | os.PathLike[str]) -> GridMap:
         meta = yaml.safe_load(raw)
     except yaml.YAMLError as error:
         mark = getattr(error, 'problem_mark', None)
-        raise MapError(path, mark.line + 1 if mark else None, f'not YAML: {getattr(error, "problem", error)}') from error
+        raise MapError(path, mark.line + 1 if mark else None,
+                       f'not YAML: {getattr(error, "problem", error)}') from error
     if not isinstance(meta, dict):
         raise MapError(path, None, 'a map YAML must be a mapping of keys (image, resolution, origin, ...)')
     lines = _key_lines(raw)
@@ -145,7 +147,7 @@ def _key_lines(raw: bytes) -> dict[str, int]:
     return found
 
 
-def _number(value: object, key: str, fail) -> float:  # type: ignore[no-untyped-def]
+def _number(value: object, key: str, fail: Callable[[str, str], MapError]) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
         raise fail(key, f'{key} must be a finite number, not {value!r}')
     return float(value)
@@ -160,7 +162,8 @@ def _read_pgm(image: pathlib.Path, yaml_path: str, line: int | None) -> NDArray:
     magic = data[:2]
     if magic not in (b'P5', b'P2'):
         raise MapError(str(image), None, 'only PGM images (P5 or P2) are read here; convert it to PGM')
-    fields, offset = [], 2
+    fields: list[int] = []
+    offset = 2
     while len(fields) < 3:
         while offset < len(data) and data[offset:offset + 1].isspace():
             offset += 1

@@ -22,7 +22,7 @@ import dataclasses
 import os
 import pathlib
 
-from .carmen_map import carmen_map_from_bytes, is_carmen_map, read_bytes
+from .carmen_map import Polygon, carmen_map_from_bytes, is_carmen_map, read_bytes
 from .errors import MapError
 from .gridmap import GridMap, load_grid_map
 from .gridwalls import grid_walls
@@ -74,7 +74,7 @@ def load_any_map(path: str | os.PathLike[str]) -> AnyMap:
                                'map (binary or BeeSoft text, plain or gzip)')
 
 
-def _from_grid(path: str, grid: GridMap, places: dict[str, Place], offlimits: tuple) -> MapData:  # type: ignore[type-arg]
+def _from_grid(path: str, grid: GridMap, places: dict[str, Place], offlimits: tuple[Polygon, ...]) -> MapData:
     """The suite's map of a grid: the outlines of its occupied regions as walls."""
     ox, oy = grid.origin[0], grid.origin[1]
     walls = grid_walls(grid.cells, (ox, oy), grid.resolution, min_length=0.0)  # a map's specks are obstacles

@@ -7,6 +7,7 @@ children (``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``).
 
 from __future__ import annotations
 
+import contextlib
 import os
 from collections.abc import Iterator
 
@@ -42,3 +43,59 @@ def rclpy_context(ros_domain: int) -> Iterator[object]:
         yield context
     finally:
         context.try_shutdown()
+
+
+# -- the fast lane (`make test-fast`) ---------------------------------------------------------------
+def pytest_addoption(parser: pytest.Parser) -> None:
+    parser.addoption('--fast', action='store_true',
+                     help='the fast lane: only the tests that need neither DDS (the ros_domain fixture) nor '
+                          'other processes (pytest.mark.process); starting a process fails the test')
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    config.addinivalue_line('markers', 'process: the test starts other processes (not in the fast lane)')
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    if not config.getoption('--fast'):
+        return
+    slow = [item for item in items
+            if 'ros_domain' in getattr(item, 'fixturenames', ()) or item.get_closest_marker('process')]
+    if slow:
+        config.hook.pytest_deselected(items=slow)
+        items[:] = [item for item in items if item not in set(slow)]
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_setup(item: pytest.Item) -> Iterator[None]:
+    with _processes_refused(item.config.getoption('--fast')):
+        yield
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_call(item: pytest.Item) -> Iterator[None]:
+    with _processes_refused(item.config.getoption('--fast')):
+        yield
+
+
+@contextlib.contextmanager
+def _processes_refused(refused: bool) -> Iterator[None]:
+    """In the fast lane a test (or its fixtures) that starts a process fails, saying how to mark
+    it: what the lane promises is checked, not assumed.  Imports are not guarded (ctypes'
+    find_library runs ldconfig once)."""
+    if not refused:
+        yield
+        return
+    import subprocess
+
+    def refuse(*_args: object, **_kwargs: object) -> None:
+        raise RuntimeError('the fast lane starts no processes: mark this test (or its module) '
+                           'with pytest.mark.process')
+
+    saved = subprocess.Popen.__init__, os.fork
+    subprocess.Popen.__init__ = refuse  # type: ignore[method-assign]  # the lane's guard
+    os.fork = refuse  # type: ignore[assignment]  # the lane's guard (pty.fork, multiprocessing)
+    try:
+        yield
+    finally:
+        subprocess.Popen.__init__, os.fork = saved  # type: ignore[method-assign]

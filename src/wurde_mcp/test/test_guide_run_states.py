@@ -7,6 +7,7 @@ from __future__ import annotations
 import pathlib
 import time
 
+import pytest
 from mcp_fixture import Table, start_mcp, wait_file, wait_output, worker, write_config
 from wurde_core import RunState, StatusMode
 from wurde_mcp.supervisor import CMD_STATE
@@ -47,6 +48,7 @@ def test_the_lifecycle_flag_waits_for_a_transition(tmp_path, table: Table) -> No
         assert mcp.process.poll() is None
 
 
+@pytest.mark.process
 def test_a_and_lifecycle_together_are_refused(tmp_path) -> None:
     config, mappings = write_config(tmp_path, worker('Never'))
     with ChildProcess([find_executable('wurde_mcp', 'mcp'), '-c', config, '-m', mappings, '-a',

@@ -76,7 +76,7 @@ def test_the_module_serves_the_office_map_to_late_consumers_and_on_request(ros_d
             assert info.map_name.get_value() == world.name
             assert (info.width.get_value(), info.height.get_value()) == (200, 150)    # 20 m x 15 m at 0.1 m
             cells = np.asarray(info.cells.get_value()).reshape(150, 200)
-            assert cells[0, 100] == 1.0 and cells[75, 30] == 0.0 and cells.mean() < 0.2     # outer wall; the start place
+            assert cells[0, 100] == 1.0 and cells[75, 30] == 0.0 and cells.mean() < 0.2   # outer wall; the start place
             places = dict(zip(info.place_names.get_value(), info.places.get_value()))
             assert set(places) == set(world.places)
             assert math.isclose(places['office2'].x(), 7.5) and math.isclose(places['office2'].y(), 3.0)
@@ -110,7 +110,8 @@ def test_a_carmen_map_is_served_with_its_own_grid_places_and_off_limits(ros_doma
                                                     rectangles=[(30, 5, 39, 14)])))
     env = dict(os.environ, WURDE_CONFIG_DIR=str(tmp_path), WURDE_LOG_DIRECTORY=str(tmp_path))
     command = {'map_server': ['map_server', '-m', str(path)],
-               'param_daemon': ['param_daemon', '-R', 'pluto', str(path), str(ROOT / 'config' / 'carmen' / 'carmen.ini')]}
+               'param_daemon': ['param_daemon', '-R', 'pluto', str(path),
+                                str(ROOT / 'config' / 'carmen' / 'carmen.ini')]}
     name, *args = command[program]
     with ChildProcess([find_executable('wurde_mcp', name), *args], env=env) as server:
         manager = CommsManager('MapClient')

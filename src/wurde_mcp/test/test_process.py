@@ -6,6 +6,7 @@ import pathlib
 import signal
 import time
 
+import pytest
 from wurde_mcp.clock import SupervisionClock
 from wurde_mcp.process import ModuleProcess
 
@@ -13,6 +14,7 @@ STUBBORN = ['/bin/sh', '-c', 'trap "echo got INT" INT; trap "echo got TERM" TERM
             'echo ready; while :; do sleep 0.01; done']
 
 
+@pytest.mark.process
 def test_stop_escalates_in_the_background_to_sigkill(tmp_path: pathlib.Path) -> None:
     process = ModuleProcess('Stubborn', STUBBORN, str(tmp_path))
     try:
@@ -31,6 +33,7 @@ def test_stop_escalates_in_the_background_to_sigkill(tmp_path: pathlib.Path) -> 
     assert not process.stopping()
 
 
+@pytest.mark.process
 def test_exit_is_recorded_by_the_owner_without_polling(tmp_path: pathlib.Path) -> None:
     process = ModuleProcess('Quick', ['/bin/sh', '-c', 'exit 3'], str(tmp_path))
     assert process.wait(10.0) == 3
@@ -65,6 +68,7 @@ import os; os._exit(0)
 '''
 
 
+@pytest.mark.process
 def test_a_module_dies_with_the_process_that_started_it_and_has_its_own_group(tmp_path: pathlib.Path) -> None:
     """The launcher's PR_SET_PDEATHSIG (no Python between fork and exec in the MCP): the module,
     in its own process group, is killed by the kernel when its starter ends without a word."""

@@ -163,6 +163,7 @@ def test_a_serialization_other_than_cdr_is_refused_by_name(ros_domain: int, stor
     assert 'replay: 1 topics' in replay.stdout and 'replay: 1 messages' in replay.stdout
 
 
+@pytest.mark.process
 def test_a_bag_that_cannot_be_read_is_refused_naming_file_and_reason(tmp_path: pathlib.Path) -> None:
     bag = rosbags_bags.write(tmp_path / 'bag', rosbags_bags.items())
     metadata = yaml.safe_load((bag / 'metadata.yaml').read_text())

@@ -9,6 +9,7 @@ import subprocess
 import sys
 import time
 
+import pytest
 from mcp_fixture import alive, start_mcp, wait_file, wait_output, worker, write_config
 from wurde_core import RunState, StatusMode
 from wurde_mcp.supervisor import CMD_START, CMD_STATE, CMD_STOP
@@ -184,6 +185,7 @@ def test_sigterm_quits_and_reaps_every_module(tmp_path, table) -> None:
     assert 'exit code 0' in (tmp_path / 'mcp-modules' / 'Tidy.log').read_text()
 
 
+@pytest.mark.process
 def test_bad_configuration_is_refused_before_anything_starts(tmp_path) -> None:
     config, mappings = write_config(tmp_path, worker('Never'),
                                     '<connect module="A">\n<input interface="Foo" source="S"/>\n'
@@ -197,6 +199,7 @@ def test_bad_configuration_is_refused_before_anything_starts(tmp_path) -> None:
     assert not (tmp_path / 'mcp-modules' / 'Never.log').exists()
 
 
+@pytest.mark.process
 def test_mapping_against_what_the_supplier_reports_is_refused_at_configure(tmp_path) -> None:
     """The registration pass learns that Sup supplies Sup_out as Foo; a mapping that takes it
     as a RangeFinder is refused with its file, its line and both types."""

@@ -125,7 +125,8 @@ def test_the_robot_streams_are_variables_and_commands_go_through_the_request_cha
                             'the request arrived', server)
                 # The supplier's lock on force refuses the member in the server, with the lock's reason.
                 # (the lock reaches the server with the stream's info: wait for the refusal.)
-                refused = robot.until(lambda: 'force' in (r := client.request('<var drive.command="1 0 0 0.2 0.1 5"/>')[0]
+                command = '<var drive.command="1 0 0 0.2 0.1 5"/>'
+                refused = robot.until(lambda: 'force' in (r := client.request(command)[0]
                                                           ).get('warning', '') and r,
                                       'the locked member refused', server)
                 assert 'lock' in refused['warning'], refused

@@ -22,8 +22,10 @@ from __future__ import annotations
 
 import os
 import shlex
-from collections.abc import Iterable
+from collections.abc import Iterable, Set
 from dataclasses import dataclass, field
+from enum import Enum
+from typing import TypeVar
 
 from lxml import etree
 
@@ -70,6 +72,9 @@ class McpConfig:
         return [m for m in self.mappings if m.module == module]
 
 
+_E = TypeVar('_E', bound=Enum)
+
+
 def _local(tag: object) -> str | None:
     return etree.QName(tag).localname if isinstance(tag, str) else None
 
@@ -83,7 +88,7 @@ def _elements(path: str, node: etree._Element) -> Iterable[etree._Element]:
 
 
 def _attributes(path: str, node: etree._Element, allowed: set[str],
-                required: set[str] = frozenset()) -> dict[str, str]:
+                required: Set[str] = frozenset()) -> dict[str, str]:
     values = {}
     for attr, value in node.attrib.items():
         if attr.startswith('{'):
@@ -99,7 +104,7 @@ def _attributes(path: str, node: etree._Element, allowed: set[str],
     return values
 
 
-def _enum(path: str, node: etree._Element, attr: str, value: str, enum: type) -> object:
+def _enum(path: str, node: etree._Element, attr: str, value: str, enum: type[_E]) -> _E:
     try:
         return enum[value.upper()]
     except KeyError:

@@ -16,7 +16,8 @@ every internal module the configuration lists (listing a module is asking for it
 daemon starts modules on request) and, from then on, a supplier a consumer asks for that is not
 running (6.3).  ``-n NAME`` (or ``WURDE_MCP_NAME``) names the MCP when
 several share a domain, one per host: its streams are then ``mcp/NAME`` and ``mcp_control/NAME``,
-its modules are told its name, and it commands only its own (see ``Supervisor.owns``).  Transitions are driven with the standard lifecycle
+its modules are told its name, and it commands only its own (see ``Supervisor.owns``).  Transitions
+are driven with the standard lifecycle
 services (``/MCP/change_state``), so any ROS 2 lifecycle tool can drive the MCP.  The MCP is one
 node, ``/MCP``: its CommsManager's node is the lifecycle node, and the manager's loop serves the
 lifecycle services (no executor of its own).  Files come from

@@ -23,11 +23,13 @@ KIND_ASSIGN, KIND_START, KIND_CAPABILITIES = 0, 1, 2
 class WatchedModule(Protocol):
     """What assignment needs to know of a module (the supervisor's ``Module``)."""
 
-    name: str
     supplies: list[tuple[str, str]]
     consumes: list[tuple[str, str]]
     wanted: bool
     status: StatusMode
+
+    @property
+    def name(self) -> str: ...
 
     @property
     def internal(self) -> bool: ...

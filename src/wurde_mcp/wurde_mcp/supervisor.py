@@ -357,6 +357,7 @@ class Supervisor:
                 if code is None:
                     g_error(f'MCP: {module.name} (pid {process.pid}) did not end after SIGKILL')
                 else:
+                    assert process.ended is not None  # the owner sets it before the exit code
                     g_info(f'MCP: {module.name} ended {process.ended - quit_at:.2f} s after '
                            f'Quit (exit code {code})')
                 module.process = None

@@ -22,7 +22,7 @@ from collections.abc import Iterable
 
 from wurde_core.naming import typed_view
 
-from .config import Mapping, where
+from .config import Mapping
 
 
 def served_stream(mapping: Mapping, supplies: Iterable[tuple[str, str]]) -> str:

@@ -211,8 +211,8 @@ class CarmenIpc:
             self._delivering = False
             for feed in self.feeds.values():
                 feed.pending.clear()
-            for events in self.derived.values():
-                events.clear()
+            for queue in self.derived.values():
+                queue.clear()
         return handled
 
     def turn(self) -> bool:

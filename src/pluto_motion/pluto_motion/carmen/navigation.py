@@ -119,7 +119,7 @@ class NavigatorLink:
 
     def __init__(self, ipc: CarmenIpc) -> None:
         self.ipc = ipc
-        stream = ipc.streams['navigator']
+        stream = self.stream = ipc.streams['navigator']
         self.feed = ipc.feed(stream, lambda: Navigator(stream), '_stops', True)
         self.nav: Any = self.feed.obj
         self.watch = StopWatch()
@@ -185,7 +185,7 @@ def _status_subscribe(name: str, message_type: type, fill: Any, msg: Any, handle
                       how: int) -> Any:
     link = _link()
     how = mode(how)
-    return link.ipc.subscribe(name, message_type, link.feed.obj.stream, fill, msg, handler, how)
+    return link.ipc.subscribe(name, message_type, link.stream, fill, msg, handler, how)
 
 
 def carmen_navigator_subscribe_status_message(status: carmen_navigator_status_message | None,

@@ -33,10 +33,10 @@ def _robot_laser(name: str, key: str, laser: Any, handler: Handler | None, how: 
     ipc = connection()
     how = mode(how)
     stream = ipc.streams[key]
-    if not how:
-        return ipc.subscribe(name, carmen_robot_laser_message, stream, convert.robot_laser, laser, handler, how)
-    ipc.odometry_feed()
-    info = ipc.feed(stream, lambda: RangeFinder(stream), name, False).obj.info
+    info: Any = None                        # unsubscribing: no feed, nothing is filled
+    if how:
+        ipc.odometry_feed()
+        info = ipc.feed(stream, lambda: RangeFinder(stream), name, False).obj.info
 
     def fill(msg: Any, d: Any) -> bool:
         return convert.robot_laser(msg, d, info, ipc.odometry, ipc.velocity)

@@ -12,6 +12,7 @@ clockwise scans: a negative ``angle_increment``) into the counter-clockwise orde
 
 from __future__ import annotations
 
+import builtins
 import dataclasses
 import math
 
@@ -67,8 +68,9 @@ class FrameTree:
     def _up(self, frame: str) -> dict[str, tuple[Matrix, list[str]]]:
         """Every ancestor of ``frame`` (itself included): ``frame``'s pose in it and the child
         frames of the edges walked."""
-        found = {frame: (np.eye(4), [])}
-        pose, walked = np.eye(4), []
+        found: dict[str, tuple[Matrix, list[str]]] = {frame: (np.eye(4), [])}
+        pose: Matrix = np.eye(4)
+        walked: list[str] = []
         while frame in self._edges:
             parent, matrix = self._edges[frame]
             if parent in found:                     # a loop in a broken tree
@@ -78,11 +80,12 @@ class FrameTree:
             frame = parent
         return found
 
-    def lookup(self, target: str, source: str) -> tuple[Matrix, set[str]] | None:
+    def lookup(self, target: str, source: str) -> tuple[Matrix, builtins.set[str]] | None:
         """``source``'s pose in ``target`` and the child frames of the edges used; None when the
         two are not connected."""
         of_source = self._up(source)
-        pose, walked = np.eye(4), []
+        pose: Matrix = np.eye(4)
+        walked: list[str] = []
         frame = target
         while True:
             if frame in of_source:

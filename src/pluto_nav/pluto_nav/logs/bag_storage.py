@@ -48,7 +48,8 @@ class Storage(Protocol):
     """What a bag is read from: rosbags' Reader, one of its storage plugins, or
     :class:`SequentialMcap`."""
 
-    connections: list[Connection]
+    @property
+    def connections(self) -> list[Connection]: ...
 
     def messages(self, connections: Collection[Connection]) -> Iterator[RawMessage]: ...
 

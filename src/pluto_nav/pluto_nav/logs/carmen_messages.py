@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -325,11 +326,14 @@ def parse_raw_laser(fields: list[str], where: str, mounts: Mounts) -> ScanRecord
     return ScanRecord(stamp, ranges, config, channel, remissions=remissions, origin=where)
 
 
-PARSERS = {'ODOM': parse_odom, 'TRUEPOS': parse_truepos, 'PARAM': parse_param,
-           'FLASER': parse_old_laser, 'RLASER': parse_old_laser,
-           'ROBOTLASER1': parse_robot_laser, 'ROBOTLASER2': parse_robot_laser,
-           **{f'RAWLASER{i}': parse_raw_laser for i in range(1, 5)},
-           **{name: parse_old_raw_laser for name in _OLD_CHANNELS if name not in ('FLASER', 'RLASER')}}
+_Parser = Callable[[list[str], str, Mounts], OdometryRecord | TruePoseRecord | ParamRecord | ScanRecord]
+
+PARSERS: dict[str, _Parser] = {
+    'ODOM': parse_odom, 'TRUEPOS': parse_truepos, 'PARAM': parse_param,
+    'FLASER': parse_old_laser, 'RLASER': parse_old_laser,
+    'ROBOTLASER1': parse_robot_laser, 'ROBOTLASER2': parse_robot_laser,
+    **{f'RAWLASER{i}': parse_raw_laser for i in range(1, 5)},
+    **{name: parse_old_raw_laser for name in _OLD_CHANNELS if name not in ('FLASER', 'RLASER')}}
 
 
 def parse_line(fields: list[str], where: str, mounts: Mounts

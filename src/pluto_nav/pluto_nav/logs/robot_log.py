@@ -69,11 +69,12 @@ class RobotLog:
         a, b = self.odometry[i - 1], self.odometry[i]
         f = (stamp - a.stamp) / (b.stamp - a.stamp)
         dx, dy, dtheta = relative(a.pose, b.pose)
-        return tuple(float(v) for v in compose(a.pose, (f * dx, f * dy, f * dtheta)))  # type: ignore[return-value]
+        x, y, theta = compose(a.pose, (f * dx, f * dy, f * dtheta))
+        return float(x), float(y), float(theta)
 
     def _stamps(self) -> list[float]:
         if getattr(self, '_stamp_cache', None) is None or len(self._stamp_cache) != len(self.odometry):
-            self._stamp_cache = [r.stamp for r in self.odometry]
+            self._stamp_cache: list[float] = [r.stamp for r in self.odometry]
         return self._stamp_cache
 
 

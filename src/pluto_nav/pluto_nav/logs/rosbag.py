@@ -277,11 +277,12 @@ class _BagReading:
                 changed: set[str] = set()
                 made = self._apply_tf(connection, message, changed)
                 self._forget_mounts(changed)
-                for record in made:
-                    self._in_order(connection.topic, record.stamp)
-                    yield record
+                for odometry in made:
+                    self._in_order(connection.topic, odometry.stamp)
+                    yield odometry
                 continue
             stamp = self._stamp(connection.topic, message.header.stamp, bag_time)
+            record: LogRecord | None
             if connection.msgtype == SCAN:
                 record = self._scan(connection, message, stamp)
             elif connection.msgtype == ODOMETRY:

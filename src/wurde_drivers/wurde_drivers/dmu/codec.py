@@ -206,9 +206,10 @@ def decode_packet(data: bytes, mode: DmuMode, scale: DmuScale = DmuScale()) -> D
     if mode is DmuMode.ANGLE:
         roll, pitch = signed[0] * scale.angle_lsb, signed[1] * scale.angle_lsb
         signed = signed[2:]
-    rates = [w * scale.rate_lsb for w in signed[0:3]]
-    accels = [w * scale.accel_lsb for w in signed[3:6]]
-    return DmuPacket(mode, roll, pitch, *rates, *accels, _temperature(temp_word), ticks)
+    rate_x, rate_y, rate_z = (w * scale.rate_lsb for w in signed[0:3])
+    accel_x, accel_y, accel_z = (w * scale.accel_lsb for w in signed[3:6])
+    return DmuPacket(mode, roll, pitch, rate_x, rate_y, rate_z, accel_x, accel_y, accel_z,
+                     _temperature(temp_word), ticks)
 
 
 def encode_serial_number(number: int) -> bytes:

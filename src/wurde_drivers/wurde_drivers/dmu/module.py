@@ -127,7 +127,11 @@ def main(argv: list[str] | None = None) -> int:
     manager.register_supplier(runner.logger)
     set_loop(manager, SLEEP_S)
     streams.publish_info()
-    return run_loop(manager, lambda: runner.step(SLEEP_S), runner.close)
+
+    def step() -> None:
+        runner.step(SLEEP_S)
+
+    return run_loop(manager, step, runner.close)
 
 
 if __name__ == '__main__':

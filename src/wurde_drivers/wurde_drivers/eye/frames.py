@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import threading
+from typing import cast
 
 import cv2
 import numpy as np
@@ -57,14 +58,14 @@ def compose(rgb: npt.NDArray[np.uint8], settings: DisplaySettings) -> npt.NDArra
     if settings.scale != 1.0:
         height, width = rgb.shape[:2]
         size = (max(1, round(width * settings.scale)), max(1, round(height * settings.scale)))
-        out = cv2.resize(rgb, size, interpolation=cv2.INTER_NEAREST)
+        out = cast(npt.NDArray[np.uint8], cv2.resize(rgb, size, interpolation=cv2.INTER_NEAREST))
     if settings.overlay:
         out = out.copy() if out is rgb else out
-        font, size, thickness = cv2.FONT_HERSHEY_SIMPLEX, 0.5, 1
-        (text_w, text_h), base = cv2.getTextSize(settings.overlay, font, size, thickness)
+        font, font_scale, thickness = cv2.FONT_HERSHEY_SIMPLEX, 0.5, 1
+        (text_w, text_h), base = cv2.getTextSize(settings.overlay, font, font_scale, thickness)
         band = out[:text_h + base + 6, :text_w + 8]
         band[...] = band // 3
-        cv2.putText(out, settings.overlay, (4, text_h + 3), font, size, (255, 255, 255), thickness,
+        cv2.putText(out, settings.overlay, (4, text_h + 3), font, font_scale, (255, 255, 255), thickness,
                     cv2.LINE_AA)
     return out
 

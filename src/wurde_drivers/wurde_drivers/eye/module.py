@@ -226,7 +226,7 @@ def open_display(manager: CommsManager, store: FrameStore, status: DisplayStatus
 
 def _number(program: str, option: str, text: str, kind: type) -> float:
     try:
-        return kind(text)  # type: ignore[no-any-return]
+        return kind(text)
     except ValueError:
         print(f'{program}: -{option} {text!r} is not a number', file=sys.stderr, flush=True)
         raise SystemExit(2) from None

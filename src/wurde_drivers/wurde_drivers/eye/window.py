@@ -78,11 +78,11 @@ class TkWindow:
             else:
                 self._root.withdraw()
 
-    def _clicked(self, event: tkinter.Event) -> None:  # type: ignore[type-arg]
+    def _clicked(self, event: tkinter.Event) -> None:
         scale = self.store.settings.scale
         self.status.click(int(event.x / scale), int(event.y / scale))
 
-    def _key(self, event: tkinter.Event) -> None:  # type: ignore[type-arg]
+    def _key(self, event: tkinter.Event) -> None:
         self.status.key(int(event.keysym_num))
 
     def show(self, frame: Frame) -> None:

@@ -74,7 +74,7 @@ class GpsEmulator(PtyDevice):
         self.satellites = satellites
         self.quality = quality
         self.hdop = hdop
-        self.clock = clock or (lambda: datetime.datetime.now(datetime.UTC))
+        self.clock = clock or (lambda: datetime.datetime.now(datetime.timezone.utc))
         self.talker = talker
         #: Set: the receiver writes nothing (antenna lost, firmware hung).
         self.silent = threading.Event()

@@ -27,7 +27,7 @@ class GameController:
     """Named axes and buttons of one joystick.  Construct (no I/O), :meth:`configure`,
     :meth:`open`, then :meth:`update` each loop; :meth:`close` at the end."""
 
-    def __init__(self, *, report: Callable[[str], None] | None = None) -> None:
+    def __init__(self, *, report: Callable[[str], object] | None = None) -> None:
         self.report = report or (lambda message: None)
         self.layout = JoystickLayout('unconfigured', {}, {})
         self.device: JoystickDevice | None = None

@@ -49,7 +49,7 @@ class JoystickDevice:
     """
 
     def __init__(self, path: str, *, retry_s: float = 1.0,
-                 report: Callable[[str], None] | None = None) -> None:
+                 report: Callable[[str], object] | None = None) -> None:
         self.path = path
         self.retry_s = retry_s
         self.report = report or (lambda message: None)

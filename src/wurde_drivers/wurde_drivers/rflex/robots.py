@@ -145,7 +145,7 @@ def voltage_raw(volts: float, offset: float = 1.2) -> int:
 
 def _ring(first_bank: int, per_bank: tuple[int, ...], start_deg: float, radius: float,
           z: float, ring: str) -> tuple[SonarPose, ...]:
-    poses = []
+    poses: list[SonarPose] = []
     for bank, count in enumerate(per_bank, start=first_bank):
         for index in range(count):
             yaw = math.radians(start_deg - 15.0 * len(poses))

@@ -82,19 +82,20 @@ class Telegram:
 
 def encode_telegram(telegram: Telegram) -> bytes:
     """The bytes on the wire for ``telegram``; :raises CodecError: when it cannot be framed."""
-    has_status = telegram.status is not None
+    status = telegram.status
+    has_status = status is not None
     if has_status != telegram.from_device:
         raise CodecError('a device frame (ADR & 0x80) needs a STATUS byte; a host frame has none')
     length = 1 + len(telegram.data) + (1 if has_status else 0)
     if length > MAX_PAYLOAD:
         raise CodecError(f'payload of {length} bytes exceeds {MAX_PAYLOAD}')
-    fields = (telegram.address, telegram.command) + ((telegram.status,) if has_status else ())
+    fields = (telegram.address, telegram.command) + ((status,) if status is not None else ())
     if any(not 0 <= value <= 0xFF for value in fields):
         raise CodecError('address, command and status must be bytes')
     body = bytearray((STX, telegram.address, length & 0xFF, length >> 8, telegram.command))
     body += telegram.data
-    if has_status:
-        body.append(telegram.status)  # type: ignore[arg-type]
+    if status is not None:
+        body.append(status)
     crc = sick_crc16(body)
     body += bytes((crc & 0xFF, crc >> 8))
     return bytes(body)

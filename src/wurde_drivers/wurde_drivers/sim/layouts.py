@@ -58,7 +58,7 @@ def _scatter(rng: random.Random, sketch: Sketch, count: int,
     """Up to ``count`` shapes centred in ``area`` (xmin, ymin, xmax, ymax) that fit with ``gap``,
     none within ``keep_off[1]`` of the point ``keep_off[0]``; each drawn as a solid (or with
     ``draw``)."""
-    placed = []
+    placed: list[Polygon] = []
     for _ in range(count * _TRIES):
         if len(placed) == count:
             break

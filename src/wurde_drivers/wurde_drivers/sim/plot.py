@@ -25,7 +25,8 @@ def plot_run(world: World, path: str | os.PathLike[str], *, truth: Sequence[tupl
              scan: Sequence[float] = (), scan_fov: float = math.pi, waypoints: Sequence[tuple[float, float]] = (),
              title: str = '') -> None:
     """Draw walls (black), off-limits (red), the true path (blue), odometry (dashed orange), a
-    localization's estimate (dotted purple), waypoints (green) and the last scan's hits (red dots) from ``scan_pose``; save as PNG."""
+    localization's estimate (dotted purple), waypoints (green) and the last scan's hits (red dots)
+    from ``scan_pose``; save as PNG."""
     figure, axes = plt.subplots(figsize=(9, 7), dpi=100)
     for x1, y1, x2, y2 in world.walls:
         axes.plot([x1, x2], [y1, y2], color='black', linewidth=1.5)

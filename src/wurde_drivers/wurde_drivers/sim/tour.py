@@ -217,7 +217,7 @@ def main(argv: list[str] | None = None) -> int:
         gx, gy = route[target]
         distance = math.hypot(gx - x, gy - y)
         covered, (cx, cy) = _along(leg_start, (gx, gy), (x, y))
-        error = _wrap(math.atan2(cy - y, cx - x) - theta)
+        heading_error = _wrap(math.atan2(cy - y, cx - x) - theta)
         ahead = min((r for i, r in enumerate(last_scan) if abs(i - len(last_scan) // 2) <= len(last_scan) // 12),
                     default=math.inf)
         why = waypoint_reached(distance, covered, ahead)
@@ -231,7 +231,7 @@ def main(argv: list[str] | None = None) -> int:
         horizon = _horizon(max(LOOP_S, now - last_command) * config.time_scale)
         # Full speed only when facing the waypoint, none from TURN_FIRST_RAD off: what the robot
         # drives while its heading error is taken out moves it sideways, and doors are narrow.
-        aligned = math.cos(min(abs(error) / TURN_FIRST_RAD, 1.0) * math.pi / 2)
+        aligned = math.cos(min(abs(heading_error) / TURN_FIRST_RAD, 1.0) * math.pi / 2)
         # And no faster than covers half the look-ahead in a control period: when the period
         # stretches, the leg is still tracked rather than overshot sideways.
         tv = min(MAX_TV * aligned * min(1.0, distance), distance / horizon, LOOKAHEAD_M / horizon)
@@ -240,7 +240,7 @@ def main(argv: list[str] | None = None) -> int:
         clearance = min(last_scan, default=math.inf) - radius
         if clearance < NARROW_M:
             tv *= max(NARROW_SHARE, min(1.0, (clearance - NARROW_MIN_M) / (NARROW_M - NARROW_MIN_M)))
-        rv = max(-MAX_RV, min(MAX_RV, error / horizon))
+        rv = max(-MAX_RV, min(MAX_RV, heading_error / horizon))
         command(tv, rv)
         last_command = now
         if now - last_report >= 2.0:

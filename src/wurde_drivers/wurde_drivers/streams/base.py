@@ -48,7 +48,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 
 from wurde_core import CommsManager, Logger, Pose, Pose3D, Time
 from wurde_core.naming import typed_view
@@ -392,7 +392,7 @@ class BaseStreams:
         if self._odom is not None:
             self._odom.publish(x, y, theta, tv, rv, self._std_stamp(stamp))
 
-    def publish_sonar(self, ranges: Sequence[float], stamp: float | None = None) -> None:
+    def publish_sonar(self, ranges: Iterable[float], stamp: float | None = None) -> None:
         self.sonar.data.ranges = [float(r) for r in ranges]
         self._stamp(self.sonar, stamp)
         self.sonar.publish_data()

@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable
 
 from wurde_core import CommsManager, Time
 from wurde_core.interfaces import FVectorState, RangeFinder
@@ -123,7 +123,7 @@ class LaserStreams:
             info.theta_separation.set_value(step)
             obj.publish_info()
 
-    def publish_scan(self, ranges: Sequence[float], *, centre_stamp: float, arrival_stamp: float) -> None:
+    def publish_scan(self, ranges: Iterable[float], *, centre_stamp: float, arrival_stamp: float) -> None:
         """One scan in robot order; the RWI stream gets every other beam of a SICK's 361-beam
         scan (a :class:`Fan`'s: every beam)."""
         values = [float(r) for r in ranges]

@@ -55,8 +55,8 @@ class Camera:
 
     type_name: ClassVar[str] = ''
 
-    def __init__(self, spec: CameraSpec, report: Callable[[str], None] = print,
-                 note: Callable[[str], None] | None = None) -> None:
+    def __init__(self, spec: CameraSpec, report: Callable[[str], object] = print,
+                 note: Callable[[str], object] | None = None) -> None:
         """No I/O here: options are read and checked (:raises ConfigError:), nothing opened.
 
         :param report: told of troubles (absent, vanished, skipped files, ignored options);

@@ -18,6 +18,7 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Callable
+from typing import cast
 
 import cv2
 import numpy as np
@@ -55,8 +56,8 @@ class CaptureCamera(Camera):
 
     type_name = 'firewire'
 
-    def __init__(self, spec: CameraSpec, report: Callable[[str], None] = print,
-                 note: Callable[[str], None] | None = None) -> None:
+    def __init__(self, spec: CameraSpec, report: Callable[[str], object] = print,
+                 note: Callable[[str], object] | None = None) -> None:
         super().__init__(spec, report, note)
         self.device = device_of(spec.text('id'))
         self.settings: dict[str, float] = {}
@@ -103,7 +104,7 @@ class CaptureCamera(Camera):
             raise DeviceError(f'{self.device} gave no frame (unplugged, or the end of a file)')
         if image.ndim == 2:
             image = cv2.cvtColor(image, cv2.COLOR_GRAY2BGR)
-        return image, time.time(), None
+        return cast(NDArray[np.uint8], image), time.time(), None
 
     def _close(self) -> None:
         if self._capture is not None:

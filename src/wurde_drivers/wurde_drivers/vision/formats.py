@@ -26,6 +26,7 @@ this module is the VisionModule's BGR face of it.
 from __future__ import annotations
 
 import dataclasses
+from typing import cast
 
 import cv2
 import numpy as np
@@ -72,9 +73,10 @@ def decode(data: bytes | bytearray | memoryview, width: int, height: int, encodi
     :raises ValueError: an unknown encoding or too few bytes for the size.
     """
     if encoding == 'bgr8':
-        return cv2.cvtColor(image_codec.decode(width, height, 'rgb8', step or 3 * width, data),
-                            cv2.COLOR_RGB2BGR)
+        return cast(NDArray[np.uint8], cv2.cvtColor(
+            image_codec.decode(width, height, 'rgb8', step or 3 * width, data), cv2.COLOR_RGB2BGR))
     if encoding not in image_codec.BYTES_PER_PIXEL:
         raise ValueError(f'unknown encoding "{encoding}"')
     step = step or width * image_codec.BYTES_PER_PIXEL[encoding]
-    return cv2.cvtColor(image_codec.decode(width, height, encoding, step, data), cv2.COLOR_RGB2BGR)
+    return cast(NDArray[np.uint8],
+                cv2.cvtColor(image_codec.decode(width, height, encoding, step, data), cv2.COLOR_RGB2BGR))

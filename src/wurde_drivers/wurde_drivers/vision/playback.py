@@ -20,6 +20,7 @@ import os
 import re
 import time
 from collections.abc import Callable
+from typing import cast
 
 import cv2
 import numpy as np
@@ -66,8 +67,8 @@ class PlaybackCamera(Camera):
 
     type_name = 'playback'
 
-    def __init__(self, spec: CameraSpec, report: Callable[[str], None] = print,
-                 note: Callable[[str], None] | None = None) -> None:
+    def __init__(self, spec: CameraSpec, report: Callable[[str], object] = print,
+                 note: Callable[[str], object] | None = None) -> None:
         super().__init__(spec, report, note)
         self.directory = spec.path_option('imageDirectory')
         self.prefix, self.device = spec.text('imagePrefix'), spec.text('imageDevice')
@@ -107,7 +108,7 @@ class PlaybackCamera(Camera):
             except cv2.error:
                 image = None      # OpenCV refused it loudly rather than returning nothing
             if image is not None:
-                return image, stamp if stamp > 0 else time.time(), index
+                return cast(NDArray[np.uint8], image), stamp if stamp > 0 else time.time(), index
             self.skipped += 1
             bad += 1
             if path not in self._named:       # once per file, not once per pass of a loop

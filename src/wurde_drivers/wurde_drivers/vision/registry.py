@@ -85,7 +85,7 @@ def _import(plugin: PluginSpec) -> ModuleType:
     return importlib.import_module(plugin.path)
 
 
-def load_plugins(plugins: Iterable[PluginSpec], report: Callable[[str], None]) -> dict[str, type[Operator]]:
+def load_plugins(plugins: Iterable[PluginSpec], report: Callable[[str], object]) -> dict[str, type[Operator]]:
     """Import the plugins; their operator classes by class name.
 
     :raises ConfigError: a plugin that cannot be imported (with its ``<plugin>``'s line; the

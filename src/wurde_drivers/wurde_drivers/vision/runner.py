@@ -25,8 +25,8 @@ from .vision_config import ModuleLayout, load_vision_config
 __all__ = ['VisionRunner', 'load_layout']
 
 
-def load_layout(camera_path: str, vision_path: str, name: str, report: Callable[[str], None],
-                note: Callable[[str], None] | None = None
+def load_layout(camera_path: str, vision_path: str, name: str, report: Callable[[str], object],
+                note: Callable[[str], object] | None = None
                 ) -> tuple[ModuleLayout, list[Camera], list[Operator]]:
     """Read both configs and build the cameras and operators of layout ``name`` (no I/O yet);
     ``report`` and ``note`` are the cameras' (:class:`Camera`).

@@ -180,8 +180,8 @@ class WristEmulator(can.Listener):
             return
         if cmd.module == 0:
             with self._lock:
-                for axis in self.axes.values():
-                    self._simple(axis, cmd.command)
+                for each in self.axes.values():
+                    self._simple(each, cmd.command)
             return
         axis = self.axes.get(cmd.module)
         if axis is None:

@@ -251,7 +251,11 @@ def main(argv: list[str] | None = None) -> int:
     set_loop(manager, SLEEP_S)
     if device.emulate:
         signal.signal(signal.SIGUSR1, lambda _signum, _frame: runner.toggle_emulated_silence())
-    return run_loop(manager, lambda: runner.step(SLEEP_S), runner.close)
+
+    def step() -> None:
+        runner.step(SLEEP_S)
+
+    return run_loop(manager, step, runner.close)
 
 
 if __name__ == '__main__':

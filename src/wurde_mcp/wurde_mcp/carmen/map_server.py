@@ -6,7 +6,8 @@
 plain or gzip), told by its content (:mod:`wurde_idl.maps`).  Supplies MapServer on ``STREAM``
 (default ``MapServer``): the grid map (a grid map's own cells, at its own resolution: 1 occupied,
 0 free, -1 unknown as in CARMEN's maps; a wall map's walls drawn at ``-R`` m per cell, default
-0.05, over its bounds: 1 occupied, 0 free), its place list and its off-limits regions.  The map is the stream's info, so a consumer that comes later has it at once
+0.05, over its bounds: 1 occupied, 0 free), its place list and its off-limits regions.  The map is
+the stream's info, so a consumer that comes later has it at once
 (CARMEN's ``get_gridmap``, ``get_placelist``, ``get_offlimits``); it is also the stream's data,
 published again whenever a consumer writes a request.  Alongside, ``nav_msgs/OccupancyGrid`` on
 ``map`` (relative: ``/map`` in the root namespace; transient local, frame ``map``, 0/100 per

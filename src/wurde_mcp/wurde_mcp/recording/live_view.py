@@ -25,6 +25,7 @@ from typing import Any
 
 import foxglove
 from foxglove import Channel, Schema
+from foxglove.websocket import ServerListener
 
 from .tap import DEFAULT_EXCLUDE, TopicTap, run_tap, tap_node
 
@@ -34,7 +35,7 @@ __all__ = ['DEFAULT_PORT', 'FoxgloveSink', 'main']
 DEFAULT_PORT = 8765
 
 
-class FoxgloveSink:
+class FoxgloveSink(ServerListener):
     """The Foxglove channels a :class:`~.tap.TopicTap` logs to, and the server's listener: a
     latched channel's last message goes again to whoever subscribes later."""
 

@@ -11,7 +11,8 @@ Every reply line comes back as a dict of its attributes, with the tag name under
 closing tag comes back as ``{'': '/help'}``; a line of help text as ``{'': '', 'text': '...'}``.
 
 Where a reply ends (:meth:`XmlClient.request`): a help block (``<help ...>`` to ``</help>``) and
-any other block (``<odoPose name="poses">`` to ``</odoPose>``) are always read to their end; a reply ends at a line with ``info="done"``, at the server's closing root
+any other block (``<odoPose name="poses">`` to ``</odoPose>``) are always read to their end; a
+reply ends at a line with ``info="done"``, at the server's closing root
 tag or when the server closes.  Otherwise one line is the whole reply unless the command is one
 that the server ends with ``info="done"``: ``help`` or ``<cmd help/>``, ``push list``, and a
 ``var`` with other than exactly one variable or with ``list``, ``desc`` or ``allcopy``.  Pass

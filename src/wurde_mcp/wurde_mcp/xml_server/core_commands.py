@@ -15,6 +15,7 @@ out on purpose.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from .command import NAME, Command, escape, help_block, reply
@@ -50,7 +51,7 @@ PING_HELP = ('tod=sss.usec    The client\'s time of day: the reply gives clientT
              'The reply\'s tod is the server\'s time of day (TCP only)')
 
 
-def alive(server: XmlServer) -> object:
+def alive(server: XmlServer) -> Callable[[Session, Command], list[str]]:
     """The ``alive`` handler of ``server``."""
     def handler(client: Session, command: Command) -> list[str]:
         return [reply(command.tag, [('last', f'{server.turn_gap:f}')])]

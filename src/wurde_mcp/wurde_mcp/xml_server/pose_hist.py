@@ -73,7 +73,7 @@ def _pose_of(name: str) -> Callable[[VariablePool], Pose | str]:
         if values is None or len(values) < 3 or not all(map(math.isfinite, values[:3])):
             return f'no pose in {name} yet'
         vel = _values(pool, 'base.vel') if name.startswith('odo') else None
-        return Pose(*values[:3], values[3] if len(values) > 3 else 0.0,
+        return Pose(values[0], values[1], values[2], values[3] if len(values) > 3 else 0.0,
                     vel[0] if vel and math.isfinite(vel[0]) else 0.0)
     return read
 

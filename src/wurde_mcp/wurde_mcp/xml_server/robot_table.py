@@ -42,7 +42,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Callable, Sequence
-from typing import Any
+from typing import Any, cast
 
 from wurde_core import CommsManager, LockedError, RobotObject, RunState, StatusMode, WurdeError
 from wurde_core.heartbeat import mcp_name
@@ -198,7 +198,7 @@ class RobotPool:
     def _command_writer(obj: RobotObject, var: str) -> Callable[[Value], None]:
         """The writer of a ``*.command`` variable: cmdFlags p0 p1 [v0 v1 [f0]] as a request."""
         def write(value: Value) -> None:
-            numbers = [float(v) for v in value]                     # type: ignore[union-attr]
+            numbers = [float(v) for v in cast(list[float], value)]  # a 'd' variable's value
             if not numbers or not numbers[0].is_integer():
                 raise VarError(f'{var} is cmdFlags p0 p1 [v0 v1 [f0]], cmdFlags a whole number')
             if not all(math.isfinite(v) for v in numbers):

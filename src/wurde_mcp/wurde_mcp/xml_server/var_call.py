@@ -51,7 +51,8 @@ def parse_call(call: str) -> tuple[str, str, list[float | str]]:
     method, bracket, rest = call.partition('(')
     if not bracket:
         raise CallError('method parsing error - must have prackets')
-    order, params = '', []
+    order = ''
+    params: list[float | str] = []
     rest = rest.lstrip()
     while not rest.startswith(')'):
         if rest[:1] in ('"', "'"):

@@ -9,6 +9,7 @@ get or set answers one line; every other request (several variables, ``list``, a
 from __future__ import annotations
 
 import textwrap
+from typing import cast
 
 from .command import Attributes, Command, closing, help_block, opening, reply, text
 from .session import Session
@@ -119,10 +120,11 @@ class VarCommand:
             shown, size = format_value(var.typ, value)
         except VarError as exc:
             return reply(tag, [('warning', str(exc)), ('name', var.name)])
-        attrs = [('name', var.name), ('typ', var.typ), ('size', str(size)), ('value', shown)]
+        attrs: list[tuple[str, str | None]] = [('name', var.name), ('typ', var.typ), ('size', str(size)),
+                                               ('value', shown)]
         if var.typ == 'pose' and len(value) >= 3:
-            attrs += [(key, format_value('d', [value[i]])[0])          # type: ignore[list-item]
-                      for i, key in enumerate(('x', 'y', 'th'))]
+            pose = cast(list[float], value)
+            attrs += [(key, format_value('d', [pose[i]])[0]) for i, key in enumerate(('x', 'y', 'th'))]
         attrs += extra
         if desc:
             attrs.append(('desc', var.description))

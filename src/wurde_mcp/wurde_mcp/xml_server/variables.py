@@ -168,7 +168,7 @@ class VariablePool:
         if var.write is None:
             raise VarError(f'{var.name} is read-only')
         new = parse_value(var.typ, text)
-        if var.typ == 'pose' and len(new) < 3:                  # type: ignore[arg-type]
+        if var.typ == 'pose' and len(new) < 3:
             raise VarError(f'a pose is x y th, got "{text}"')
         old = var.current()
         var.write(new)

@@ -37,8 +37,8 @@ class SimCamera(Camera):
 
     type_name = 'sim'
 
-    def __init__(self, spec: CameraSpec, report: Callable[[str], None] = print,
-                 note: Callable[[str], None] | None = None) -> None:
+    def __init__(self, spec: CameraSpec, report: Callable[[str], object] = print,
+                 note: Callable[[str], object] | None = None) -> None:
         super().__init__(spec, report, note)
         self.view = View(width=int(spec.number('width', minimum=2, integer=True)),
                          height=int(spec.number('height', minimum=2, integer=True)),

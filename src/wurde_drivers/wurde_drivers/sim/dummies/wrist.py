@@ -106,11 +106,11 @@ def main(argv: list[str] | None = None) -> int:
                 for axis, t, s, a in zip(axes, target, speed, accel):
                     axis.command(t, s, a)
             _publish_command(wrist, axes)
-        target = target_steps()
-        if target - clock.steps > MAX_CATCH_UP:
-            logger.warn(f'{manager.name}: {target - clock.steps} steps behind; dropping them')
-            clock.steps = target - 1
-        while clock.steps < target:
+        due = target_steps()
+        if due - clock.steps > MAX_CATCH_UP:
+            logger.warn(f'{manager.name}: {due - clock.steps} steps behind; dropping them')
+            clock.steps = due - 1
+        while clock.steps < due:
             for axis in axes:
                 axis.step(clock.tick() if axis is axes[0] else STEP_S)
             if clock.steps % publish_every == 0:
