@@ -27,8 +27,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import ndimage
 from wurde_idl.maps import load_map
+from wurde_idl.segments import point_clearance
 
-__all__ = ['GridSettings', 'PlanningGrid', 'build_grid', 'grid_from_map_file', 'segment_distance']
+__all__ = ['GridSettings', 'PlanningGrid', 'build_grid', 'grid_from_map_file']
 
 #: Cells above which the grid's resolution is coarsened (memory and search time).
 MAX_CELLS = 1_000_000
@@ -59,21 +60,6 @@ class GridSettings:
     def inflation(self) -> float:
         """The clearance (m) below which a cell is blocked."""
         return self.radius + self.margin
-
-
-def segment_distance(points: NDArray, segments: NDArray) -> NDArray:
-    """Distance (m) from each of ``points`` ``(P, 2)`` to the nearest of ``segments`` ``(S, 4)``."""
-    if len(segments) == 0:
-        return np.full(len(points), np.inf)
-    best = np.full(len(points), np.inf)
-    a, d = segments[:, 0:2], segments[:, 2:4] - segments[:, 0:2]
-    length2 = np.maximum(np.einsum('ij,ij->i', d, d), 1e-18)
-    for start in range(0, len(points), 4096):       # chunks: (chunk, S) arrays stay small
-        p = points[start:start + 4096, None, :]
-        t = np.clip(np.einsum('psk,sk->ps', p - a[None], d) / length2, 0.0, 1.0)
-        nearest = a[None] + t[..., None] * d[None]
-        best[start:start + 4096] = np.sqrt(((p - nearest) ** 2).sum(axis=2)).min(axis=1)
-    return best
 
 
 def _inside(points: NDArray, polygon: NDArray) -> NDArray:
@@ -209,7 +195,7 @@ def build_grid(walls: ArrayLike, offlimits: Sequence[ArrayLike] = (),
     near = (np.abs(clearance - threshold) <= res) & ~inside_any
     if near.any():
         points = np.column_stack([cx[near], cy[near]])
-        clearance[near] = segment_distance(points, obstacles)
+        clearance[near] = point_clearance(points, obstacles)
     clearance[inside_any] = 0.0
     blocked = clearance < threshold
     return PlanningGrid(origin, res, clearance, blocked, settings, obstacles, polygons)

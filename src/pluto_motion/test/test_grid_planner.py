@@ -15,7 +15,8 @@ from hypothesis import strategies as st
 from scipy import ndimage
 
 from pluto_motion.grid_planner import Planner, PlannerSettings
-from pluto_motion.planning_grid import GridSettings, build_grid, grid_from_map_file, segment_distance
+from pluto_motion.planning_grid import GridSettings, build_grid, grid_from_map_file
+from wurde_idl.segments import point_clearance
 
 MAPS = pathlib.Path(__file__).resolve().parents[3] / 'config' / 'maps'
 ROOM = [(0, 0, 10, 0), (10, 0, 10, 8), (10, 8, 0, 8), (0, 8, 0, 0)]
@@ -49,7 +50,7 @@ def test_inflation_is_exact_at_cell_centres() -> None:
     grid = build_grid(walls, [[(7.5, 0.5), (9.0, 0.5), (8.2, 2.0)]], (0, 0, 10, 8))
     iy, ix = np.indices(grid.shape)
     cx, cy = grid.centre(iy, ix)
-    exact = segment_distance(np.column_stack([cx.ravel(), cy.ravel()]), grid.segments).reshape(grid.shape)
+    exact = point_clearance(np.column_stack([cx.ravel(), cy.ravel()]), grid.segments).reshape(grid.shape)
     outside_polygon = ~((cx > 7.6) & (cx < 8.9) & (cy > 0.6) & (cy < 1.8) & (grid.clearance == 0))
     assert np.array_equal(grid.blocked[outside_polygon], (exact < 0.39)[outside_polygon])
     assert grid.blocked[grid.cell(8.2, 1.0)]                      # inside the off-limits triangle

@@ -1,4 +1,5 @@
-"""Small helpers on line segments given by their end points (metres, any frame)."""
+"""Small helpers on line segments given by their end points (metres, any frame); a point's
+distance to segments is :func:`wurde_idl.segments.point_segment_distance`."""
 
 from __future__ import annotations
 
@@ -7,17 +8,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ['clip_to_disc', 'distances_to_segments']
-
-
-def distances_to_segments(point: ArrayLike, a: ArrayLike, b: ArrayLike) -> NDArray:
-    """m from ``point`` ``(2,)`` to each segment ``a[i] b[i]`` (``(K, 2)`` each)."""
-    p = np.asarray(point, dtype=np.float64).reshape(2)
-    a = np.asarray(a, dtype=np.float64).reshape(-1, 2)
-    d = np.asarray(b, dtype=np.float64).reshape(-1, 2) - a
-    length2 = np.einsum('ij,ij->i', d, d)
-    u = np.clip(np.einsum('ij,ij->i', p - a, d) / np.where(length2 > 0.0, length2, 1.0), 0.0, 1.0)
-    return np.hypot(*(a + u[:, None] * d - p).T)
+__all__ = ['clip_to_disc']
 
 
 def clip_to_disc(a: ArrayLike, b: ArrayLike, radius: float) -> NDArray | None:

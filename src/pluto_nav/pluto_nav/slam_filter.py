@@ -62,13 +62,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from wurde_idl.mapfile import MapData, Place
+from wurde_idl.segments import point_segment_distance
 
 from .compressed_ekf import CompressedEKF
 from .geometry import compose, compose_jacobians, inverse, transform_points, wrap
 from .landmark_extent import AnchorCandidates, Extent, choose_anchor, resolve
 from .line_landmark import along, initialise, point_at
 from .lines import LineFeature
-from .segments import clip_to_disc, distances_to_segments
+from .segments import clip_to_disc
 from .slam_association import associate, side_of
 from .slam_correction import correct
 from .slam_merge import find_merges
@@ -200,7 +201,7 @@ class SlamFilter:
         self._scan += 1
         s = self.settings
         lines = [line for line in lines
-                 if distances_to_segments((0.0, 0.0), line.start, line.end)[0] <= s.max_range]
+                 if float(point_segment_distance((0.0, 0.0), line.start, line.end)) <= s.max_range]
         before = self._active_extents()
         keys = before.keys.tolist()
         sides = np.array([self._marks[k].sides for k in keys], dtype=np.int64)
@@ -262,7 +263,7 @@ class SlamFilter:
         ends = point_at(active.lines[:, 0:1], active.lines[:, 1:2], active.intervals)  # (K, 2, 2)
         confirmed = np.array([self._marks[int(k)].seen >= self.settings.confirm_matches for k in active.keys],
                              dtype=bool)
-        near = confirmed & (distances_to_segments(self._ekf.robot_mean[:2], ends[:, 0], ends[:, 1]) <=
+        near = confirmed & (point_segment_distance(self._ekf.robot_mean[:2], ends[:, 0], ends[:, 1]) <=
                             self.settings.max_range + self.settings.anchor_radius)
         return AnchorCandidates(active.keys[near], active.lines[near], active.intervals[near])
 
@@ -397,7 +398,7 @@ class SlamFilter:
             3.0 * math.sqrt(max(cov[0, 0] + cov[1, 1], 0.0))
         every = self._extents(self._ekf.keys, self._ekf.means(self._ekf.keys))
         ends = point_at(every.lines[:, 0:1], every.lines[:, 1:2], every.intervals)
-        near = distances_to_segments(pose[:2], ends[:, 0], ends[:, 1]) <= reach
+        near = point_segment_distance(pose[:2], ends[:, 0], ends[:, 1]) <= reach
         self._ekf.activate(every.keys[near].tolist())
         self._zone = pose[:2].copy()
         return True

@@ -5,32 +5,22 @@ one disc); the map generator and the route planner ask thousands at once (is thi
 free, which of these legs keeps the robot clear), so these functions take arrays and settle them
 in a few whole-array numpy operations, in chunks that bound the memory.  Pure numpy, no rclpy.
 
-Walls are ``(W, 4)`` arrays ``x1, y1, x2, y2`` in metres; points ``(N, 2)``.
+Walls are ``(W, 4)`` arrays ``x1, y1, x2, y2`` in metres; points ``(N, 2)``.  A point's distance
+to walls comes from :mod:`wurde_idl.segments` (its one home), re-exported here.
 """
 
 from __future__ import annotations
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from wurde_idl.segments import point_clearance, point_segment_distance
 
 __all__ = ['legs_clear', 'point_clearance', 'point_segment_distance', 'segment_distances']
 
-#: Largest number of (point, wall) pairs handled in one array operation.
-_CHUNK_PAIRS = 1 << 20
 #: Legs are batched by the square (of this side, metres) their middle lies in ...
 _BATCH_CELL = 4.0
 #: ... this many at a time.
 _BATCH_LEGS = 256
-
-
-def point_segment_distance(points: NDArray, a: NDArray, b: NDArray) -> NDArray:
-    """Distance from each of ``points`` to the segment ``a``-``b`` (all ``(..., 2)``, broadcast);
-    a segment of no length is its point."""
-    ex, ey = b[..., 0] - a[..., 0], b[..., 1] - a[..., 1]
-    px, py = points[..., 0] - a[..., 0], points[..., 1] - a[..., 1]
-    length2 = ex * ex + ey * ey
-    t = np.clip((px * ex + py * ey) / np.where(length2 > 0.0, length2, 1.0), 0.0, 1.0)
-    return np.hypot(px - t * ex, py - t * ey)
 
 
 def _cross(u: NDArray, v: NDArray) -> NDArray:
@@ -49,21 +39,6 @@ def segment_distances(p: ArrayLike, q: ArrayLike, a: ArrayLike, b: ArrayLike) ->
     d3, d4 = _cross(b - a, p - a), _cross(b - a, q - a)
     crossing = (d1 * d2 < 0.0) & (d3 * d4 < 0.0)
     return np.where(crossing, 0.0, distance)
-
-
-def point_clearance(points: ArrayLike, walls: ArrayLike) -> NDArray:
-    """``(N,)``: the distance from each point to the nearest wall (``inf`` with no walls)."""
-    xy = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-    segments = np.asarray(walls, dtype=np.float64).reshape(-1, 4)
-    result = np.full(len(xy), np.inf)
-    if len(segments) == 0:
-        return result
-    step = max(1, _CHUNK_PAIRS // len(segments))
-    a, b = segments[None, :, 0:2], segments[None, :, 2:4]
-    for start in range(0, len(xy), step):
-        chunk = xy[start:start + step, None, :]
-        result[start:start + step] = point_segment_distance(chunk, a, b).min(axis=1)
-    return result
 
 
 def legs_clear(p: ArrayLike, q: ArrayLike, walls: ArrayLike, clearance: float) -> NDArray:
