@@ -20,6 +20,7 @@ from lxml import etree
 
 from wurde_idl.errors import ConfigError
 from wurde_idl.safe_xml import parse_file
+from wurde_idl.xml_elements import checked_attributes
 
 #: Log levels, lowest first (guide 5.1.2); the default is debug.
 LOG_LEVELS = ('debug', 'info', 'notice', 'warn', 'error', 'fatal')
@@ -141,18 +142,7 @@ class RoleConfiguration:
     @staticmethod
     def _check_attributes(path: str, node: etree._Element, allowed: set[str],
                           required: set[str] | frozenset[str] = frozenset(), namespaced_ok: bool = False) -> None:
-        for attr in node.attrib:
-            if attr.startswith('{'):
-                if namespaced_ok:
-                    continue  # xs:schemalocation and friends on the root
-            elif attr in allowed:
-                continue
-            raise ConfigError(path, node.sourceline,
-                              f'unknown attribute "{attr}" on <{_local(node.tag)}>')
-        for attr in required:
-            if not node.get(attr):
-                raise ConfigError(path, node.sourceline,
-                                  f'<{_local(node.tag)}> needs a "{attr}" attribute')
+        checked_attributes(path, node, required=required, optional=allowed, namespaced=namespaced_ok)
 
     # -- getters (guide 5.1.4) -----------------------------------------------------------------
     def _get(self, key: str) -> str:

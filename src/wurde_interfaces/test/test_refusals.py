@@ -25,7 +25,7 @@ GOOD_HEAD = '<author>A</author>\n<description>D</description>\n'
 CASES = {
     'unknown tag': (interface(GOOD_HEAD + '<subscribe/>\n'), 6, 'unknown tag <subscribe>'),
     'unknown attribute': (interface(GOOD_HEAD + '<info>\n<data name="a" type="Float" unit="m"/>\n'
-                                    '</info>'), 7, 'unknown attribute "unit"'),
+                                    '</info>'), 7, 'unknown attribute(s) unit on <data>'),
     'unknown type': (interface(GOOD_HEAD + '<publish>\n<data name="a" type="Quaternion"/>\n'
                                '</publish>'), 7, 'unknown type "Quaternion"'),
     'bad member identifier': (interface(GOOD_HEAD + '<info>\n<data name="max-range" type="Float"/>'
@@ -58,7 +58,7 @@ CASES = {
                             'a second <info> section'),
     'second publish section': (interface(GOOD_HEAD + '<publish/>\n<publish/>\n'), 7,
                                'a second <publish> section'),
-    'missing version': (interface(GOOD_HEAD, attrs=''), 3, 'needs a non-empty "version"'),
+    'missing version': (interface(GOOD_HEAD, attrs=''), 3, '<interface> needs non-empty attribute(s) version'),
     'bad version': (interface(GOOD_HEAD, attrs='version="one"'), 3, 'must look like 1.0'),
     'lower-case interface name': (interface(GOOD_HEAD, name='thing'), 3, 'must be PascalCase'),
     'type named like a built-in': (interface(GOOD_HEAD + '<type name="Pose">\n'

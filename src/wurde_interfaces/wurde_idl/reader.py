@@ -14,8 +14,9 @@ from collections.abc import Iterable, Sequence
 from lxml import etree
 
 from . import names, safe_xml, types
-from .errors import InterfaceError
+from .errors import ConfigError, InterfaceError
 from .model import Interface, Member, StructType
+from .xml_elements import checked_attributes
 
 _VERSION = re.compile(r'^\d+(\.\d+)*$')
 _INTERFACE_CHILDREN = ('author', 'description', 'type', 'info', 'publish')
@@ -43,14 +44,12 @@ class _Reader:
 
     def attributes(self, node: etree._Element, required: Sequence[str],
                    optional: Sequence[str] = ()) -> dict[str, str]:
-        for attr in node.attrib:
-            if attr not in required and attr not in optional:
-                raise self.fail(node, f'unknown attribute "{attr}" on <{node.tag}> (allowed: '
-                                f'{", ".join(list(required) + list(optional))})')
-        for attr in required:
-            if not node.get(attr, '').strip():
-                raise self.fail(node, f'<{node.tag}> needs a non-empty "{attr}" attribute')
-        return {key: value.strip() for key, value in node.attrib.items()}
+        try:
+            values = checked_attributes(self.path, node, required=required, optional=optional, nonempty=True,
+                                        namespaced=False)
+        except ConfigError as error:
+            raise self.fail(node, error.reason) from None
+        return {key: value.strip() for key, value in values.items()}
 
     def text_only(self, node: etree._Element) -> str:
         self.attributes(node, ())

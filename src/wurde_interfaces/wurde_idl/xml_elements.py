@@ -18,7 +18,7 @@ from lxml import etree
 
 from .errors import ConfigError
 
-__all__ = ['Attributes', 'children', 'local_name']
+__all__ = ['Attributes', 'checked_attributes', 'children', 'local_name']
 
 _TRUE = {'true', 'yes', '1', 'on'}
 _FALSE = {'false', 'no', '0', 'off'}
@@ -46,6 +46,34 @@ def children(path: str | os.PathLike[str], node: etree._Element,
     return found
 
 
+def checked_attributes(path: str | os.PathLike[str], node: etree._Element, *, required: Iterable[str] = (),
+                       optional: Iterable[str] = (), nonempty: bool = False,
+                       namespaced: bool = True) -> dict[str, str]:
+    """The element's attributes by name, refused with :class:`ConfigError` (file, line, reason)
+    when one is not among ``required`` and ``optional`` or a required one is missing (or, with
+    ``nonempty``, blank).  Namespaced attributes (``xsi:schemaLocation``) are passed over, or
+    refused too when ``namespaced`` is False.  The one attribute check of every XML file a user
+    writes (configs, maps, mappings, role configs, interfaces)."""
+    required, optional = set(required), set(optional)
+    tag = local_name(node)
+    values: dict[str, str] = {}
+    for key, value in node.attrib.items():
+        if namespaced and etree.QName(key).namespace is not None:
+            continue
+        values[str(key)] = str(value)
+    unknown = set(values) - required - optional
+    if unknown:
+        raise ConfigError(path, node.sourceline,
+                          f'unknown attribute(s) {", ".join(sorted(unknown))} on <{tag}>; allowed: '
+                          f'{", ".join(sorted(required | optional)) or "none"}')
+    missing = {name for name in required
+               if name not in values or nonempty and not values[name].strip()}
+    if missing:
+        raise ConfigError(path, node.sourceline, f'<{tag}> needs {"non-empty " if nonempty else ""}'
+                                                 f'attribute(s) {", ".join(sorted(missing))}')
+    return values
+
+
 class Attributes:
     """The attributes of one element, checked against the required and optional names.
 
@@ -59,17 +87,8 @@ class Attributes:
         self.node = node
         self.line = node.sourceline
         self.tag = local_name(node)
-        required, optional = set(required), set(optional)
-        names = {etree.QName(key).localname for key in node.attrib
-                 if etree.QName(key).namespace is None}
-        unknown = names - required - optional
-        if unknown:
-            raise self.error(f'unknown attribute(s) {", ".join(sorted(unknown))} on <{self.tag}>; '
-                             f'allowed: {", ".join(sorted(required | optional))}')
-        missing = required - names
-        if missing:
-            raise self.error(f'<{self.tag}> needs attribute(s) {", ".join(sorted(missing))}')
-        self.values = {name: node.get(name) for name in names}
+        self.values: dict[str, str | None] = dict(
+            checked_attributes(path, node, required=required, optional=optional))
 
     def error(self, reason: str) -> ConfigError:
         return ConfigError(self.path, self.line, reason)

@@ -85,8 +85,8 @@ def test_shipped_configs_load(name: str) -> None:
 @pytest.mark.parametrize('text, line, reason', [
     ('<mcp-config>\n<modul name="a"/>\n</mcp-config>', 2, 'unknown tag <modul>'),
     ('<mcp-config>\n<module name="a" binary="b" speed="2"/>\n</mcp-config>', 2,
-     'unknown attribute "speed"'),
-    ('<mcp-config>\n<module binary="b"/>\n</mcp-config>', 2, 'needs a non-empty "name"'),
+     'unknown attribute(s) speed on <module>'),
+    ('<mcp-config>\n<module binary="b"/>\n</mcp-config>', 2, '<module> needs non-empty attribute(s) name'),
     ('<mcp-config>\n<module name="a" locale="internal"/>\n</mcp-config>', 2,
      'internal module "a" has no binary'),
     ('<mcp-config>\n<module name="a" binary="b" managed="sometimes"/>\n</mcp-config>', 2,
@@ -121,7 +121,7 @@ def test_huge_config_is_refused(tmp_path: pathlib.Path) -> None:
      'mapping connects Egomotion object "*" of module "A" to stream "Bar", which the mapping at '),
     ('<connect module="A">\n<input interface="Fooo" source="Bar"/>\n</connect>', 3,
      'unknown interface "Fooo"'),
-    ('<connect module="A">\n<input interface="Foo"/>\n</connect>', 3, 'needs a non-empty "source"'),
+    ('<connect module="A">\n<input interface="Foo"/>\n</connect>', 3, '<input> needs non-empty attribute(s) source'),
     ('<connect module="A">\n<output interface="Foo" source="Bar"/>\n</connect>', 3,
      'unknown tag <output>'),
 ])

@@ -31,6 +31,7 @@ from lxml import etree
 
 from wurde_core import ConfigError, ProcessLocale, ProcessType
 from wurde_idl.safe_xml import parse_file
+from wurde_idl.xml_elements import checked_attributes
 
 
 @dataclass(frozen=True)
@@ -89,19 +90,9 @@ def _elements(path: str, node: etree._Element) -> Iterable[etree._Element]:
 
 def _attributes(path: str, node: etree._Element, allowed: set[str],
                 required: Set[str] = frozenset()) -> dict[str, str]:
-    values = {}
-    for attr, value in node.attrib.items():
-        if attr.startswith('{'):
-            continue  # xs:schemalocation and other namespaced attributes
-        if attr not in allowed:
-            raise ConfigError(path, node.sourceline,
-                              f'unknown attribute "{attr}" on <{_local(node.tag)}>')
-        values[attr] = value.strip()
-    for attr in required:
-        if not values.get(attr):
-            raise ConfigError(path, node.sourceline,
-                              f'<{_local(node.tag)}> needs a non-empty "{attr}" attribute')
-    return values
+    """``node``'s attributes, stripped; required ones must not be blank."""
+    values = checked_attributes(path, node, required=required, optional=allowed, nonempty=True)
+    return {attr: value.strip() for attr, value in values.items()}
 
 
 def _enum(path: str, node: etree._Element, attr: str, value: str, enum: type[_E]) -> _E:
