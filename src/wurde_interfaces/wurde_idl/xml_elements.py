@@ -87,7 +87,7 @@ class Attributes:
         self.node = node
         self.line = node.sourceline
         self.tag = local_name(node)
-        self.values: dict[str, str | None] = dict(
+        self.values: dict[str, str] = dict(
             checked_attributes(path, node, required=required, optional=optional))
 
     def error(self, reason: str) -> ConfigError:
