@@ -27,6 +27,7 @@ from wurde_core import CommsManager, Logger
 
 from ..errors import DriverError
 from ..module_setup import configured_device, run_loop, set_loop
+from ..ports.retry import RetryGate
 from ..ports.serial_link import SerialLink
 from ..ros_std_covariance import ImuNoise
 from ..streams.dmu import DmuStreams
@@ -63,7 +64,7 @@ class DmuRunner:
         self.connected = False
         self.silent = False
         self._failures = 0
-        self._next_try = 0.0
+        self._retry = RetryGate(RETRY_S)
         # The driver stamps samples with the monotonic clock; streams carry wall-clock time.
         self._to_wall = time.time() - time.monotonic()
 
@@ -88,10 +89,8 @@ class DmuRunner:
         return len(samples)
 
     def _try_connect(self) -> None:
-        now = time.monotonic()
-        if now < self._next_try:
+        if not self._retry.due(time.monotonic()):
             return
-        self._next_try = now + RETRY_S
         try:
             self.driver.connect(CONNECT_TIMEOUT_S)
         except DriverError as error:

@@ -26,6 +26,7 @@ import select
 import time
 from collections.abc import Callable
 
+from ..ports.retry import RetryGate
 from .codec import JsDecoder, JsEvent
 
 __all__ = ['DeviceState', 'JoystickDevice']
@@ -59,7 +60,7 @@ class JoystickDevice:
         self.vanished = 0
         self._fd = -1
         self._poller: select.poll | None = None
-        self._next_try = 0.0
+        self._retry = RetryGate(retry_s)
         self._absent_reason = ''
 
     @property
@@ -112,9 +113,8 @@ class JoystickDevice:
 
     # -- internals -------------------------------------------------------------------------------
     def _open(self, now: float) -> bool:
-        if now < self._next_try:
+        if not self._retry.due(now):
             return False
-        self._next_try = now + self.retry_s
         try:
             fd = os.open(self.path, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC | os.O_NOCTTY)
         except OSError as error:
@@ -135,7 +135,7 @@ class JoystickDevice:
     def _vanish(self, now: float, reason: str) -> None:
         self.close()
         self.vanished += 1
-        self._next_try = now            # a device that comes straight back is reopened at once
+        self._retry.at_once()           # a device that comes straight back is reopened at once
         self._absent_reason = ''
         self._set(DeviceState.ABSENT, f'joystick {self.path}: gone ({reason})')
 

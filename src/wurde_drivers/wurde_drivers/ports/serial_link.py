@@ -30,6 +30,7 @@ import serial
 
 from ..errors import DeviceError
 from .faults import Fault, classify, is_port_error
+from .retry import RetryGate
 
 #: What a failing pyserial port raises (sorted further by :func:`.faults.is_port_error`).
 _PORT_ERRORS = (serial.SerialException, OSError, termios.error)
@@ -91,7 +92,7 @@ class SerialLink:
         self.last_fault: Fault | None = None
         self.last_error = ''
         self._port: serial.SerialBase | None = None
-        self._next_try = 0.0
+        self._retry = RetryGate(retry_s)
 
     @property
     def url(self) -> str:
@@ -108,7 +109,7 @@ class SerialLink:
             self._url = url
             if self._port is not None:
                 self.close()
-            self._next_try = 0.0
+            self._retry.at_once()
 
     @property
     def is_open(self) -> bool:
@@ -139,10 +140,8 @@ class SerialLink:
     def _ensure_open(self) -> bool:
         if self._port is not None:
             return True
-        now = time.monotonic()
-        if now < self._next_try:
+        if not self._retry.due(time.monotonic()):
             return False
-        self._next_try = now + self.retry_s
         try:
             self.open()
         except DeviceError:
@@ -174,7 +173,7 @@ class SerialLink:
         counter = _DISCONNECT_COUNTERS[fault]
         setattr(self.stats, counter, getattr(self.stats, counter) + 1)
         self.close()
-        self._next_try = time.monotonic() + self.retry_s
+        self._retry.later(time.monotonic())
 
     def set_baudrate(self, baudrate: int) -> None:
         """Change the line speed (the device must have been told first).
@@ -249,7 +248,7 @@ class SerialLink:
                 now = time.monotonic()
                 if now >= deadline:
                     return b''
-                time.sleep(max(0.0, min(deadline, self._next_try) - now))
+                time.sleep(min(deadline - now, self._retry.wait_s(now)))
                 wait = max(0.0, deadline - time.monotonic())
                 continue
             assert self._port is not None

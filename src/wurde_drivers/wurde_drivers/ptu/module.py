@@ -37,6 +37,7 @@ from wurde_core.interfaces import PTUnit
 
 from ..errors import DeviceError, DeviceTimeout
 from ..module_setup import configured_device, run_loop, set_loop
+from ..ports.retry import RetryGate
 from ..ports.serial_link import SerialLink
 from ..ros_std_joints import JointStatePublisher, pan_tilt_standard
 from .codec import LimitHit
@@ -93,7 +94,7 @@ class PtuServer:
         self.up = False
         self._reported = False      # the current outage has been logged
         self._ever_up = False
-        self._next_try = 0.0
+        self._retry = RetryGate(RETRY_S)
         self._next_read = 0.0
         self._position_speeds = (0.0, 0.0)
         self._info_pending = False
@@ -102,7 +103,7 @@ class PtuServer:
     # -- connection ---------------------------------------------------------------------------
     def _down(self, what: str, error: Exception) -> None:
         self.up = False
-        self._next_try = time.monotonic() + RETRY_S
+        self._retry.later(time.monotonic())
         if not self._reported:
             self._reported = True
             # The device layer's errors name the port.
@@ -110,9 +111,8 @@ class PtuServer:
                              f'{RETRY_S:g} s){self.device.link.fault_note()}')
 
     def _connect(self, now: float) -> None:
-        if now < self._next_try:
+        if not self._retry.due(now):
             return
-        self._next_try = now + RETRY_S
         try:
             self.device.connect(CONNECT_TIMEOUT_S)
             self._sync()

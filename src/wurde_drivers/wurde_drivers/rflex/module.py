@@ -37,6 +37,7 @@ from wurde_core import CommsManager, Logger, Pose3D, RunState
 
 from ..errors import DeviceError, DeviceTimeout
 from ..module_setup import configured_device, run_loop, set_loop
+from ..ports.retry import RetryGate
 from ..ports.serial_link import SerialLink
 from ..ros_std_covariance import OdometryCovariance
 from ..streams.base import BaseLimits, BaseStreams, VelocityCommand
@@ -119,7 +120,7 @@ class RFlexRunner:
         self.connected = False
         self.silent = False
         self._failures = 0
-        self._next_try = 0.0
+        self._retry = RetryGate(RETRY_S)
         self._brake = False            # the brake we asked for (BaseStreams' current.brake)
         self._resyncs = 0
         self._reported_brake: bool | None = None
@@ -128,10 +129,8 @@ class RFlexRunner:
 
     # -- connection ---------------------------------------------------------------------------
     def _try_connect(self) -> None:
-        now = time.monotonic()
-        if now < self._next_try:
+        if not self._retry.due(time.monotonic()):
             return
-        self._next_try = now + RETRY_S
         port = self.device.port
         try:
             self.driver.connect(CONNECT_TIMEOUT_S)

@@ -45,6 +45,7 @@ from wurde_core import CommsManager, Logger, RunState
 
 from ..errors import DriverError
 from ..module_setup import configured_device, set_loop
+from ..ports.retry import RetryGate
 from ..streams.laser import LaserStreams
 from . import facts
 from .config import LaserDevice, load_laser_config
@@ -156,7 +157,7 @@ class SickRunner:
         self.fatal_scans = 0
         self._ever_connected = False
         self._failures = 0
-        self._next_try = 0.0
+        self._retry = RetryGate(RETRY_S)
         self._next_fatal = 0.0
         self._period = scan_period(device)
         self._silent_after = silent_after(device)
@@ -178,7 +179,7 @@ class SickRunner:
                 return 0
             self._finish_job()
         if not self.streaming:
-            if time.monotonic() >= self._next_try:
+            if self._retry.wait_s(time.monotonic()) == 0.0:     # tried again only after a failure
                 self._start_job('recover' if self._ever_connected else 'connect')
             return 0
         assert self.laser is not None
@@ -262,7 +263,7 @@ class SickRunner:
             raise RuntimeError(f'laser {self.where}: {self._job} failed') from error
         if error is not None:
             self.laser.close()    # open afresh next time: the port may be a new device by then
-            self._next_try = time.monotonic() + RETRY_S
+            self._retry.later(time.monotonic())
             if self._failures == 0:
                 what = 'not ready' if self._job == 'connect' else 'cannot be reset'
                 self.logger.warn(f'laser {self.where} {what}: {error}; trying again every '

@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import DeviceError
+from ..ports.retry import RetryGate
 from .camera_config import CameraSpec
 
 __all__ = ['RETRY_S', 'Camera', 'Frame']
@@ -73,7 +74,7 @@ class Camera:
         self.outages = 0         # times the device was found absent or vanished (each reported)
         self.open_failures = 0   # attempts to open it that failed
         self.index = 0           # next frame index (a backend may set its own)
-        self._next_try = 0.0
+        self._retry = RetryGate(RETRY_S)
         self._next_frame = 0.0
         self._reported = False
         self._starved = False    # the last read found no frame ready (unpaced cameras)
@@ -104,9 +105,8 @@ class Camera:
     def _read(self) -> Frame | None:
         now = time.monotonic()
         if not self.up:
-            if now < self._next_try:
+            if not self._retry.due(now):
                 return None
-            self._next_try = now + RETRY_S
             try:
                 self._open()
             except DeviceError as error:
@@ -146,13 +146,13 @@ class Camera:
         finished playback, a sim camera before its first pose), so nothing spins."""
         now = time.monotonic()
         if not self.up:
-            return max(0.0, self._next_try - now)
+            return self._retry.wait_s(now)
         if self.period and now < self._next_frame:
             return self._next_frame - now
         return math.inf if self._starved else 0.0
 
     def _outage(self, what: str) -> None:
-        self._next_try = time.monotonic() + RETRY_S
+        self._retry.later(time.monotonic())
         if not self._reported:
             self._reported = True
             self.outages += 1

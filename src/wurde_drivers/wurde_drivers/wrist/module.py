@@ -37,6 +37,7 @@ from wurde_core.interfaces import ActuatorState
 
 from ..errors import CodecError, DeviceTimeout
 from ..module_setup import configured_device, run_loop, set_loop
+from ..ports.retry import RetryGate
 from ..ros_std_joints import JointStatePublisher, pan_tilt_standard
 from .config import WristDevice, load_wrist_config
 from .device import WristDriver, WristState
@@ -82,7 +83,7 @@ class WristRunner:
         self.connected = False
         self.silent = False
         self._failures = 0
-        self._next_try = 0.0
+        self._retry = RetryGate(RETRY_S)
         self._next_publish = 0.0
         self._published: WristState | None = None
         self._fresh = False
@@ -95,10 +96,8 @@ class WristRunner:
         self._failures += 1
 
     def _try_connect(self) -> None:
-        now = time.monotonic()
-        if now < self._next_try:
+        if not self._retry.due(time.monotonic()):
             return
-        self._next_try = now + RETRY_S
         d = self.device
         if d.emulate and self.emulator is None:
             self.emulator = WristEmulator(d.channel, pan_id=d.pan_id, tilt_id=d.tilt_id).start()
