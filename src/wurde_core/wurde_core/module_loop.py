@@ -46,7 +46,7 @@ def set_loop(manager: CommsManager, sleep_s: float, ttl_s: float = MODULE_TTL_S)
     manager.set_heartbeat_only(ttl_s)
 
 
-def run_loop(manager: CommsManager, step: Callable[[], None], close: Callable[[], None]) -> int:
+def run_loop(manager: CommsManager, step: Callable[[], object], close: Callable[[], None]) -> int:
     """The guide's loop: ``step()`` while in Run (``run_update`` keeps the module alive through
     Idle), then ``close()`` the device and clean up, also on an exception.  Returns the exit
     status (0): the program ends after it (``clean_up(exiting=True)``)."""

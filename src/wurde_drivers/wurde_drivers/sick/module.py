@@ -41,10 +41,10 @@ from collections.abc import Callable, Sequence
 from typing import TextIO
 
 import serial
-from wurde_core import CommsManager, Logger, RunState
+from wurde_core import CommsManager, Logger
 
 from ..errors import DriverError
-from ..module_setup import configured_device, set_loop
+from ..module_setup import configured_device, run_loop, set_loop
 from ..ports.retry import RetryGate
 from ..streams.laser import LaserStreams
 from . import facts
@@ -320,14 +320,14 @@ def main(argv: list[str] | None = None) -> int:
                               '(guide 7.5)')
     log = LaserLog(lambda: bool(logging.value), lambda: open_log(manager, logger))
     runner = SickRunner(device, streams, logger, log, lambda: bool(invert.value))
-    try:
-        while manager.run_update() == RunState.RUN:
-            runner.step(SLEEP_S)
-    finally:
-        runner.close()
-        log.close()
-        manager.clean_up(exiting=True)
-    return 0
+
+    def close() -> None:
+        try:
+            runner.close()
+        finally:
+            log.close()
+
+    return run_loop(manager, lambda: runner.step(SLEEP_S), close)
 
 
 if __name__ == '__main__':

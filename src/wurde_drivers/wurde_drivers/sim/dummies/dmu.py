@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import sys
 
-from wurde_core import CommsManager, Logger, RunState
+from wurde_core import CommsManager, Logger
 from wurde_core.interfaces import Egomotion
 
-from ...module_setup import set_loop
+from ...module_setup import run_loop, set_loop
 from ...ros_std_covariance import ImuNoise
 from ...streams.dmu import DmuStreams
 from ..clock import make_rng
@@ -43,7 +43,9 @@ def main(argv: list[str] | None = None) -> int:
     period = 1.0 / dc.rate
     last_stamp: float | None = None
     next_publish: float | None = None
-    while manager.run_update() == RunState.RUN:
+
+    def step() -> None:
+        nonlocal last_stamp, next_publish
         while truth.get_next_data():
             stamp = truth.data.timestamp.get_seconds()
             if last_stamp is None or stamp <= last_stamp:
@@ -56,8 +58,8 @@ def main(argv: list[str] | None = None) -> int:
             if stamp >= next_publish - 1e-6:
                 streams.publish(reading, stamp)
                 next_publish += period * max(1, int((stamp - next_publish) / period) + 1)
-    manager.clean_up(exiting=True)
-    return 0
+
+    return run_loop(manager, step, lambda: None)
 
 
 if __name__ == '__main__':

@@ -9,11 +9,11 @@ from __future__ import annotations
 
 import sys
 
-from wurde_core import CommsManager, Logger, RunState
+from wurde_core import CommsManager, Logger
 from wurde_core.interfaces import Egomotion
 
 from ...gps.geo import LocalFrame
-from ...module_setup import set_loop
+from ...module_setup import run_loop, set_loop
 from ...streams.gps import GpsStreams
 from ..clock import make_rng
 from ..config import GpsConfig
@@ -41,7 +41,9 @@ def main(argv: list[str] | None = None) -> int:
     streams.publish_info(latitude=gc.latitude, longitude=gc.longitude)
     period = 1.0 / gc.rate
     next_fix: float | None = None
-    while manager.run_update() == RunState.RUN:
+
+    def step() -> None:
+        nonlocal next_fix
         while truth.get_next_data():
             stamp = truth.data.timestamp.get_seconds()
             if next_fix is None:
@@ -54,8 +56,8 @@ def main(argv: list[str] | None = None) -> int:
                                 satellites=fix.satellites, quality=fix.quality, hdop=fix.hdop,
                                 fix_time=stamp % 86400.0, x=fix.x, y=fix.y, stamp=stamp)
             next_fix += period * max(1, int((stamp - next_fix) / period) + 1)
-    manager.clean_up(exiting=True)
-    return 0
+
+    return run_loop(manager, step, lambda: None)
 
 
 if __name__ == '__main__':

@@ -16,11 +16,11 @@ import dataclasses
 import math
 import sys
 
-from wurde_core import CommsManager, Logger, RunState
+from wurde_core import CommsManager, Logger
 from wurde_core.interfaces import Egomotion
 from wurde_idl.errors import ConfigError
 
-from ...module_setup import exit_on_config_error, set_loop
+from ...module_setup import exit_on_config_error, run_loop, set_loop
 from ...streams.laser import LaserStreams
 from ..clock import make_rng
 from ..laser import LaserModel
@@ -94,12 +94,14 @@ def main(argv: list[str] | None = None) -> int:
     next_centre: float | None = None
     logger.notice(f'{manager.name}: dummy {geometry.model} with {geometry.count} beams, '
                   f'{geometry.units}, one scan every {geometry.scan_period_s * 1000:.0f} ms')
-    while manager.run_update() == RunState.RUN:
+
+    def step() -> None:
+        nonlocal next_centre
         while truth.get_next_data():
             loc = truth.data.location
             history.add(truth.data.timestamp.get_seconds(), loc.x(), loc.y(), loc.theta())
         if not history.poses:
-            continue
+            return
         if next_centre is None:
             next_centre = history.latest
         while history.latest >= next_centre + delay:
@@ -107,8 +109,8 @@ def main(argv: list[str] | None = None) -> int:
             ranges = model.scan(world, x, y, theta, at=next_centre)
             streams.publish_scan(ranges, centre_stamp=next_centre, arrival_stamp=next_centre + delay)
             next_centre += geometry.scan_period_s
-    manager.clean_up(exiting=True)
-    return 0
+
+    return run_loop(manager, step, lambda: None)
 
 
 if __name__ == '__main__':
