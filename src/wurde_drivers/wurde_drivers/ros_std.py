@@ -53,10 +53,17 @@ from wurde_core.ros_messages import quaternion, set_stamp
 from .ros_std_covariance import ImuCovariance, ImuNoise, OdometryCovariance, fix_covariance
 from .ros_std_frames import frame_of
 
-__all__ = ['FixPublisher', 'ImuPublisher', 'OdometryPublisher', 'ScanPublisher', 'TwistInbox',
+__all__ = ['watched', 'FixPublisher', 'ImuPublisher', 'OdometryPublisher', 'ScanPublisher', 'TwistInbox',
            'ground_truth_publisher', 'std_topic']
 
 _QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+
+
+def watched(publisher: Any) -> bool:
+    """Whether anyone subscribes to ``publisher``'s topic now.  The standard mirrors are built and
+    sent only then (issue 39): an unwatched robot pays nothing for them; a subscriber that comes
+    (RViz, Foxglove, ``record``) gets the next message once discovery has matched it."""
+    return publisher.get_subscription_count() > 0
 
 
 def std_topic(stream: str, leaf: str) -> str:
@@ -81,6 +88,8 @@ class ScanPublisher:
         self.angle_min, self.angle_increment = angle_min, angle_increment
 
     def publish(self, ranges: Sequence[float], stamp: float, scan_time: float) -> None:
+        if not watched(self.publisher):
+            return
         msg = LaserScan()
         set_stamp(msg, stamp)
         msg.header.frame_id = self.frame
@@ -116,12 +125,15 @@ class OdometryPublisher:
         self.frame = frame
 
     def publish(self, x: float, y: float, theta: float, tv: float, rv: float, stamp: float) -> None:
+        if self.covariance is not None:
+            self.covariance.update(x, y, theta, stamp)       # grows whether or not anyone reads it
+        if not watched(self.publisher):
+            return
         msg = Odometry()
         set_stamp(msg, stamp)
         msg.header.frame_id = self.frame
         msg.child_frame_id = 'base_link'
         if self.covariance is not None:
-            self.covariance.update(x, y, theta, stamp)
             msg.pose.covariance = self.covariance.pose6()
             msg.twist.covariance = self.covariance.twist6()
         msg.pose.pose.position.x = x
@@ -171,11 +183,13 @@ class ImuPublisher:
         self.covariance = ImuCovariance(noise, tau)
 
     def publish(self, state: Any, stamp: float) -> None:
+        cov = self.covariance
+        cov.update(stamp)                                   # kept whether or not anyone reads it
+        if not watched(self.publisher):
+            return
         msg = Imu()
         set_stamp(msg, stamp)
         msg.header.frame_id = self.frame
-        cov = self.covariance
-        cov.update(stamp)
         msg.orientation_covariance = cov.orientation()
         msg.angular_velocity_covariance = cov.angular_velocity()
         msg.linear_acceleration_covariance = cov.linear_acceleration()
@@ -206,6 +220,8 @@ class FixPublisher:
 
     def publish(self, *, latitude: float, longitude: float, altitude: float, quality: int,
                 hdop: float, stamp: float) -> None:
+        if not watched(self.publisher):
+            return
         msg = NavSatFix()
         set_stamp(msg, stamp)
         msg.header.frame_id = self.frame

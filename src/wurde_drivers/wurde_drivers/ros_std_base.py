@@ -27,7 +27,7 @@ from typing import Any
 from sensor_msgs.msg import BatteryState, Range
 from wurde_core.ros_messages import set_stamp
 
-from .ros_std import std_topic
+from .ros_std import std_topic, watched
 from .ros_std_frames import BASE_FRAME, member_frame
 
 __all__ = ['BatteryPublisher', 'BumperPublisher', 'SonarPublisher']
@@ -68,6 +68,8 @@ class SonarPublisher:
                                         max_range=max_range, radiation=Range.ULTRASOUND)
 
     def publish(self, ranges: Sequence[float], stamp: float) -> None:
+        if not watched(self.publisher):
+            return
         for msg, value in zip(self.messages, ranges):
             set_stamp(msg, stamp)
             msg.range = float(value)
@@ -89,6 +91,8 @@ class BumperPublisher:
                                         min_range=0.0, max_range=0.0, radiation=Range.ULTRASOUND)
 
     def publish(self, pressed: Sequence[bool], stamp: float) -> None:
+        if not watched(self.publisher):
+            return
         for msg, down in zip(self.messages, pressed):
             set_stamp(msg, stamp)
             msg.range = -math.inf if down else math.inf
@@ -114,6 +118,8 @@ class BatteryPublisher:
             self.capacity_ah = capacity_j / nominal_voltage / 3600.0
 
     def publish(self, *, voltage: float, current: float, charge: float, charging: bool, stamp: float) -> None:
+        if not watched(self.publisher):
+            return
         msg = BatteryState()
         set_stamp(msg, stamp)
         msg.header.frame_id = BASE_FRAME

@@ -16,7 +16,7 @@ from sensor_msgs.msg import JointState
 from wurde_core.ros_messages import set_stamp
 
 from .mounting import Mounting
-from .ros_std import std_topic
+from .ros_std import std_topic, watched
 from .ros_std_frames import StaticFrames, frame_of
 
 __all__ = ['JointStatePublisher', 'joint_names', 'pan_tilt_standard']
@@ -38,6 +38,8 @@ class JointStatePublisher:
 
     def publish(self, *, pan: float, tilt: float, pan_velocity: float, tilt_velocity: float,
                 stamp: float) -> None:
+        if not watched(self.publisher):
+            return
         msg = self.msg
         set_stamp(msg, stamp)
         msg.position = [float(pan), float(tilt)]

@@ -15,6 +15,8 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 from wurde_core import Time
 
+from ...ros_std import watched
+
 CLOCK_TOPIC = '/clock'
 
 
@@ -28,5 +30,8 @@ class ClockPublisher:
         self._message = Clock()
 
     def publish(self, stamp: float) -> None:
+        """The stamp, while anyone listens (a node with use_sim_time, a recorder)."""
+        if not watched(self.publisher):
+            return
         Time(stamp).to_msg(self._message.clock)
         self.publisher.publish(self._message)

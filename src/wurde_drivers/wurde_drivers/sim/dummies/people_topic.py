@@ -30,7 +30,7 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 from visualization_msgs.msg import Marker, MarkerArray
 from wurde_core.ros_messages import set_stamp
 
-from ...ros_std import std_topic
+from ...ros_std import std_topic, watched
 from ..people import People
 
 __all__ = ['NAMESPACE', 'PeoplePublisher', 'people_topic']
@@ -55,7 +55,9 @@ class PeoplePublisher:
         self.people = people
 
     def publish(self, stamp: float) -> None:
-        """Everyone where they are at ``stamp`` (s, simulated time)."""
+        """Everyone where they are at ``stamp`` (s, simulated time); nothing while unwatched."""
+        if not watched(self.publisher):
+            return
         message = MarkerArray()
         for index, (person, (x, y, heading)) in enumerate(zip(self.people, self.people.poses_at(stamp))):
             body = person.body
