@@ -16,9 +16,9 @@ import time
 from collections.abc import Callable
 
 from wurde_core import CommsManager
-from wurde_core.interfaces import ActuatorState
 
 from .active_scan import Aim
+from .wrist_proxy import WristProxy
 
 __all__ = ['CHANGE_RAD', 'MAX_RESENDS', 'RESEND_S', 'WristLink']
 
@@ -32,14 +32,14 @@ REST = Aim(0.0, 0.0, 'at rest: the wrist is the user\'s')
 
 
 class WristLink:
-    """Aims the wrist on stream ``name`` (a consumer of its ActuatorState)."""
+    """Aims the wrist on stream ``name`` through its :class:`~pluto_motion.wrist_proxy.WristProxy`
+    (what to send and when is this class's; how, the proxy's)."""
 
     def __init__(self, manager: CommsManager, name: str, *, speed: float = 1.0, accel: float = 2.0,
                  log: Callable[[str], object] = print, trace: Callable[[str], object] = lambda text: None) -> None:
         """:param log: says once that the wrist was found; ``trace``: each new aim (often: debug)."""
         self.name, self.speed, self.accel, self.log, self.trace = name, speed, accel, log, trace
-        self.stream = ActuatorState(name)
-        manager.register_consumer(self.stream)
+        self.proxy = WristProxy(manager, name)
         #: The aim sent last (None: not aiming) and when.
         self.sent: Aim | None = None
         self.sent_at = -math.inf
@@ -49,16 +49,16 @@ class WristLink:
     @property
     def present(self) -> bool:
         """Whether a wrist listens on the stream."""
-        present = bool(self.stream.peers('request'))
+        present = bool(self.proxy.wrist.peers('request'))
         if present and not self._heard:
             self._heard = True
             self.log(f'wrist {self.name} found: active scanning on')
         return present
 
     def _taken(self, aim: Aim) -> bool:
-        self.stream.get_next_info()
-        target = list(self.stream.info.position.get_value())
-        return len(target) >= 2 and abs(target[0] - aim.pan) < CHANGE_RAD and abs(target[1] - aim.tilt) < CHANGE_RAD
+        self.proxy.update()
+        target = self.proxy.target
+        return target is not None and abs(target[0] - aim.pan) < CHANGE_RAD and abs(target[1] - aim.tilt) < CHANGE_RAD
 
     def update(self, aim: Aim | None, now: float | None = None) -> None:
         """Aim the wrist at ``aim``; None: rest once, then leave it."""
@@ -85,11 +85,5 @@ class WristLink:
             self.resends = 0
         if self.sent is None or aim.why != self.sent.why:
             self.trace(f'wrist: {aim.why} (pan {aim.pan:.2f}, tilt {aim.tilt:.2f} rad)')
-        request = self.stream.requests
-        request.cmd_flags.set_value(0)
-        request.position.set_value([aim.pan, aim.tilt])
-        request.velocity.set_value([self.speed, self.speed])
-        request.acceleration.set_value([self.accel, self.accel])
-        request.force.set_value([])
-        self.stream.publish_request()
+        self.proxy.move(aim.pan, aim.tilt, self.speed, self.accel)
         self.sent, self.sent_at = aim, now
