@@ -242,7 +242,7 @@ def test_play_as_fast_as_the_reader_takes_it_loses_nothing(ros_domain: int, tmp_
 
     def drain() -> None:
         for key, reader in readers.items():
-            mirrored[key] += take(reader.handle, reader.msg_type, -1)
+            mirrored[key] += take(reader)
 
     watcher, player, _ = _play(tmp_path, {'odometry': ODOMETRY, 'scans': SCANS}, '-R', '0', setup=subscribe)
     try:

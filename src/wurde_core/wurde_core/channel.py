@@ -19,7 +19,7 @@ from collections.abc import Callable
 from typing import Any
 
 from .qos import QUEUE_CAPACITY
-from .ros_adaptor import publish, take
+from .ros_adaptor import pointer, publish, take
 
 
 #: This process's ``header.session`` (:mod:`wurde_core.sender_watch`): drawn once, never 0.
@@ -30,11 +30,10 @@ class Outbox:
     """A publisher that numbers what it sends (``header.sequence``) and says which process sent
     it (``header.session``)."""
 
-    __slots__ = ('publisher', '_handle', 'sequence')
+    __slots__ = ('publisher', 'sequence')
 
     def __init__(self, publisher: Any) -> None:
         self.publisher = publisher
-        self._handle = publisher.handle
         self.sequence = 0
 
     def send(self, message: Any) -> None:
@@ -42,7 +41,7 @@ class Outbox:
         self.sequence += 1
         message.header.sequence = self.sequence
         message.header.session = SESSION
-        publish(self._handle, message)
+        publish(self.publisher, message)
 
     def subscribers(self) -> int:
         """Matched subscriptions right now."""
@@ -52,15 +51,13 @@ class Outbox:
 class Inbox:
     """A subscription drained by polling, in latest or queue mode."""
 
-    __slots__ = ('subscription', '_handle', 'pointer', '_type', 'queue', 'latest', 'fresh', 'drops',
+    __slots__ = ('subscription', 'pointer', 'queue', 'latest', 'fresh', 'drops',
                  'received', '_last_seq', 'accept')
 
     def __init__(self, subscription: Any, queue_mode: bool,
                  accept: Callable[[Any], bool] | None = None) -> None:
         self.subscription = subscription
-        self._handle = subscription.handle
-        self.pointer = subscription.handle.pointer
-        self._type = subscription.msg_type
+        self.pointer = pointer(subscription)
         self.queue: collections.deque[Any] | None = collections.deque() if queue_mode else None
         self.latest: Any = None
         self.fresh = False
@@ -117,7 +114,7 @@ class Inbox:
         first_gaps = 0
         last_seq = self._last_seq
         accept = self.accept
-        for message in take(self._handle, self._type, room):
+        for message in take(self.subscription, room):
             if queue is not None:
                 # Sequence gaps (inlined: this is the hot path of every queue-mode stream).
                 header = message.header

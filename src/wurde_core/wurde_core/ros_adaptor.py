@@ -78,19 +78,27 @@ class NodeEntities:
                 served = True
         for subscription in self.subscriptions:
             if subscription.handle.pointer in ready:
-                for message in take(subscription.handle, subscription.msg_type, -1):
+                for message in take(subscription):
                     subscription.callback(message)
         return served
 
 
-def publish(handle: Any, message: Any) -> None:
-    """Publish ``message`` through a publisher's ``handle`` (no type check: the hot path)."""
+def publish(publisher: Any, message: Any) -> None:
+    """Publish ``message`` through ``publisher``'s handle (no type check: the hot path)."""
+    handle = publisher.handle
     with handle:
         handle.publish(message)
 
 
-def take(handle: Any, msg_type: type, limit: int) -> Iterator[Any]:
-    """Take up to ``limit`` messages (``limit`` < 0: all) from a subscription's ``handle``."""
+def pointer(subscription: Any) -> int:
+    """The identity a wait set reports ``subscription`` ready by (:meth:`SubscriptionWaiter.ready`)."""
+    return int(subscription.handle.pointer)
+
+
+def take(subscription: Any, limit: int = -1) -> Iterator[Any]:
+    """Take up to ``limit`` messages (``limit`` < 0: all) that ``subscription`` holds, without an
+    executor."""
+    handle, msg_type = subscription.handle, subscription.msg_type
     with handle:
         while limit:
             limit -= 1

@@ -164,7 +164,7 @@ class TwistInbox:
     def take(self) -> Twist | None:
         """The newest Twist that arrived since the last call, or None."""
         newest = None
-        for newest in take(self.subscription.handle, Twist, -1):
+        for newest in take(self.subscription):
             pass
         return newest
 

@@ -77,15 +77,15 @@ class RobotTopics:
         self.cmd_vel = node.create_publisher(Twist, self.cmd_vel_topic, COMMAND_QOS)
 
     def scans(self) -> Iterator[LaserScan]:
-        return take(self.scan.handle, LaserScan, -1)
+        return take(self.scan)
 
     def odometry(self) -> Iterator[Odometry]:
-        return take(self.odom.handle, Odometry, -1)
+        return take(self.odom)
 
     def transforms(self) -> Iterator[tuple[Any, bool]]:
         """Every TransformStamped that arrived, with whether it came on ``/tf_static``."""
         for subscription, static in ((self.tf_static, True), (self.tf, False)):
-            for message in take(subscription.handle, TFMessage, -1):
+            for message in take(subscription):
                 for transform in message.transforms:
                     yield transform, static
 
