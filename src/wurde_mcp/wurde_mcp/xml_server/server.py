@@ -30,8 +30,8 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Protocol
 
-from .command import (NAME, Command, CommandError, closing, escape, help_block, parse_command,
-                      reply)
+from .command import Command, CommandError, closing, escape, help_block, parse_command, reply
+from .command_table import CommandTable, Handler
 from .pose_command import PT_HELP, PoseCommand
 from .push import EventPush, TimePush
 from .push_commands import PushCommands, push_help, varpush_help
@@ -47,10 +47,6 @@ __all__ = ['Handler', 'PORTS', 'ServerSettings', 'ServerStats', 'XmlServer']
 
 _log = logging.getLogger(__name__)
 
-#: A command handler: gets the client's session and the parsed command, returns the reply lines
-#: (each ending in a newline; one is added where missing).
-Handler = Callable[[Session, Command], Sequence[str]]
-
 #: How long an ending session may take to send its last output before it is closed anyway (s).
 _LINGER_S = 2.0
 #: Connections accepted per turn at most (the rest wait in the listen queue for the next turn).
@@ -61,14 +57,6 @@ class Watcher(Protocol):
     """A socket of the server's own (an interface to another server) the selector watches."""
 
     def on_event(self, mask: int) -> None: ...
-
-
-@dataclasses.dataclass
-class _Entry:
-    name: str
-    handler: Handler
-    help_line: str
-    help_text: str | None
 
 
 class XmlServer:
@@ -84,8 +72,7 @@ class XmlServer:
         self.pool = pool
         self.settings = settings if settings is not None else ServerSettings()
         self._stats = ServerStats()
-        self._commands: dict[str, _Entry] = {}
-        self._groups: dict[str, list[str]] = {}
+        self._commands = CommandTable()
         self._sessions: list[Session] = []
         self._selector: selectors.BaseSelector | None = None
         self._listener: socket.socket | None = None
@@ -135,25 +122,15 @@ class XmlServer:
 
         :raises ValueError: ``name`` is not a tag name or is taken.
         """
-        if not NAME.fullmatch(name):
-            raise ValueError(f'{name!r} is not a tag name')
-        if name.lower() in self._commands:
-            raise ValueError(f'command {name} exists')
-        self._commands[name.lower()] = _Entry(name, handler, help_line, help_text)
-        self._groups.setdefault(group or name.lower(), []).append(name)
+        self._commands.add(name, handler, help_line, help_text=help_text, group=group)
 
     def remove_command(self, name: str) -> None:
         """Remove command ``name`` (any case; absent: nothing)."""
-        entry = self._commands.pop(name.lower(), None)
-        for group, names in list(self._groups.items()):
-            if entry is not None and entry.name in names:
-                names.remove(entry.name)
-                if not names:
-                    del self._groups[group]
+        self._commands.remove(name)
 
     def command_groups(self) -> dict[str, list[str]]:
         """The commands by group, as ``help`` lists them (a copy)."""
-        return {group: list(names) for group, names in self._groups.items()}
+        return self._commands.groups()
 
     def add_poller(self, poller: Callable[[float], None]) -> None:
         """Call ``poller(now)`` every turn (monotonic s)."""
@@ -395,35 +372,12 @@ class XmlServer:
         except CommandError as exc:
             self._stats.malformed += 1
             return [reply('error', [('warning', f'malformed command: {exc}')])]
-        return self._dispatch(session, command)
-
-    def _dispatch(self, session: Session, command: Command) -> list[str]:
-        """The reply lines to ``command``; a closing tag ends the session."""
-        entry = self._commands.get(command.tag.lower())
-        if command.is_closing:
-            session.end()
-            return []
-        if command.kind == 'declaration' or (command.kind == 'opening' and entry is None):
-            return []                    # the client's <?xml ...?> and <marg name=...>
-        if entry is None:
-            return [reply(command.tag, [('warning', 'Unsupported function keyword')])]
-        if [key.lower() for key, value in command.args if not value] == ['help'] \
-                and len(command.args) == 1 and entry.name.lower() != 'help':
-            return help_block(entry.name.upper(), entry.help_text or entry.help_line, command.tag)
-        try:
-            lines = entry.handler(session, command)
-        except Exception as exc:
-            _log.exception('command %r failed', command.tag)
-            return [reply(command.tag, [('error', f'{entry.name} failed: {type(exc).__name__}: '
-                                                  f'{exc}')])]
-        if isinstance(lines, str):
-            lines = [lines]
-        return [line if line.endswith('\n') else line + '\n' for line in lines or ()]
+        return self._commands.dispatch(session, command)
 
     def _run_pushes(self, session: Session, now: float) -> None:
         for push in list(session.pushes):
             if push in session.pushes and push.poll(now, self.pool):
-                self._send(session, self._dispatch(session, push.command))
+                self._send(session, self._commands.dispatch(session, push.command))
                 if session.closed:
                     return
                 if session.end_requested:
@@ -488,8 +442,8 @@ class XmlServer:
     def help_handler(self, client: Session, command: Command) -> list[str]:
         """``help``: the seed's main help, or ``help CMD``: the help of command CMD."""
         for key, value in command.args:
-            entry = self._commands.get(key.lower())
-            if entry is not None and not value and entry.name.lower() != 'help':
+            entry = self._commands.help_of(key)
+            if entry is not None and not value:
                 return help_block(entry.name.upper(), entry.help_text or entry.help_line,
                                   command.tag)
         s = self.settings
@@ -500,11 +454,7 @@ class XmlServer:
                  f'{len(self.pool.names())} variables.',
                  '---',
                  'Available commands (from currently loaded modules):']
-        lines += ['- ' + ' '.join(names) for names in self._groups.values()]
-        lines.append('All commands has a help option, e.g.:')
-        for entry in self._commands.values():
-            usage = f'{entry.name} help' if entry.help_text else entry.name
-            lines.append(f'{usage:<17} {entry.help_line}')
+        lines += self._commands.listing()
         lines += ['---',
                   r'A command should be packed in XML brackets and must be terminated by a \n '
                   '(newline)',
