@@ -90,9 +90,12 @@ class Robot:
             depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL))
         self.mirror: list[LaserScan] = []      # ros_inputs' standard /PlutoLaser/scan
         self.node.create_subscription(LaserScan, '/PlutoLaser/scan', self.mirror.append, 20)
-        self.twists: list[tuple[float, float, float]] = []      # (arrival monotonic, tv, rv)
+        # (when ros_inputs wrote it: the DDS source timestamp, s; tv, rv).  Not the arrival: a
+        # test process that spins late takes the first Twists late and the span looks short.
+        self.twists: list[tuple[float, float, float]] = []
         self.cmd_vel = self.node.create_subscription(
-            Twist, '/cmd_vel', lambda m: self.twists.append((time.monotonic(), m.linear.x, m.angular.z)), 20)
+            Twist, '/cmd_vel', lambda m, info: self.twists.append(
+                (info['source_timestamp'] * 1e-9, m.linear.x, m.angular.z)), 20)
 
     def spin(self) -> None:
         self.executor.spin_once(timeout_sec=0.0)
