@@ -25,6 +25,9 @@ from .connection import connection
 from .ipc import Handler, mode
 from .messages import carmen_robot_laser_message
 
+#: Seconds the first velocity command waits for the driveModule's reader.
+DRIVE_MATCH_S = 20.0
+
 __all__ = ['carmen_robot_subscribe_frontlaser_message', 'carmen_robot_subscribe_rearlaser_message',
            'carmen_robot_velocity_command']
 
@@ -66,5 +69,11 @@ def carmen_robot_velocity_command(tv: float, rv: float) -> int:
         drive = ipc.links['drive'] = DriveProxy(ipc.manager)
         drive.start_activity()                      # a released drive takes commands again
         ipc.collectors.append(drive.update)
+        # The first command waits (at most DRIVE_MATCH_S) until the driveModule reads commands,
+        # as CARMEN's IPC delivers to the base once connected: a program that drives for 2 s
+        # right after its first command must not spend them on discovery (held commands would
+        # go out only when matched, the newest alone).
+        drive.wait_for(lambda p: p.command.peers('request') > 0 and p.status.peers('request') > 0,
+                       DRIVE_MATCH_S)
     drive.velocity(float(tv), float(rv), sonar=True)
     return 0
