@@ -33,7 +33,9 @@ def test_wrist_proxy_example_turns_the_wrist(ros_domain: int, tmp_path: pathlib.
         line = client.expect('pan', timeout=90)
         assert client.process.wait(timeout=30) == 0
     found = re.fullmatch(r'pan (\S+)', line)
-    assert found and float(found.group(1)) == pytest.approx(0.5, abs=0.01), line
+    # The example stops waiting within 0.01 rad of 0.5 and prints two decimals: 0.49 to 0.51
+    # (a fresh-clone make test printed 0.49, which float arithmetic put just past 0.01).
+    assert found and float(found.group(1)) == pytest.approx(0.5, abs=0.015), line
 
 
 def test_calibration_file_example_is_read(tmp_path: pathlib.Path) -> None:
