@@ -41,9 +41,12 @@ class Host:
         self.name, self.namespace, self.device, self.address = name, namespace, device, address
 
     def command(self, argv: Sequence[str]) -> list[str]:
-        """``argv`` run inside this host (its network namespace, its host name)."""
+        """``argv`` run inside this host (its network namespace, its host name).  DDS discovery on
+        the subnet is set here, inside the namespace the test made, whose only link is the veth
+        pair: nowhere else does a test leave loopback."""
         return ['ip', 'netns', 'exec', self.namespace, 'unshare', '--uts', 'sh', '-c',
-                f'hostname {self.name} && exec "$@"', 'sh', *argv]
+                f'hostname {self.name} && exec env ROS_AUTOMATIC_DISCOVERY_RANGE=SUBNET "$@"',
+                'sh', *argv]
 
     def start(self, argv: Sequence[str], env: dict[str, str]) -> ChildProcess:
         """A Python program (``argv[0]`` a script or entry point) running on this host."""
@@ -79,9 +82,10 @@ class TwoHosts:
             raise
 
     def env(self, host: Host, domain: int, **extra: str) -> dict[str, str]:
-        """The environment of a process on ``host``: DDS on the link, in ``domain``."""
+        """The environment of a process on ``host``, in ``domain``, the other host its static peer.
+        Discovery stays LOCALHOST here; :meth:`Host.command` widens it inside the namespace only."""
         peer = self.b if host is self.a else self.a
-        return dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE='SUBNET',
+        return dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST',
                     ROS_STATIC_PEERS=peer.address, FASTDDS_BUILTIN_TRANSPORTS='UDPv4', **extra)
 
     def connect(self) -> None:
