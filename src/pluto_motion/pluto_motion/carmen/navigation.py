@@ -30,7 +30,7 @@ from wurde_core.interfaces import LocalizationPose, MapServer, Navigator
 
 from pluto_nav.streams import POSE, STREAMS
 
-from . import convert
+import pluto_motion.carmen.convert as convert  # the module itself, not the package (whose __init__ imports this one)
 from .connection import connection
 from .initialize import Initializer
 from .ipc import CarmenIpc, Feed, Handler, mode, warn

@@ -20,7 +20,7 @@ from wurde_core.errors import InvalidValueError
 from wurde_core.interfaces import RangeFinder
 
 from ..drive_proxy import DriveProxy
-from . import convert
+import pluto_motion.carmen.convert as convert  # the module itself, not the package (whose __init__ imports this one)
 from .connection import connection
 from .ipc import Handler, mode
 from .messages import carmen_robot_laser_message

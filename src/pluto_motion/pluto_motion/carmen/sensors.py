@@ -26,7 +26,7 @@ from typing import Any
 
 from wurde_core.interfaces import Bumper, Egomotion, RangeFinder
 
-from . import convert
+import pluto_motion.carmen.convert as convert  # the module itself, not the package (whose __init__ imports this one)
 from .connection import connection
 from .ipc import Handler, mode
 from .messages import (carmen_base_bumper_message, carmen_base_ir_message, carmen_base_odometry_message,

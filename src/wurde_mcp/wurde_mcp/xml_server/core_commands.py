@@ -16,14 +16,11 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from typing import TYPE_CHECKING
 
 from .command import NAME, Command, escape, help_block, reply
+from .host import ServerHost
 from .interface import IF_NAME, InterfaceModule
 from .session import Session
-
-if TYPE_CHECKING:
-    from .server import XmlServer
 
 __all__ = ['ALIVE_HELP', 'MODULE_HELP', 'PING_HELP', 'ModuleCommand', 'alive', 'ping']
 
@@ -51,7 +48,7 @@ PING_HELP = ('tod=sss.usec    The client\'s time of day: the reply gives clientT
              'The reply\'s tod is the server\'s time of day (TCP only)')
 
 
-def alive(server: XmlServer) -> Callable[[Session, Command], list[str]]:
+def alive(server: ServerHost) -> Callable[[Session, Command], list[str]]:
     """The ``alive`` handler of ``server``."""
     def handler(client: Session, command: Command) -> list[str]:
         return [reply(command.tag, [('last', f'{server.turn_gap:f}')])]
@@ -79,7 +76,7 @@ def ping(client: Session, command: Command) -> list[str]:
 class ModuleCommand:
     """The ``module`` handler: lists the server's modules, loads and unloads interfaces."""
 
-    def __init__(self, server: XmlServer) -> None:
+    def __init__(self, server: ServerHost) -> None:
         self._server = server
         self._interfaces: dict[str, InterfaceModule] = {}
 

@@ -27,15 +27,12 @@ import logging
 import selectors
 import socket
 import time
-from typing import TYPE_CHECKING
 
 from .command import Command, CommandError, escape, help_block, opening, parse_command, reply
+from .host import ServerHost
 from .session import Session
 from .user_vars import COPY_STRUCT
 from .variables import VarError
-
-if TYPE_CHECKING:
-    from .server import XmlServer
 
 __all__ = ['IF_NAME', 'InterfaceModule', 'RETRY_S']
 
@@ -79,7 +76,7 @@ def on_connect_help(alias: str) -> str:
 class InterfaceModule:
     """One ``if`` module: its commands and its connection to another server."""
 
-    def __init__(self, server: XmlServer, alias: str) -> None:
+    def __init__(self, server: ServerHost, alias: str) -> None:
         self.server = server
         self.alias = alias
         self.host = ''

@@ -28,16 +28,16 @@ import socket
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Protocol
 
 from .command import Command, CommandError, closing, escape, help_block, parse_command, reply
 from .command_table import CommandTable, Handler
+from .host import Watcher
 from .pose_command import PT_HELP, PoseCommand
 from .push import EventPush, TimePush
 from .push_commands import PushCommands, push_help, varpush_help
 from .session import TOO_LONG, Session
-from .standard import install_standard
 from .settings import PORTS, ServerSettings, ServerStats
+from .standard import install_standard
 from .user_vars import UserVariables
 from .var_command import VAR_HELP, VarCommand
 from .var_log import VarLog
@@ -51,12 +51,6 @@ _log = logging.getLogger(__name__)
 _LINGER_S = 2.0
 #: Connections accepted per turn at most (the rest wait in the listen queue for the next turn).
 _ACCEPTS_PER_TURN = 16
-
-
-class Watcher(Protocol):
-    """A socket of the server's own (an interface to another server) the selector watches."""
-
-    def on_event(self, mask: int) -> None: ...
 
 
 class XmlServer:

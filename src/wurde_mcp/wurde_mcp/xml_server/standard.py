@@ -6,20 +6,16 @@ pushes (:mod:`.pose_hist`) and the laser commands (:mod:`.laser_commands`), grou
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from .core_commands import ALIVE_HELP, MODULE_HELP, PING_HELP, ModuleCommand, alive, ping
+from .host import ServerHost
 from .laser_commands import LASERDATA_HELP, LASEROBST_HELP, LaserData, laser_obstacles
 from .pose_hist import POSES, PoseHistCommand, PosePushCommand, pose_help, pose_push_help
 from .push_commands import PushCommands
 
-if TYPE_CHECKING:
-    from .server import XmlServer
-
 __all__ = ['install_standard']
 
 
-def install_standard(server: XmlServer, pushes: PushCommands) -> ModuleCommand:
+def install_standard(server: ServerHost, pushes: PushCommands) -> ModuleCommand:
     """Add the commands to ``server``; the ``module`` handler (it owns the loaded interfaces)."""
     modules = ModuleCommand(server)
     add = server.add_command
