@@ -50,6 +50,9 @@ from .streams import SLAM_SAVING, SLAM_SETTER, LocPose
 __all__ = ['SlamModule', 'main']
 
 STATUS = 'slam/status'
+#: The time the module asks the MCP for between Quit and its signals: the map is saved at the end
+#: ("one should wait", Pluto 7.2), and a long run's grid takes seconds to trace on a loaded machine.
+QUIT_TIME_S = 60.0
 HELP = ('  -f FILE   where to save the map (default slam-map.xml; relative: in the data directory)\n'
         '  -s LASER  the laser module (default PlutoLaser)\n'
         '  -a        start the thread at launch\n'
@@ -161,6 +164,7 @@ def main(argv: list[str] | None = None) -> int:
     module = SlamModule(manager, logger, output, laser=opts.get('s', 'PlutoLaser'), start_running='a' in opts,
                         method=method)
     set_loop(manager, LOOP_S)
+    manager.set_quit_time(QUIT_TIME_S)
     when = 'now' if 'a' in opts else 'when asked (slam/status element[0] = 1)'
     logger.notice(f'{manager.name}: method {method}; the map goes to {output}; the thread starts {when}')
     return run_loop(manager, module.step, module.close)

@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import atexit
 import faulthandler
+import math
 import os
 import signal
 import sys
@@ -125,6 +126,7 @@ class CommsManager:
         self._pre_sleep = False
         self._heartbeat_enabled = True
         self._trust_ttl = False
+        self._quit_time = 0.0
         self._return_states = False
         self._objects: list[RobotObject] = []
         self._system_objects: list[RobotObject] = []
@@ -241,6 +243,17 @@ class CommsManager:
             self._trust_ttl = trust
             self._describe()
 
+    def set_quit_time(self, seconds: float) -> None:
+        """Tell the MCP that this module may take up to ``seconds`` to end after a Quit (work it
+        owes before exiting, as Pluto's slamModule saves its map when stopped, Pluto 7.2: "one
+        should wait"); the MCP waits that long (at most 120 s) before its signals.  0: the MCP's
+        default grace of about 2 s."""
+        if not math.isfinite(seconds) or seconds < 0:
+            raise InvalidValueError(f'a quit time is a number of seconds >= 0, not {seconds!r}')
+        if float(seconds) != self._quit_time:
+            self._quit_time = float(seconds)
+            self._describe()
+
     def set_no_heartbeat(self) -> None:
         """Send no heartbeat (the MCP will not watch this module)."""
         self._heartbeat_enabled = False
@@ -345,7 +358,8 @@ class CommsManager:
 
     def _describe(self) -> None:
         if self._heartbeat is not None and self.node is not None:
-            self._heartbeat.describe(self.state, self._objects, trust_ttl=self._trust_ttl)
+            self._heartbeat.describe(self.state, self._objects, trust_ttl=self._trust_ttl,
+                                     quit_time=self._quit_time)
 
     # -- life cycle ----------------------------------------------------------------------------
     def _open(self) -> None:

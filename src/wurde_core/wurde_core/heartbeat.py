@@ -87,10 +87,11 @@ class ModuleHeartbeat:
         self.beats = 0
 
     def describe(self, state: RunState, objects: Sequence[RobotObject], *,
-                 trust_ttl: bool = False) -> None:
+                 trust_ttl: bool = False, quit_time: float = 0.0) -> None:
         """Publish the process description (info) for the program's ``objects`` in ``state``
-        (``trust_ttl``: the MCP is to trust a TTL beyond its usual ceiling); called at start and
-        on every change."""
+        (``trust_ttl``: the MCP is to trust a TTL beyond its usual ceiling; ``quit_time``: the
+        seconds the module may take to end after Quit, 0 for the MCP's default); called at start
+        and on every change."""
         info = self.obj.info
         info.managed.set_value(managed_state())
         info.locale.set_value(ProcessLocale.INTERNAL)
@@ -106,6 +107,7 @@ class ModuleHeartbeat:
         info.consumed_streams.set_value([o.stream or '' for o in consumed])
         info.consumed_objects.set_value([o.object_name for o in consumed])
         info.trust_ttl.set_value(trust_ttl)
+        info.quit_time.set_value(quit_time)
         self.obj.publish_info()
 
     @staticmethod

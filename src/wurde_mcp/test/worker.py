@@ -5,7 +5,9 @@
 only SIGKILL ends it (the whole stop escalation runs).  SIGUSR1 makes it spin on the CPU for
 2.5 s without a heartbeat (a starved or busy module: working, but silent); SIGUSR2 makes it sleep
 for a minute without one (hung, though not stopped).  It prints ``<name>: idle`` on entering Idle
-and ``<name>: running again`` on returning to Run (its state hooks).
+and ``<name>: running again`` on returning to Run (its state hooks).  ``-w S`` makes it work S s
+after Quit before it ends (printing ``saving`` and ``saved``, as a slamModule saving its map);
+``-q S`` asks the MCP for S s to end after Quit (``CommsManager.set_quit_time``).
 """
 
 import os
@@ -19,11 +21,13 @@ from wurde_core.resume import STATE_ENV
 from wurde_core.interfaces import Foo
 
 manager = CommsManager('Worker')
-manager.parse_options(sys.argv, 't:s')
+manager.parse_options(sys.argv, 't:sw:q:')
 manager.set_sleep(0.5)  # TTL 1 s: no false zombies on a loaded 2-core machine
 config = global_configuration()
 if config.have_option('t'):
     manager.set_heartbeat_only(float(config.get_option('t')))
+if config.have_option('q'):
+    manager.set_quit_time(float(config.get_option('q')))
 stubborn = config.have_option('s') and not manager.options.registration
 foo = Foo(f'{manager.name}_out')
 manager.register_supplier(foo)
@@ -62,4 +66,8 @@ while True:
         manager.set_run()
     foo.data.ranges = [1.0]
     foo.publish_data()
+if config.have_option('w'):
+    print('saving', flush=True)
+    time.sleep(float(config.get_option('w')))   # the work owed before the exit
+    print('saved', flush=True)
 manager.clean_up()

@@ -65,6 +65,9 @@ TABLE_PERIOD_S = 0.5
 #: Stopping a module: wait this long for it to obey Quit, then SIGINT, SIGTERM, SIGKILL this far
 #: apart.
 STOP_GRACE_S, STOP_STEP_S = 2.0, 1.0
+#: The longest quit time a module may ask for (its heartbeat info's ``quit_time``,
+#: ``CommsManager.set_quit_time``): work owed before the exit, as a slamModule saving its map.
+QUIT_TIME_MAX_S = 120.0
 CMD_QUIT_ALL, CMD_START, CMD_STOP, CMD_RESTART, CMD_STATE = 1, 2, 3, 4, 5
 
 
@@ -119,6 +122,14 @@ class Module:
     #: :data:`TTL_RANGE_S` (its heartbeat info); :attr:`ttl` is what the MCP makes of them.
     announced_ttl: float = 1.0
     trust_ttl: bool = False
+    #: How long it may take to end after Quit (its heartbeat info; 0: :data:`STOP_GRACE_S`).
+    quit_time: float = 0.0
+
+    def quit_grace(self, default_s: float = STOP_GRACE_S) -> float:
+        """The wait between a Quit and the first signal: the module's quit time, within
+        :data:`QUIT_TIME_MAX_S`, or ``default_s``."""
+        asked = self.quit_time if math.isfinite(self.quit_time) else 0.0
+        return max(default_s, min(asked, QUIT_TIME_MAX_S))
 
     @property
     def name(self) -> str:
@@ -262,9 +273,10 @@ class Supervisor:
         module.restart_at = None
         self.command_state(name, RunState.QUIT)
         if module.process is not None and module.process.running():
-            g_info(f'MCP: stopping {name}: Quit, then SIGINT after {STOP_GRACE_S:.1f} s, SIGTERM '
+            grace_s = module.quit_grace()
+            g_info(f'MCP: stopping {name}: Quit, then SIGINT after {grace_s:.1f} s, SIGTERM '
                    f'and SIGKILL {STOP_STEP_S:.1f} s apart')
-            module.process.stop(step_s=STOP_STEP_S, grace_s=STOP_GRACE_S)
+            module.process.stop(step_s=STOP_STEP_S, grace_s=grace_s)
         self._changed = True
 
     def restart(self, name: str) -> None:
@@ -338,18 +350,22 @@ class Supervisor:
         Quit ends within about a second (it does not wait for its goodbye's acknowledgement), so
         the MCP and its modules are gone within 3 s (issue 17); the escalation stays the normal
         one, since a loaded machine's clean exit can take longer than a shorter one allowed (a
-        SIGKILL at 2 s cut the dummies' clean exits in a fresh-clone run)."""
+        SIGKILL at 2 s cut the dummies' clean exits in a fresh-clone run).  A module that asked for
+        a longer quit time (a slamModule saving its map) gets it, and the wait grows to cover it."""
         step_s = min(STOP_STEP_S, wait_s / 5)
         grace_s = min(STOP_GRACE_S, wait_s / 5)
         quit_at = time.monotonic()
+        longest = wait_s
         for module in self.modules.values():
             module.wanted = False
             module.start_on_exit = False
             module.restart_at = None
             self.command_state(module.name, RunState.QUIT)
             if module.process is not None:
-                module.process.stop(step_s=step_s, grace_s=grace_s)
-        deadline = time.monotonic() + wait_s
+                grace = module.quit_grace(grace_s)
+                module.process.stop(step_s=step_s, grace_s=grace)
+                longest = max(longest, wait_s - grace_s + grace)
+        deadline = time.monotonic() + longest
         for module in self.modules.values():
             process = module.process
             if process is not None:
@@ -375,7 +391,7 @@ class Supervisor:
             self._check_exit(module, now)
             if (module.status == StatusMode.ACTIVE and module.last_beat_at is not None
                     and now - module.last_beat_at > module.ttl + TTL_GRACE_S
-                    and not module.wall_late):
+                    and not module.wall_late and not self._quitting(module, now)):
                 module.wall_late = True
                 self.wall_late += 1
         if any(self._overdue(m, now, watched) for m in self.modules.values()):
@@ -407,6 +423,7 @@ class Supervisor:
             module.pid = info.pid.get_value()
             module.host = info.host.get_value()
             module.owner = info.mcp.get_value()
+            module.quit_time = info.quit_time.get_value()
             if module.trust_ttl != bool(info.trust_ttl.get_value()):
                 module.trust_ttl = not module.trust_ttl
                 self._judge_ttl(module)
@@ -478,12 +495,22 @@ class Supervisor:
     def _overdue(self, module: Module, now: float, watched: float) -> bool:
         """Silent past the TTL, judged against the MCP's own lag (see :mod:`wurde_mcp.clock`)."""
         if module.status != StatusMode.ACTIVE or module.last_beat_at is None \
-                or module.last_beat is None:
+                or module.last_beat is None or self._quitting(module, now):
             return False
         limit = module.ttl + TTL_GRACE_S
         if now - module.last_beat_at <= limit:
             return False
         return watched - module.last_beat > limit or self.clock.steady_for(now) >= REVIEW_S
+
+    @staticmethod
+    def _quitting(module: Module, now: float) -> bool:
+        """Whether the module was told to Quit and is still within its time to end: a module
+        saving what it holds sends no beats, and its stop escalation (its quit grace, then the
+        signals) bounds it, not its TTL."""
+        if module.process is not None:
+            return module.process.stopping()
+        return (module.commanded_state == RunState.QUIT
+                and now - module.commanded_at <= module.quit_grace() + module.ttl)
 
     def _check_ttl(self, module: Module, now: float, watched: float) -> None:
         if module.status == StatusMode.STARTING and module.process is not None:

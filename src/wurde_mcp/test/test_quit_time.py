@@ -1,0 +1,42 @@
+"""A module that owes work after Quit (a slamModule saves its map, Pluto 7.2: "one should wait")
+asks for the time with ``CommsManager.set_quit_time``; the MCP then waits that long before its
+signals, where a module that asked nothing is escalated after the usual ~2 s grace.
+
+Both workers below work 4 s after Quit, longer than the default escalation lets them (SIGKILL
+comes 4 s after the Quit): the one that asked for 30 s ends cleanly having saved, the other is cut
+off by the signals.
+"""
+
+from __future__ import annotations
+
+import pathlib
+import time
+
+from mcp_fixture import NOTICED, start_mcp, wait_file, wait_output, worker, write_config
+from wurde_core import StatusMode
+from wurde_mcp.supervisor import CMD_STOP
+
+
+def test_the_mcp_waits_the_quit_time_a_module_asked_for(tmp_path, table) -> None:
+    config, mappings = write_config(tmp_path, worker('Saver', extra='-w 4 -q 30')
+                                    + worker('Hasty', extra='-w 4'))
+    with start_mcp(tmp_path, config, mappings, '-a') as mcp:
+        table.until(lambda r: all(x['status'] == StatusMode.ACTIVE for x in r.values()), 'both active')
+        assert table.heartbeat_info('Saver').quit_time.get_value() == 30.0
+        assert table.heartbeat_info('Hasty').quit_time.get_value() == 0.0
+        stopped_at = time.monotonic()
+        table.command(CMD_STOP, 'Saver')
+        table.command(CMD_STOP, 'Hasty')
+        saver = wait_output(mcp, NOTICED.format(name='Saver'), since=stopped_at, timeout=60)
+        hasty = wait_output(mcp, NOTICED.format(name='Hasty'), since=stopped_at, timeout=60)
+    logs = tmp_path / 'mcp-modules'
+    wait_file(logs / 'Saver.log', 'saved')
+    assert saver['code'] == '0', (logs / 'Saver.log').read_text()
+    assert hasty['code'] != '0'
+    hasty_run = _last_run(logs / 'Hasty.log')         # not its registration run's (-r)
+    assert 'saving' in hasty_run and 'saved' not in hasty_run, hasty_run
+
+
+def _last_run(log: pathlib.Path) -> str:
+    """The part of a module's log written by its last process."""
+    return log.read_text().rsplit('--- ', 2)[-2]
