@@ -22,9 +22,10 @@ here names are spelt as CARMEN spells them.  Where the seed is silent:
   other call of this object waits for the daemon.  Handlers never run in another thread.
 
 How it talks to the daemon: through rclpy's :class:`~rclpy.parameter_client.AsyncParameterClient`
-on a node in a context of its own, spun by its own executor only while a call waits (each with a
-deadline).  The module's CommsManager polls its node without an executor and serves no service
-clients, so neither can block or starve the other; the price is one more DDS participant.
+on a node of its own in the module's context (one context, one DDS participant per process), spun
+by its own executor only while a call waits (each with a deadline).  The module's CommsManager
+polls its node without an executor and serves no service clients, so neither can block or starve
+the other.  A program whose manager has opened no node (``param_tool``) gets a context here.
 """
 
 from __future__ import annotations
@@ -88,6 +89,8 @@ class CarmenParams:
         """``manager`` is the program's CommsManager (its name names this client's node)."""
         self.daemon = daemon if daemon.startswith('/') else '/' + daemon
         self._node_name = re.sub(r'[^A-Za-z0-9_]', '_', str(manager.name)) + '_carmen_param'
+        self._manager = manager
+        self._own_context = False
         self._module: str | None = None
         self._allow_unfound = False
         self._subscriptions: dict[str, list[_Subscription]] = {}
@@ -133,9 +136,15 @@ class CarmenParams:
         return self._ready
 
     def _create(self) -> None:
-        context = Context()
-        rclpy.init(args=['carmen_param'], context=context,
-                   signal_handler_options=SignalHandlerOptions.NO)
+        opener = getattr(self._manager, '_open', None)   # a CommsManager: its node, now
+        if opener is not None:
+            opener()
+        context = getattr(self._manager, 'context', None)
+        if context is None:
+            context = Context()
+            rclpy.init(args=['carmen_param'], context=context,
+                       signal_handler_options=SignalHandlerOptions.NO)
+            self._own_context = True
         try:
             self._node = rclpy.create_node(self._node_name, context=context,
                                            start_parameter_services=False, enable_rosout=False)
@@ -154,9 +163,9 @@ class CarmenParams:
         atexit.unregister(self.close)
         if self._executor is not None:
             self._executor.shutdown()
-        if self._node is not None:
-            self._node.destroy_node()
-        if self._context is not None:
+        if self._node is not None and self._context is not None and self._context.ok():
+            self._node.destroy_node()   # (a module's context shut down first took it along)
+        if self._context is not None and self._own_context:
             self._context.try_shutdown()
 
     def __enter__(self) -> 'CarmenParams':

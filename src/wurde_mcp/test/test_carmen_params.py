@@ -77,7 +77,10 @@ def poll(manager: CommsManager, params: CarmenParams, done: Callable[[], bool], 
 
 def test_get_converts_warns_and_keeps_types(ros_domain: int, tmp_path: pathlib.Path,
                                             capsys: pytest.CaptureFixture[str]) -> None:
-    with daemon(tmp_path, '-a') as child, client() as (_manager, params):
+    with daemon(tmp_path, '-a') as child, client() as (manager, params):
+        assert params.get_double('robot_max_t_vel') == 0.3
+        # one context (one DDS participant) per process: the client's node is in the module's
+        assert params._node.context is manager.context is not None
         assert child.stdout.splitlines()[:5] == ['avoid_safety_distance 0.3',
                                                  'laser_flipped on', 'robot_count 3',
                                                  'robot_max_t_vel 0.3',

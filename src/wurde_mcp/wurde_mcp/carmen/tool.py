@@ -45,7 +45,7 @@ def main(argv: list[str] | None = None) -> int:
             _ARITY[args[0]][0] <= len(args) - 1 <= _ARITY[args[0]][1]):
         print(USAGE, file=sys.stderr)
         return 2
-    manager = CommsManager('param_tool')   # its own node is never opened: only the name is used
+    manager = CommsManager('param_tool')   # its node's context is the parameter client's
     manager.set_no_heartbeat()
     params = CarmenParams(manager, daemon)
     try:
