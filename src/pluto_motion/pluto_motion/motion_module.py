@@ -1,48 +1,22 @@
 """motion_module: Pluto's motionModule (Pluto 6.3), the top link of the movement chain (Pluto 4).
 
-It reads ``motion/command`` (ActuatorState requests) and writes ``avoidance/command`` requests,
-reading ``avoidance/status``, the laser (``-s LASER``, default PlutoLaser) and the pose
-(:class:`pluto_motion.pose_source.PoseSource`: Localization/Pose, stream 3 of the loc proxy; else
-Dead-Reckoning, stream 0; else the base odometry; each fall-back warned once).  The control is
-:mod:`pluto_motion.motion_control`.
+It reads ``motion/command`` (ActuatorState requests: 42 moveto, 43 investigate, 44 explore, 45
+resume, 46 the rectangle; 0..39 are passed down) and writes ``avoidance/command`` requests
+through :class:`~pluto_motion.avoid_proxy.AvoidProxy`, reading ``avoidance/status``, the laser
+(``-s LASER``) and the pose (:class:`pluto_motion.pose_source.PoseSource`: Localization/Pose, else
+Dead-Reckoning, else the base odometry; each fall-back warned once).  The control is
+:mod:`pluto_motion.motion_control`, the commands are parsed by :mod:`pluto_motion.motion_command`.
+With a map (``-m``) a moveto is planned and followed; without one, or with ``-R`` (Pluto 6.3's
+"42 moveto using ray_following"), it is ray following.  The wrist (``-W``) is turned for active
+scanning (Pluto 4; :mod:`pluto_motion.active_scan`); without a wrist nothing is sent.
 
-``motion/command`` (Pluto 6.3):
+The README ("Movement", motionModule) has the tables of ``motion/command`` and ``motion/status``
+and the active scanning; ``-h`` lists the options; the tunables (:data:`TUNABLES`, ROS 2
+parameters starting from the options) are taken by the next motion command.
 
-======== ===================================================================================
-cmdFlags what
-======== ===================================================================================
--1       release the robot: motion and avoid threads stop (element[3] = -10)
-0..39    passed to the avoidModule; a running motion stops (44 with no values or 45 resume it)
-42       moveto position x, y: with a map (``-m FILE``) planned and followed waypoint by waypoint
-         with the avoid goto (32), replanned when stuck; without one (or with ``-R``) by ray following
-43       investigate: go to the closest object the laser sees, circle it (the arm step: the wrist
-         turns to the object; without a wrist it is logged as unavailable)
-44       explore: rectangle b, h = velocity[0..1], home = the current pose; cover it, then moveto home
-45       start/resume explore/moveto/investigate
-46       set the rectangle: b, h = velocity[0..1], home x, y = position[0..1], theta = force[0];
-         b = 0 removes it.  Goals outside the rectangle are refused.
-======== ===================================================================================
-
-Anything else, or a value that is not finite, is refused, logged and counted (data[2]).
-
-``motion/status`` (FVectorState, on every change and once a second): data[0..1] and element[0..1]
-from ``avoidance/status``; data[2] (ours) the refused commands; element[2] -1 moveto point set, -2
-nearing it (simple goto now), 1 at goal, 2 investigate done, 3 (ours) the moveto goal is
-unreachable on the map, 0 otherwise; element[3] -10 thread stopped, -1 not in motion with a
-rectangle set, 0 not in motion without, 1 scanning for new paths, 3 following a path, 11
-investigate approaching, 12 circling.  A request on ``motion/status`` writing element[0] = 0 starts
-the thread and the avoid thread (start_activity), -10 stops the motion thread alone.
-
-The wrist (``-W WRIST``, default PlutoWrist; Pluto 4 "active scanning") is turned as
-:mod:`pluto_motion.active_scan` says, through :class:`pluto_motion.wrist_link.WristLink`; without a
-wrist nothing is sent and nothing else changes.
-
-Options: ``-m MAP`` (plan on this map; without it moveto is ray following), ``-R`` (moveto by ray
-following even with ``-m``: Pluto 6.3's "42 moveto using ray_following"; the map then serves the
-pose source alone), ``-s LASER``, ``-b BASE``, ``-W WRIST``, ``-v MAX_TV`` (m/s, 0.6), ``-w MAX_RV`` (rad/s, 1.0).
-
-Tunables (ROS 2 parameters, :data:`TUNABLES`, starting from the options): the speeds and distances
-of :class:`pluto_motion.motion_behaviours.MotionSettings`, taken by the next motion command.
+Before changing it: a plan on a large map takes seconds of CPU during which the loop does not
+beat, hence the longer heartbeat TTL :data:`PLANNING_TTL_S`; and everything sent down goes through
+the AvoidProxy, which resends a request until the avoidModule echoes it.
 """
 
 from __future__ import annotations
@@ -57,6 +31,7 @@ from wurde_core import CommsManager, Logger
 from wurde_core.interfaces import ActuatorState, FVectorState, RangeFinder
 from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, set_loop
 from wurde_core.parameters import TunedSettings, out_of_range
+from wurde_core.resume import ResumeState
 from wurde_idl.errors import ConfigError
 
 from .avoid_proxy import AvoidProxy
@@ -64,6 +39,7 @@ from .motion_behaviours import AvoidRequest, MotionSettings
 from .plan_topic import PlanPublisher
 from .motion_command import COMMAND, STATUS, THREAD_STOPPED, CommandRefused, MotionCommand, parse_command
 from .motion_control import MotionController
+from .motion_resume import restore, state_of
 from .planning_grid import PlanningGrid, grid_from_map_file
 from .pose_source import PoseSource
 from .ray_follow import ScanGeometry, geometry_from_info, scan_points
@@ -74,8 +50,8 @@ LOOP_S = 0.05
 STATUS_PERIOD_S = 1.0
 #: Heartbeat TTL (s): a plan on a large map (a million cells, and a replan round what the laser
 #: saw builds its graph again) takes seconds of CPU on a loaded machine, during which the loop does
-#: not beat; with the usual 1 s the MCP took the busy module for hung after 4 s and killed it,
-#: losing the moveto (bench-motion, outdoor map).
+#: not beat; with the usual 1 s the MCP would take the busy module for hung after 4 s and kill it,
+#: losing the moveto.
 PLANNING_TTL_S = 5.0
 #: Scans whose points the ray following and investigate decide on (the laser sees 180 degrees).
 RECENT_SCANS = 8
@@ -110,8 +86,8 @@ class MotionModule:
         self.commands.set_queue_mode(True)
         self.status = FVectorState(STATUS)
         #: The link below, through the proxy every program uses: a request waits until the
-        #: avoidModule's reader is matched and goes again until echoed (a pass-through arrow key
-        #: sent once was lost on a loaded machine, between discovery's two directions).
+        #: avoidModule's reader is matched and goes again until echoed (on a loaded machine a
+        #: request sent once can be lost between discovery's two directions).
         self.avoid = AvoidProxy(manager)
         self.laser = RangeFinder(laser)
         for obj in (self.commands, self.status):
@@ -129,6 +105,14 @@ class MotionModule:
         self.plan = PlanPublisher(manager.node)
         self.wrist = WristLink(manager, wrist, log=lambda text: logger.notice(f'{manager.name}: {text}'),
                                trace=lambda text: logger.debug(f'{manager.name}: {text}'))
+        self.resume = ResumeState()
+        self.kept: dict | None = None
+        state, why = self.resume.load()
+        if state is not None:
+            resumed = restore(self.control, state)
+            if self.control.running:
+                self.avoid.start_activity()                      # the avoid thread with it
+            self.logger.notice(f'{manager.name}: resuming {resumed} ({why})')
 
     def _warn(self, text: str) -> None:
         self.logger.warn(f'{self.manager.name}: {text}')
@@ -214,6 +198,9 @@ class MotionModule:
         self.control.wrist = self.wrist.present
         self.wrist.update(self.control.aim(pose, now), now)
         self._publish_status(now)
+        kept = state_of(self.control)
+        if kept != self.kept and self.resume.save(kept, force=True):
+            self.kept = kept
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -17,7 +17,8 @@ from __future__ import annotations
 from wurde_core import CommsManager
 
 from .chain_proxy import ChainProxy
-from .motion_command import AT_GOAL, COMMAND, STATUS, THREAD_STOPPED, UNREACHABLE
+from .motion_command import (AT_GOAL, COMMAND, IDLE, IDLE_RECTANGLE, NO_MOVETO, STATUS, THREAD_STOPPED,
+                             UNREACHABLE)
 from .task import Task, TaskResult
 
 __all__ = ['MotionProxy']
@@ -29,12 +30,23 @@ class MotionProxy(ChainProxy):
     cmdFlags below 40 goes on to the avoidModule (and stops a running motion)."""
 
     def __init__(self, manager: CommsManager, *, queue_mode: bool = False) -> None:
+        """Register ``motion/command`` and ``motion/status`` with ``manager``.
+
+        :param manager: the program's manager.
+        :param queue_mode: keep every status and echo (:meth:`update` returns them all), not the
+            newest.
+        """
         super().__init__(manager, COMMAND, STATUS, queue_mode=queue_mode)
 
     # -- the seed's verbs ------------------------------------------------------------------------
     def moveto(self, x: float, y: float) -> bool:
         """Move to (``x``, ``y``) (m, Localization/Pose frame): planned on the module's map, or
-        ray following without one (cmdFlags 42)."""
+        ray following without one (cmdFlags 42).
+
+        :param x: the goal's x (m, Localization/Pose frame).
+        :param y: the goal's y (m, Localization/Pose frame).
+        :returns: whether it went now (False: held until the motionModule reads commands).
+        """
         return self._send(42, [], [x, y])
 
     def investigate(self) -> bool:
@@ -42,7 +54,12 @@ class MotionProxy(ChainProxy):
         return self._send(43, [], [])
 
     def explore(self, b: float, h: float) -> bool:
-        """Explore the rectangle b, h whose home is the current pose (cmdFlags 44)."""
+        """Explore the rectangle b, h whose home is the current pose (cmdFlags 44).
+
+        :param b: the distance from home to each side beside it (m): the base is 2 b long.
+        :param h: the rectangle's height (m), along the robot's heading.
+        :returns: whether it went now (False: held until the motionModule reads commands).
+        """
         return self._send(44, [b, h], [])
 
     def resume(self) -> bool:
@@ -50,7 +67,16 @@ class MotionProxy(ChainProxy):
         return self._send(45, [], [])
 
     def set_rectangle(self, b: float, h: float, x: float = 0.0, y: float = 0.0, theta: float = 0.0) -> bool:
-        """Set the rectangle (home x, y, theta; Pluto 6.3's geometry); b = 0 removes it (cmdFlags 46)."""
+        """Set the rectangle (home x, y, theta; Pluto 6.3's geometry); b = 0 removes it (cmdFlags 46).
+
+        :param b: the distance from home to each side beside it (m): the base is 2 b long; 0
+            removes the rectangle.
+        :param h: the height (m), from the base along ``theta``.
+        :param x: home's x, the middle of the base (m, Localization/Pose frame).
+        :param y: home's y (m).
+        :param theta: the direction into the rectangle, perpendicular to the base (rad).
+        :returns: whether it went now (False: held until the motionModule reads commands).
+        """
         return self._send(46, [b, h], [x, y], [theta])
 
     def stop(self) -> bool:
@@ -80,10 +106,19 @@ class MotionProxy(ChainProxy):
 
     def go_to(self, x: float, y: float, *, timeout: float | None = None, spin: bool = True) -> Task:
         """Start a moveto and return its handle (``spin`` False: polling it does not run the
-        manager's loop, for a module whose own loop does)."""
+        manager's loop, for a module whose own loop does).
+
+        :param x: the goal's x (m, Localization/Pose frame).
+        :param y: the goal's y (m, Localization/Pose frame).
+        :param timeout: how long the task may take before it fails (s); None: no limit.
+        :param spin: whether polling the task runs a turn of the manager's loop.
+        """
         def outcome() -> tuple[TaskResult, str]:
             if self.motion_status == THREAD_STOPPED:
                 return TaskResult.FAILED, 'motion thread stopped'
+            if self.moveto_status == NO_MOVETO and self.motion_status in (IDLE, IDLE_RECTANGLE):
+                # after the echo of this moveto element[2] is never 0 again in the same process
+                return TaskResult.FAILED, 'the motionModule holds no moveto (restarted)'
             ends: dict[int | None, tuple[TaskResult, str]] = {AT_GOAL: (TaskResult.SUCCEEDED, ''),
                                                                UNREACHABLE: (TaskResult.FAILED, 'unreachable')}
             return ends.get(self.moveto_status, (TaskResult.UNKNOWN, ''))
@@ -95,7 +130,13 @@ class MotionProxy(ChainProxy):
         handle: SUCCEEDED when the robot is home again (element[2] = 1; points a plan finds
         unreachable are skipped, Pluto 6.3), FAILED when the motion thread stops.  The explore's
         rectangle stays the limit of later goals until ``set_rectangle(0, 0)`` removes it.  FAILED
-        too when the way home is unreachable (element[2] = 3 at the end)."""
+        too when the way home is unreachable (element[2] = 3 at the end).
+
+        :param b: the distance from home to each side beside it (m): the base is 2 b long.
+        :param h: the rectangle's height (m), along the robot's heading.
+        :param timeout: how long the task may take before it fails (s); None: no limit.
+        :param spin: whether polling the task runs a turn of the manager's loop.
+        """
         def outcome() -> tuple[TaskResult, str]:
             if self.motion_status == THREAD_STOPPED:
                 return TaskResult.FAILED, 'motion thread stopped'

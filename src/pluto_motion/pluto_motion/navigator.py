@@ -2,26 +2,19 @@
 
     navigator [-m MAP] [-s STREAM] [-t SECONDS] [-b BASE]
 
-Supplies NavigatorTransport on ``STREAM`` (default ``Navigator``); consumers use
-:class:`wurde_core.wrappers.Navigator` (``set_goal``, ``set_goal_place``, ``go``, ``stop``).  One goal
-at a time, in the map frame: a new goal replaces the last (and, while autonomous, is driven to at
-once).  ``set_goal_place(name)`` takes the place of the map (``-m``, default ``map.xml`` of the
-config directory); a name the map does not have has no effect but a warning (4.2.1).  ``go`` drives
-to the goal by the motionModule's moveto (cmdFlags 42 on ``motion/command``); ``stop`` stops the
-robot.  The status (data) says the robot's Localization/Pose, the goal, whether one is set, whether
-the navigator is autonomous and why it last stopped — 4.3's autonomous-stopped reasons: 1 goal
-reached, 2 user stopped (every ``stop``, autonomous or not), and 3 (ours) a goal that could not be
-reached (unreachable, the motion thread stopped, more than ``-t`` seconds, the base down; the reason
-goes to the log).  The base is down when its odometry (``<BASE>Motion``) has been silent for the
-tunable ``base_wait`` seconds (default :data:`BASE_WAIT_S`) since its last sample, or for
-:data:`FIRST_SAMPLE_S` from the navigator's start or return to Run before a first sample (under
-the MCP a critical base that goes down idles the navigator, so a base the MCP brings back fails
-nothing); a ``go`` then, or a base that goes down while driving, ends with 3 and stops the
-chain.  A chain that fails while the base has been silent for :data:`BASE_QUIET_S` (its
-failure may be the base's) is judged when the base is down (failed: the base) or heard again
-(failed: the chain's reason).  ``go`` while already at the goal is autonomous for one status and then stops with goal
-reached, as 4.3 says.  The status goes out on every change and at least every
-:data:`STATUS_PERIOD_S`; ``plan`` is empty (the motionModule's plan is not on its interface).
+Supplies NavigatorTransport on ``STREAM`` (default ``Navigator``; consumers use
+:class:`wurde_core.wrappers.Navigator`): one goal at a time in the map frame, a point or a place of
+the map (an unknown place is a warning, 4.2.1); ``go`` drives to it by the motionModule's moveto,
+``stop`` stops the robot.  The status carries the Localization/Pose, the goal, whether it is
+autonomous and 4.3's autonomous-stopped reason: 1 goal reached, 2 user stopped, 3 (ours) not
+reached — unreachable, refused, more than ``-t`` seconds, or the base down.
+
+A goal survives the chain (issue 38): a moveto that fails otherwise (the motion thread stopped, a
+link restarted) is sent again after :data:`RETRY_S`, and a restarted navigator resumes its goal
+from its resume file.  The base is down when its odometry (``<BASE>Motion``) is silent for the
+tunable ``base_wait``, or :data:`FIRST_SAMPLE_S` before a first sample; a chain failure while the
+base is quiet (:data:`BASE_QUIET_S`) is judged once the base is down or heard again, so that the
+log names the cause.  The README ("CARMEN's navigator") has the whole behaviour.
 """
 
 from __future__ import annotations
@@ -33,6 +26,7 @@ import time
 from wurde_core import CommsManager, Logger, Point, Pose, RunState
 from wurde_core.interfaces import Egomotion, robot_object_class
 from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, set_loop
+from wurde_core.resume import ResumeState
 from wurde_core.wrappers import GOAL_REACHED, STOP_FAILED, STOP_NONE, USER_STOPPED
 from wurde_idl.errors import ConfigError
 from wurde_idl.maps import load_map
@@ -43,7 +37,7 @@ from pluto_nav.streams import POSE
 from .motion_proxy import MotionProxy
 from .task import Task, TaskResult
 
-__all__ = ['AT_GOAL_M', 'BASE_WAIT_S', 'FIRST_SAMPLE_S', 'NavigatorModule', 'main']
+__all__ = ['AT_GOAL_M', 'BASE_WAIT_S', 'FIRST_SAMPLE_S', 'FINAL_FAILURES', 'RETRY_S', 'NavigatorModule', 'main']
 
 LOOP_S = 0.05
 STATUS_PERIOD_S = 0.5
@@ -62,6 +56,11 @@ FIRST_SAMPLE_S = 20.0
 #: once: a chain whose base died may fail first (its pose stale, its goto stuck, its plan
 #: unreachable), and that failure's reason would hide the cause.  Many odometry periods long.
 BASE_QUIET_S = 1.0
+#: The chain failures that end a goal: the map says it cannot be reached, or the motionModule
+#: refused it.  Any other (the motion thread stopped, a link restarted) is the chain's hiccup: the
+#: goal is sent again after :data:`RETRY_S`, until the goal's own time (``-t``) is up.
+FINAL_FAILURES = ('unreachable', 'moveto refused (see the module log)')
+RETRY_S = 1.0
 HELP = ('  -m MAP       the map whose places set_goal_place names (default map.xml of the config directory)\n'
         '  -s STREAM    the NavigatorTransport stream supplied (default Navigator)\n'
         '  -t SECONDS   longest drive to one goal (default 300)\n'
@@ -101,6 +100,36 @@ class NavigatorModule:
         self._held: str | None = None       # the reason of a chain failure while the base is quiet
         self._sent: tuple | None = None
         self._sent_at = -math.inf
+        self._deadline = math.inf           # when the goal being driven to has had its -t seconds
+        self._retry_at: float | None = None  # when a goal whose chain failed is sent again
+        self.retries = 0
+        self.resume = ResumeState()
+        self._resume_goal()
+
+    def _resume_goal(self) -> None:
+        """A restarted navigator picks up the goal its last process held (and drives to it again
+        if it was autonomous): a goal survives the navigator's own restart."""
+        state, why = self.resume.load()
+        if state is None:
+            return
+        goal, left = state.get('goal'), state.get('left_s')
+        if isinstance(goal, list) and len(goal) == 2 and all(isinstance(v, (int, float)) for v in goal):
+            self.goal = (float(goal[0]), float(goal[1]))
+        if self.goal is not None and state.get('autonomous') is True:
+            self.autonomous = True
+            remaining = float(left) if isinstance(left, (int, float)) and left > 0 else self.timeout
+            self._deadline = time.monotonic() + remaining
+            self._retry_at = time.monotonic()        # driven to from the first step
+            self._say(f'resuming the goal {self.goal} ({why}; {remaining:.0f} s of its time left)')
+
+    def _keep(self, force: bool = True) -> None:
+        """The goal, whether it is being driven to and the time it has left, in the resume file
+        (:meth:`_resume_goal`): at once on a change (``force``), else at most every half second."""
+        left = self._deadline - time.monotonic() if self.autonomous else None
+        self.resume.save({'goal': list(self.goal) if self.goal is not None else None,
+                          'autonomous': self.autonomous,
+                          'left_s': left if left is not None and math.isfinite(left) else None},
+                         force=force)
 
     @property
     def robot(self) -> tuple[float, float, float] | None:
@@ -135,7 +164,10 @@ class NavigatorModule:
         self.goal = (x, y)
         self._say(f'goal {what}')
         if self.autonomous:
+            self._deadline = time.monotonic() + self.timeout
             self._drive()
+        else:
+            self._keep()
 
     def _go(self) -> None:
         if self.goal is None:
@@ -148,6 +180,7 @@ class NavigatorModule:
             self._end(GOAL_REACHED, 'already at the goal')
             return
         self.autonomous, self.stop_reason = True, STOP_NONE
+        self._deadline = time.monotonic() + self.timeout
         silent = self._base_down()
         if silent is not None:
             self._base_failed(silent)
@@ -156,9 +189,11 @@ class NavigatorModule:
 
     def _drive(self) -> None:
         assert self.goal is not None
-        self._held = None
+        self._held, self._retry_at = None, None
         self.motion.start_activity()            # the chain's threads (nothing happens to running ones)
-        self.task = self.motion.go_to(*self.goal, timeout=self.timeout, spin=False)
+        left = max(self._deadline - time.monotonic(), 0.0)
+        self.task = self.motion.go_to(*self.goal, timeout=left, spin=False)
+        self._keep()
 
     def _stop(self) -> None:
         if self.task is not None:
@@ -168,6 +203,8 @@ class NavigatorModule:
 
     def _end(self, reason: int, why: str) -> None:
         self.autonomous, self.stop_reason, self.task, self._held = False, reason, None, None
+        self._retry_at, self._deadline = None, math.inf
+        self._keep()
         self._say(f'autonomous stopped: {why}')
         self._publish(force=True)
 
@@ -221,10 +258,30 @@ class NavigatorModule:
                 if time.monotonic() - self._odometry_at > BASE_QUIET_S:
                     self._held, self.task = self.task.reason, None      # judged when the base says
                 else:
-                    self._failed(self.task.reason)
+                    self._chain_failed(self.task.reason)
         elif self._held is not None and time.monotonic() - self._odometry_at <= BASE_QUIET_S:
-            self._failed(self._held)                # the base is up: the chain's reason stands
+            self._chain_failed(self._held)          # the base is up: the chain's reason stands
+        elif self._retry_at is not None and self.autonomous and time.monotonic() >= self._retry_at:
+            if time.monotonic() >= self._deadline:
+                self._failed(f'not reached within {self.timeout:g} s')
+            else:
+                self._drive()
+        if self.autonomous:
+            self._keep(force=False)
         self._publish()
+
+    def _chain_failed(self, why: str) -> None:
+        """The moveto failed: a final failure (:data:`FINAL_FAILURES`, the goal's time up) ends
+        the goal; any other is a link of the chain that stopped or restarted, and the goal is sent
+        again — the status stays autonomous, neither reached nor failed."""
+        self._held, self.task = None, None
+        if why in FINAL_FAILURES or why == 'timed out' or time.monotonic() >= self._deadline:
+            self._failed(why if why != 'timed out' else f'not reached within {self.timeout:g} s')
+            return
+        self.retries += 1
+        self._retry_at = time.monotonic() + RETRY_S
+        self.logger.warn(f'{self.manager.name}: the chain lost the goal {self.goal} ({why}); sending it '
+                         f'again in {RETRY_S:g} s (retry {self.retries})')
 
     def _failed(self, why: str) -> None:
         self.logger.warn(f'{self.manager.name}: goal {self.goal} not reached: {why}')

@@ -8,7 +8,11 @@ when no localModule is heard at all, to the base's own odometry (``<base>Motion`
 at the robot's start: the frame Pluto 6.1 first named, "angle defined by baseserver interface
 ATRV2/Drive/Raw", kept through a restart of the base by :mod:`pluto_nav.continuous_odometry`), again
 with a warning.  A source is used only while it is fresh (a pose taken in
-within :data:`FRESH_S` seconds).  Each change of source is logged once.
+within :data:`FRESH_S` seconds).  Each change of source is logged once.  The base odometry is a
+fall-back only where no localModule runs: never once one has been heard (a localModule restarting
+is waited for — its frame is the map's, the odometry's is not, and a goto steered on the wrong one
+drives into a wall), nor while one is matched on the graph, nor in the first :data:`START_GRACE_S`
+seconds (a new process discovers the localModule and the base in no fixed order).
 
 Each source's poses of the last seconds are kept by their stamps (:class:`pluto_nav.pose_history.
 PoseHistory`, the robot's clock, which the laser and the sonar stamp their readings with too), so
@@ -28,10 +32,12 @@ from pluto_nav.streams import DEAD_RECKONING, NOBODY, POSE
 from wurde_core import CommsManager
 from wurde_core.interfaces import Egomotion
 
-__all__ = ['FRESH_S', 'ODOMETRY', 'PoseSource']
+__all__ = ['FRESH_S', 'ODOMETRY', 'START_GRACE_S', 'PoseSource']
 
 #: Seconds after which a pose that has not been renewed is no longer used.
 FRESH_S = 1.0
+#: Seconds after its start before a source falls back to the base odometry.
+START_GRACE_S = 5.0
 #: The name of the last fall-back: the base's odometry.
 ODOMETRY = 'odometry'
 _STREAMS = (('Localization/Pose', POSE), ('Localization/Dead-Reckoning', DEAD_RECKONING))
@@ -68,6 +74,7 @@ class PoseSource:
                           for name in ('Localization/Pose', 'Localization/Dead-Reckoning', ODOMETRY)}
         self.heard: dict[str, float] = {}
         self.source: str | None = None
+        self.started = time.monotonic()
 
     def update(self) -> None:
         """Take in what arrived (every loop, so that freshness is the arrival's time)."""
@@ -93,7 +100,7 @@ class PoseSource:
             chosen: str | None = 'Localization/Pose'
         elif self._fresh('Localization/Dead-Reckoning'):
             chosen = 'Localization/Dead-Reckoning'
-        elif self._fresh(ODOMETRY) and not self.localization_only:
+        elif self._fresh(ODOMETRY) and self._odometry_allowed():
             chosen = ODOMETRY
         else:
             chosen = None
@@ -102,6 +109,14 @@ class PoseSource:
                 self.warn(self.warnings[chosen])
             self.source = chosen
         return None if chosen is None else self.poses[chosen]
+
+    def _odometry_allowed(self) -> bool:
+        """Whether the base odometry may stand in for the localization (see the module's text)."""
+        if self.localization_only or any(name in self.heard for name, _ in _STREAMS):
+            return False
+        if time.monotonic() - self.started < START_GRACE_S:
+            return False
+        return not any(self.loc.streams[n].peers('data') for _, n in _STREAMS)
 
     def frame(self) -> str | None:
         """The fresh source that never jumps, to move readings with the robot by: Dead-Reckoning,

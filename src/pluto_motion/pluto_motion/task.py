@@ -14,6 +14,9 @@ from collections.abc import Callable
 
 __all__ = ['Task', 'TaskResult']
 
+#: Pause between two polls of :meth:`Task.wait` (s).
+POLL_S = 0.01
+
 
 class TaskResult(enum.Enum):
     """How a task ended; UNKNOWN while it runs (nav2's TaskResult)."""
@@ -62,8 +65,11 @@ class Task:
             self._result = TaskResult.CANCELED
 
     def wait(self, timeout: float) -> TaskResult:
-        """Poll until complete or ``timeout`` s; the result (UNKNOWN if still running)."""
+        """Poll until complete or ``timeout`` s; the result (UNKNOWN if still running).
+
+        :param timeout: the longest wait (s).
+        """
         deadline = time.monotonic() + timeout
         while not self.is_task_complete() and time.monotonic() < deadline:
-            pass
+            time.sleep(POLL_S)      # a poll that does not spin (``spin=False``) must not take a core
         return self._result

@@ -17,7 +17,9 @@ from rclpy.parameter import Parameter
 import in_process
 from wurde_core import CommsManager, Pose
 from wurde_core.interfaces import Egomotion
-from wurde_core.wrappers import STOP_FAILED
+from wurde_core.heartbeat import RESTART_ENV
+from wurde_core.resume import STATE_ENV
+from wurde_core.wrappers import STOP_FAILED, STOP_NONE
 
 from pluto_motion.navigator import BASE_QUIET_S, NavigatorModule
 from pluto_motion.task import Task, TaskResult
@@ -110,3 +112,49 @@ def test_a_held_failure_gets_the_chains_reason_when_the_base_is_heard_again(rig:
     rig.until(lambda: not rig.module.autonomous, 'the failure judged')
     assert rig.module.stop_reason == STOP_FAILED
     assert rig.logger.failures() == ['navigator: goal (3.0, 3.0) not reached: unreachable']
+
+
+def test_a_chain_that_lost_the_goal_gets_it_again(rig: Rig) -> None:
+    """A moveto that failed for another reason than the map's (the motion thread stopped: a link
+    restarted) is sent again: the navigator stays autonomous and reports neither reached nor
+    failed (issue 38)."""
+    rig.module._deadline = time.monotonic() + 300.0
+    rig.module.goal, rig.module.autonomous = (3.0, 3.0), True
+    rig.module.task = Task(lambda: (TaskResult.FAILED, 'motion thread stopped'), lambda: None)
+    rig.until(lambda: rig.module.retries == 1 and rig.module.task is not None, 'the goal sent again')
+    assert rig.module.autonomous and rig.module.stop_reason == STOP_NONE
+    assert rig.module.task.result() is TaskResult.UNKNOWN     # the new moveto, waiting for its echo
+    assert rig.logger.failures() == []
+    assert any('sending it again' in line for line in rig.logger.lines)
+
+
+def test_a_lost_goal_whose_time_is_up_fails(rig: Rig) -> None:
+    rig.module._deadline = time.monotonic() - 1.0
+    rig.module.goal, rig.module.autonomous = (3.0, 3.0), True
+    rig.module.task = Task(lambda: (TaskResult.FAILED, 'motion thread stopped'), lambda: None)
+    rig.until(lambda: not rig.module.autonomous, 'the failure judged')
+    assert rig.module.stop_reason == STOP_FAILED and rig.module.retries == 0
+
+
+def test_a_restarted_navigator_resumes_its_goal(ros_domain: int, tmp_path, monkeypatch) -> None:
+    """The goal and its time left are in the resume file the MCP gives the navigator; the next
+    process (a restart) drives to it again at once."""
+    monkeypatch.setenv(STATE_ENV, str(tmp_path / 'navigator.resume'))
+    first = Rig()
+    try:
+        first.manager.step()
+        first.module._set_goal(3.0, 3.0, 'test')
+        first.module.autonomous, first.module._deadline = True, time.monotonic() + 100.0
+        first.module._drive()
+    finally:
+        first.close()
+    monkeypatch.setenv(RESTART_ENV, '1')
+    second = Rig()
+    try:
+        assert second.module.goal == (3.0, 3.0) and second.module.autonomous
+        assert 0 < second.module._deadline - time.monotonic() <= 100.0
+        second.until(lambda: second.module.task is not None, 'the goal driven to again')
+        assert second.module.stop_reason == STOP_NONE
+        assert any('resuming the goal (3.0, 3.0)' in line for line in second.logger.lines)
+    finally:
+        second.close()
