@@ -1,44 +1,22 @@
 """avoid_module: Pluto's avoidModule (Pluto 6.2), the second link of the movement chain (Pluto 4).
 
-It reads its command interface ``avoidance/command`` (ActuatorState requests) and writes the
-driveModule's, ``drive/command``, "after possibly modifying the command" (Pluto 4); the drive's
-``drive/status`` comes back up as ``avoidance/status``.  It reads the laser (``-L``, default
-PlutoLaser: the RangeFinder of config/pluto's dummy SICK), the base's sonar ``<base>Sonar`` and the
-pose (:class:`pluto_motion.pose_source.PoseSource`: Localization/Pose, else Dead-Reckoning, else the
-base odometry, each fall-back warned once).  Each laser scan and sonar reading is placed at the pose
-of its stamp in a frame that never jumps (:meth:`~pluto_motion.pose_source.PoseSource.frame`) and
-moved with the robot in it.
+It reads its command interface ``avoidance/command`` (ActuatorState requests, cmdFlags = 10*A +
+T: :mod:`pluto_motion.avoid_command`) and writes the driveModule's, ``drive/command``, "after
+possibly modifying the command" (Pluto 4); the drive's ``drive/status`` comes back up as
+``avoidance/status``.  It reads the laser (``-L``, default PlutoLaser), the base's sonar
+``<base>Sonar`` and the pose (:class:`pluto_motion.pose_source.PoseSource`: Localization/Pose, else
+Dead-Reckoning, else the base odometry, each fall-back warned once).  The control (goto, wall
+follow, laser and sonar protection) is :mod:`pluto_motion.avoid_control`.
 
-``avoidance/command`` (requests): cmdFlags = 10*A + T (:mod:`pluto_motion.avoid_command`):
+The README ("Movement", avoidModule) has the tables of ``avoidance/command`` and
+``avoidance/status`` and the options.
 
-====== ========================================================================================
- A      0 no avoidance, 1 sonar (the drive's +10), 2 laser (below), 3 both
- T      0 velocity, 1 regulator (heading in the Localization/Pose frame), 2 goto (position x, y;
-        velocity = maximum linear, angular; force[0] goal strength), 3 wall follow (velocity[0]
-        speed, position[0] camera-to-wall distance)
- -1     release the robot: the avoid thread stops, writes one stop to the drive, then nothing
-====== ========================================================================================
-
-Anything else, a missing field or a value that is not finite is refused whole, logged and counted.
-
-``avoidance/status`` (FVectorState, on every change and once a second):
-
-=================== ===============================================================================
-data[0..1]          the velocities commanded: the drive's, or the avoidModule's slowed ones (6, 7)
-element[0]          the drive's element[0] (0, -1, -10, 1..5), or 6 laser slow/stop, 7 laser fatal
-                    error or no scan for longer than the laser's period allows (stop; fail closed)
-element[1]          1 goto point reached (within 0.15 m), 2 goto stuck (no 0.2 m of progress in 10 s,
-                    or an obstacle 3 cm from the footprint), -1 goto normal, -10 avoid thread
-                    stopped, 0 otherwise
-element[2] (ours)   the number of refused commands
-=================== ===============================================================================
-
-A request on ``avoidance/status`` writing element[0] = 0 starts the avoid thread and sends the drive
-its start_activity (Pluto 6.2: "All threads can be started by sending a start_activity command ...
-Threads will not care if you try to start them twice"); -10 stops it.
-
-The loop runs on every laser scan (a trigger), every command and at least every
-:data:`LOOP_S` seconds, so a scan's drive command goes out as soon as it is computed.
+Before changing it: each laser scan and sonar reading is placed at the pose of its stamp in a
+frame that never jumps (:meth:`~pluto_motion.pose_source.PoseSource.frame`) and moved with the
+robot in it, so that a correction of Localization/Pose is not taken for motion.  A laser that
+fails or falls silent stops the robot (fail closed).  The loop runs on every laser scan (a
+trigger), every command and at least every :data:`LOOP_S` seconds, so a scan's drive command
+goes out as soon as it is computed.
 """
 
 from __future__ import annotations

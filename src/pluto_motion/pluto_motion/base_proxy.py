@@ -23,6 +23,12 @@ class BaseProxy(Proxy):
     """The base ``name`` as seen from ``manager``."""
 
     def __init__(self, manager: CommsManager, name: str = 'PlutoBase') -> None:
+        """Read the base's streams ``<name>Motion``, ``Sonar``, ``Bumpers``, ``Power``; write
+        ``<name>Command``.
+
+        :param manager: the program's manager.
+        :param name: the base module's name.
+        """
         super().__init__(manager)
         self.command = self._consume(ActuatorState(f'{name}Command'))
         self.motion = self._consume(Egomotion(f'{name}Motion'))
@@ -41,7 +47,12 @@ class BaseProxy(Proxy):
         self.voltage: float | None = None
 
     def velocity(self, tv: float, rv: float) -> bool:
-        """Drive at ``tv`` m/s and ``rv`` rad/s (cmdFlags 0)."""
+        """Drive at ``tv`` m/s and ``rv`` rad/s (cmdFlags 0).
+
+        :param tv: the linear velocity (m/s), straight to the base: no drive's guard.
+        :param rv: the angular velocity (rad/s).
+        :returns: whether it went now (False: held until the base reads commands).
+        """
         req = self.command.requests
         req.cmd_flags.set_value(0)
         req.velocity.set_value([tv, rv])
@@ -52,7 +63,11 @@ class BaseProxy(Proxy):
         return self.velocity(0.0, 0.0)
 
     def calibrate(self, calibration: Calibration) -> bool:
-        """Set the odometry calibration (cmdFlags 99); :attr:`calibration` shows it once taken."""
+        """Set the odometry calibration (cmdFlags 99); :attr:`calibration` shows it once taken.
+
+        :param calibration: the distance and rotation scales (true over raw odometry).
+        :returns: whether it went now (False: held until the base reads commands).
+        """
         req = self.command.requests
         req.cmd_flags.set_value(CALIBRATE)
         req.velocity.set_value([])

@@ -37,7 +37,13 @@ class ChainProxy(Proxy):
     """A chain link as seen from ``manager``: requests on ``command``, status from ``status``."""
 
     def __init__(self, manager: CommsManager, command: str, status: str, *, queue_mode: bool = False) -> None:
-        """:param queue_mode: keep every status (:meth:`update` returns them all), not the newest,
+        """Register the link's command and status streams.
+
+        :param manager: the program's manager.
+        :param command: the link's command stream (``drive/command``, ``avoidance/command``,
+            ``motion/command``).
+        :param status: the link's status stream (``drive/status`` ...).
+        :param queue_mode: keep every status (:meth:`update` returns them all), not the newest,
             and every echo of an accepted command (``command.get_next_data()``)."""
         super().__init__(manager)
         self.command = ActuatorState(command)
@@ -79,8 +85,8 @@ class ChainProxy(Proxy):
         """Send the newest command again every :data:`RESEND_S` until the link echoes it or says it
         refused one: a writer matched to the link's reader is not yet a reader matched to the
         writer (discovery runs both ways, not at once), and a request published in between is lost
-        (seen on a loaded machine: an arrow key's command never reached the motionModule).  The
-        goal tasks' handshake, for every command."""
+        (on a loaded machine a command sent once can fail to reach the link).  The goal tasks'
+        handshake, for every command."""
         pending = self._unechoed
         if pending is None:
             return
@@ -163,7 +169,15 @@ class ChainProxy(Proxy):
     def send(self, cmd_flags: int, velocity: Sequence[float] = (), position: Sequence[float] = (),
              force: Sequence[float] = ()) -> bool:
         """Any command of the link, as written (held and sent again as every command; see
-        :meth:`_request` and :meth:`_resend_unechoed`)."""
+        :meth:`_request` and :meth:`_resend_unechoed`).
+
+        :param cmd_flags: the link's cmdFlags (Pluto 6: the driveModule's, avoidModule's or
+            motionModule's).
+        :param velocity: the ActuatorState velocity array ([] for none).
+        :param position: the position array ([] for none).
+        :param force: the force array ([] for none).
+        :returns: whether it went now (False: held until the link's reader is matched).
+        """
         return self._send(cmd_flags, list(velocity), list(position), list(force))
 
     def stop(self) -> bool:

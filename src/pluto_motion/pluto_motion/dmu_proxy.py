@@ -40,6 +40,11 @@ class DmuProxy(Proxy):
     """The DMU ``name`` as seen from ``manager``: :attr:`state` (filtered) and :attr:`raw`."""
 
     def __init__(self, manager: CommsManager, name: str = 'PlutoDMU') -> None:
+        """Read the DMU's streams ``<name>`` (filtered) and ``<name>/Raw``.
+
+        :param manager: the program's manager.
+        :param name: the DMU module's name.
+        """
         super().__init__(manager)
         self.filtered = self._consume(DMUState(name))
         self.raw_stream = self._consume(DMUState(f'{name}/Raw'))

@@ -1,44 +1,23 @@
 """drive_module: Pluto's driveModule (Pluto 6.1), the first link of the movement chain (Pluto 4).
 
-It reads its command interface ``drive/command`` (ActuatorState requests), and writes the base's
-command ``<base>Command`` (ActuatorState, cmdFlags 0 only: velocity[0..1] = linear, angular), "after
-possibly modifying the command" (Pluto 4): collision protection, acceleration limits and a regulator
-that holds a heading (:mod:`pluto_motion.drive_control`).
+It reads its command interface ``drive/command`` (ActuatorState requests: 0 velocity, 1 the
+heading regulator, 10 and 11 the same with sonar protection, -1 release) and writes the base's
+command ``<base>Command`` (ActuatorState, cmdFlags 0 only: velocity[0..1] = linear, angular),
+"after possibly modifying the command" (Pluto 4): collision protection, acceleration limits and a
+regulator that holds a heading (:mod:`pluto_motion.drive_control`; the heading's fall-backs:
+:mod:`pluto_motion.heading_source`).  ``drive/status`` (FVectorState) tells what it commanded and
+why.  At start it sets the odometry calibration file (``-k``) in the base (Pluto 6.1;
+:mod:`pluto_motion.base_calibration`).
 
-``drive/command`` (requests; Pluto 6.1):
+The README ("Movement", driveModule) has the tables of ``drive/command`` and ``drive/status``,
+the options and the calibration file; docs/pluto-motion.md ("driveModule") adds what the README
+leaves out.  The five limits (``max_tv``, ``max_rv``, ``tv_accel``, ``rv_accel``, ``timeout``)
+are tunables starting from the options.
 
-====== ======================================================================================
-cmdFlags what
-====== ======================================================================================
-0      velocity control: velocity[0] m/s, velocity[1] rad/s
-1      regulator: turn smoothly to heading position[1] (rad, Localization/Pose frame; see
-       :mod:`pluto_motion.heading_source` for the fall-backs) and hold it at speed velocity[0]
-10, 11 the same with sonar protection (``<base>Sonar``)
--1     release the robot: the drive thread stops (element[0] = -10) and writes nothing more to
-       the base, so that another program may drive it
-====== ======================================================================================
-
-Anything else, a missing array element or a value that is not finite is refused whole, logged and
-counted; the last good command goes on.  The data channel of ``drive/command`` carries the command
-being executed.
-
-``drive/status`` (FVectorState, published on every change and once a second): data[0..1] the
-velocities actually commanded (slowed down), element[0] 0 normal, -1 timeout (no command for
-``-t`` s, 4 by default: Pluto 6.1's "about 4 sec"), -10 thread stopped, 1 front bumper, 2 back
-bumper, 3 sonar front, 4 sonar back, 5 sonar sides; element[1] (ours) the number of refused
-commands.  A request on ``drive/status`` writing element[0] = 0 starts the thread (the proxy's
-start_activity; starting twice does nothing), -10 stops it.
-
-Odometry calibration (Pluto 6.1: "The calibration data are read from a file and written to the
-baseserver when the drive module is started"): ``-k FILE`` (default ``odometry-calibration.yaml``
-in the config directory, when it exists; :mod:`pluto_nav.odometry_calibration`) is read at start
-and set in the base (:mod:`pluto_motion.base_calibration`); a wrong file stops the start with
-file:line and reason.
-
-Options: ``-b BASE`` (default PlutoBase), ``-v MAX_TV`` (m/s, 1.0), ``-w MAX_RV`` (rad/s, 1.5),
-``-a TV_ACCEL`` (m/s^2, 0.5), ``-A RV_ACCEL`` (rad/s^2, 1.5), ``-t TIMEOUT`` (s, 4).  The same
-five are tunables — parameters ``max_tv``, ``max_rv``, ``tv_accel``, ``rv_accel``, ``timeout`` of
-the node, starting from the options, that ``ros2 param set`` or a ``--params-file`` changes.
+Before changing it: a command that is not valid is refused whole and the last good one goes on;
+without a command for the timeout (Pluto 6.1's "about 4 sec") the base is stopped, so a crashed
+module above never leaves the robot driving.  A released drive (-1) writes nothing more to the
+base, so that another program may drive it.
 """
 
 from __future__ import annotations

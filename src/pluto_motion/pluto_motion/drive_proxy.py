@@ -25,15 +25,33 @@ class DriveProxy(ChainProxy):
     """
 
     def __init__(self, manager: CommsManager, *, queue_mode: bool = False) -> None:
+        """Register ``drive/command`` and ``drive/status`` with ``manager``.
+
+        :param manager: the program's manager.
+        :param queue_mode: keep every status and echo (:meth:`update` returns them all), not the
+            newest.
+        """
         super().__init__(manager, COMMAND, STATUS, queue_mode=queue_mode)
 
     def velocity(self, tv: float, rv: float, *, sonar: bool = False) -> bool:
-        """Drive at ``tv`` m/s and ``rv`` rad/s (cmdFlags 0, or 10 with sonar protection)."""
+        """Drive at ``tv`` m/s and ``rv`` rad/s (cmdFlags 0, or 10 with sonar protection).
+
+        :param tv: the linear velocity (m/s); the drive limits it to its ``max_tv``.
+        :param rv: the angular velocity (rad/s); the drive limits it to its ``max_rv``.
+        :param sonar: slow and stop by the base's sonar (cmdFlags 10).
+        :returns: whether it went now (False: held until the driveModule reads commands).
+        """
         return self._send(10 if sonar else 0, [tv, rv], [])
 
     def heading(self, speed: float, heading: float, *, sonar: bool = False) -> bool:
         """The regulator: turn smoothly to ``heading`` (rad, Localization/Pose frame) and hold it at
-        ``speed`` m/s (cmdFlags 1, or 11 with sonar protection)."""
+        ``speed`` m/s (cmdFlags 1, or 11 with sonar protection).
+
+        :param speed: the linear speed (m/s) while turning and holding.
+        :param heading: the heading (rad, Localization/Pose frame).
+        :param sonar: slow and stop by the base's sonar (cmdFlags 11).
+        :returns: whether it went now (False: held until the driveModule reads commands).
+        """
         return self._send(11 if sonar else 1, [speed], [0.0, heading])
 
     def stop(self) -> bool:

@@ -5,9 +5,9 @@ are points in the navigator's own frame: the mover's odometry frame, or a map fr
 navigator.  The two odometry frames agree as long as both modules saw the same samples, but a
 base restart is bridged by each module at the last sample it took of the old process
 (:mod:`pluto_nav.continuous_odometry`), and a killed process's last message can reach one module
-and not the other.  In a make test run (r91) the avoider's and the mover's frames then stood
-3.6 cm and 0.04 rad apart: the mover stood at the avoider's goal in its own frame, 0.11 m from
-it in the avoider's, and the avoider asked for the same point for 80 s.
+and not the other.  The two frames then stand centimetres apart: the mover stands at the
+avoider's goal in its own frame, short of it in the avoider's, and the avoider asks for the same
+point for ever.
 
 While the robot stands, the pose a navigator reports and the module's own pose are the same place
 whatever samples each was computed from, so their difference is the transform between the frames,

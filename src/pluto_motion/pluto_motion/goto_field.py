@@ -2,45 +2,24 @@
 using a vector summation rule.  It reacts to near (<3m) obstacles using the laser and sonar.  It
 then will steer around the obstacle.").
 
-Per step, in the robot frame (x forward, y left):
+Per step, in the robot frame (x forward, y left), :func:`goto_step` sums an attraction to the goal
+(times the command's force[0]) and a repulsion from the nearest laser or sonar point per bearing
+bin within :attr:`FieldSettings.reach`, adds a sideways push round an obstacle in the way, and
+turns the sum into a heading and a speed slowed near obstacles and the goal.
+:class:`GotoProgress` tells when the goal is reached or the goto is stuck.  docs/pluto-motion.md
+("The avoid goto") gives each step's rule and the settings it uses.
 
-1. **Nearest obstacle per direction.**  Laser and sonar points nearer than
-   :attr:`FieldSettings.reach` (3 m) are put in ``bins`` bearing bins round the robot; a sonar echo
-   fills every bin its cone covers.  Each bin keeps its nearest point, so a wall pushes as hard
-   whether 361 laser beams or one sonar see it, and the two sensors do not add up.
-2. **Repulsion** of bin ``i`` at distance ``d`` (centre) and gap ``g = d - radius`` (floor
-   ``min_gap``): ``gain * width * (1/g - 1/(reach - radius))`` away from the point, ``width`` the
-   bin's angle (rad).  A point beside the way to the goal (outside the footprint's corridor towards
-   it, widened by ``way_margin``, or behind) pushes only sideways: the walls of a corridor or a
-   door's jambs hold the robot in the middle, not back.  A point beyond the goal (farther along the
-   way than the goal plus the radius: the footprint never comes there) does not push at all, so a
-   wall behind a goal does not hold the robot short of it.
-3. **Attraction**: the unit vector to the goal times ``strength`` (the command's force[0]: 1 by
-   default, above 1 the goal wins over the obstacles, below 1 the obstacles win).
-4. **Steering round.**  Repulsion straight against the goal (an obstacle dead ahead) would only slow
-   the robot down in front of it.  When something lies in the way to the goal (the footprint,
-   widened by ``way_margin``, would meet it within ``way_reach`` metres, and before the goal), the
-   part of the repulsion opposing the goal, ``block``, is therefore also added sideways, ``side *
-   block * tangent_gain`` along the goal direction's normal, to the side the repulsion leans to
-   when the obstacle first blocks (left when it leans to neither: less than ``tie`` of ``block``).
-   That side is kept, whatever the lean, until nothing blocks: the lean turns with the robot, as the
-   laser sees only its front half, and with late scans and an uneven loop (a loaded computer) a
-   robot half way round a box was seen to lean the other way, choose the other side, turn back and
-   circle until the goto was stuck (in a kinematic simulation with scans 0.2-0.8 s old, 41 of 60
-   runs past a box; with the side kept, none).  This slides the robot round a person or a box and
-   along a wall.
-5. **Heading and speed.**  The heading is the sum's direction.  The speed is the maximum linear
-   velocity, scaled down within ``goal_slow`` metres of the goal, by the free distance along the
-   heading and straight ahead (full from ``clear_slow``, zero at ``clear_stop`` metres from the
-   footprint's edge), by the nearest obstacle in any direction (full from ``near_slow``, down to
-   ``near_floor`` of it, zero at ``too_close``: the drive's acceleration limit needs room to brake)
-   and by the cosine of the turn still to make (zero beyond 90 degrees: turn first).  The commanded
-   heading leads the robot by at most ``max_rv / heading_gain`` (the drive's regulator turns at
-   ``heading_gain`` rad/s per rad), so the maximum angular velocity holds.
+Before changing it:
 
-The goal is reached within :attr:`FieldSettings.reach_goal` metres; :class:`GotoProgress` calls the
-goto stuck when the distance to the goal has not shrunk by ``progress`` metres in ``stuck_s``
-seconds, or something is closer than ``too_close`` metres to the footprint's edge.
+- Each bin keeps only its nearest point, so a wall pushes as hard whether 361 laser beams or one
+  sonar see it, and the two sensors do not add up.
+- A point beside the way to the goal pushes only sideways, and one beyond the goal not at all:
+  walls and door jambs hold the robot in the middle, not back, nor short of a goal by a wall.
+- The side the robot steers round an obstacle is kept until nothing blocks.  The repulsion's lean
+  turns with the robot (the laser sees only its front half) and with late scans and an uneven
+  loop it flips, and a robot that follows the flip circles until the goto is stuck.
+- The heading leads the robot by at most ``max_rv / heading_gain``, so the drive's regulator
+  never turns faster than the maximum angular velocity.
 """
 
 from __future__ import annotations

@@ -44,6 +44,11 @@ class GpsProxy(Proxy):
     """The GPS ``name`` as seen from ``manager``: :attr:`fix`, :attr:`good`, :attr:`origin`."""
 
     def __init__(self, manager: CommsManager, name: str = 'PlutoGPS') -> None:
+        """Read the GPS stream ``name``.
+
+        :param manager: the program's manager.
+        :param name: the gpsmeter module's name (its stream).
+        """
         super().__init__(manager)
         self.gps = self._consume(GPS(name))
         self.fix: Fix | None = None

@@ -41,7 +41,13 @@ def _clamp(value: float, limit: float) -> float:
 
 
 def step_velocity(key: str, tv: float, rv: float) -> tuple[float, float]:
-    """An arrow key's new (tv, rv) from the working ones: up/down 0.1 m/s, left/right 0.1 rad/s."""
+    """An arrow key's new (tv, rv) from the working ones: up/down 0.1 m/s, left/right 0.1 rad/s.
+
+    :param key: ``up``, ``down``, ``left`` or ``right`` (any other changes nothing).
+    :param tv: the working linear velocity (m/s), the link's status data[0].
+    :param rv: the working angular velocity (rad/s), data[1].
+    :returns: the new velocities, within ±1.0 m/s and ±1.5 rad/s.
+    """
     tv += {'up': STEP_TV, 'down': -STEP_TV}.get(key, 0.0)
     rv += {'left': STEP_RV, 'right': -STEP_RV}.get(key, 0.0)
     return _clamp(tv, MAX_TV), _clamp(rv, MAX_RV)
@@ -56,24 +62,42 @@ class Keys:
     KEYS = ''
 
     def __init__(self, proxy: Any, ask: Callable[[str, int], list[float] | None], out: IO[str] = sys.stdout) -> None:
+        """Keep the proxy; nothing is sent before :meth:`start`.
+
+        :param proxy: the module's proxy (updated by :meth:`show_status`).
+        :param ask: asks for numbers on a line of their own: ``ask(prompt, count)`` gives
+            ``count`` numbers, or None when the user typed something else.
+        :param out: where the program's lines are printed.
+        """
         self.proxy, self.ask, self.out = proxy, ask, out
         self.shown = ''
 
     def say(self, text: str) -> None:
+        """Print a line of the program.
+
+        :param text: the line.
+        """
         print(text, file=self.out, flush=True)
 
     def help_line(self) -> str:
         return f'keys: {self.KEYS + ", " if self.KEYS else ""}q quit'
 
     def act(self, key: str) -> bool:
-        """The program's own keys; False when ``key`` is not one of them."""
+        """The program's own keys; False when ``key`` is not one of them.
+
+        :param key: the key's name as :class:`~pluto_motion.keyboard.Keyboard` gives it (``a``,
+            ``up``, ``space`` ...).
+        """
         return False
 
     def quit(self) -> None:
         """What to do before quitting (a device left at rest)."""
 
     def press(self, key: str) -> bool:
-        """Act on ``key``; False on quit."""
+        """Act on ``key``; False on quit.
+
+        :param key: the key's name as :class:`~pluto_motion.keyboard.Keyboard` gives it.
+        """
         if key == 'q':
             self.quit()
             self.say('quit')
@@ -106,11 +130,20 @@ class KeyProgram(Keys):
 
     # -- what each link defines ------------------------------------------------------------------
     def velocity(self, tv: float, rv: float) -> str:
-        """Send a velocity command; what to print about it."""
+        """Send a velocity command; what to print about it.
+
+        :param tv: the linear velocity (m/s).
+        :param rv: the angular velocity (rad/s).
+        """
         raise NotImplementedError
 
     def key(self, key: str, tv: float, rv: float) -> bool:
-        """The link's own keys; False when ``key`` is not one of them."""
+        """The link's own keys; False when ``key`` is not one of them.
+
+        :param key: the key's name as :class:`~pluto_motion.keyboard.Keyboard` gives it.
+        :param tv: the working linear velocity (m/s), from the link's status.
+        :param rv: the working angular velocity (rad/s).
+        """
         return False
 
     def describe(self) -> str:
@@ -119,7 +152,11 @@ class KeyProgram(Keys):
 
     # -- the common keys -------------------------------------------------------------------------
     def press(self, key: str) -> bool:
-        """Act on ``key``; False on quit."""
+        """Act on ``key``; False on quit.
+
+        :param key: the key's name as :class:`~pluto_motion.keyboard.Keyboard` gives it; the
+            arrows, ``space``, ``a``, ``r`` and ``q`` are every link's, others :meth:`key`'s.
+        """
         tv, rv = self.proxy.velocities or (0.0, 0.0)          # the working command (Pluto 6.1)
         if key in ('up', 'down', 'left', 'right'):
             tv, rv = step_velocity(key, tv, rv)
@@ -166,7 +203,16 @@ class KeyProgram(Keys):
 def run_program(name: str, options: str, help_text: str,
                 make: Callable[[CommsManager, dict[str, str], Callable[[str, int], list[float] | None]], Keys],
                 argv: list[str] | None = None) -> int:
-    """The keyboard program's main: options, the terminal in cbreak mode, the loop."""
+    """The keyboard program's main: options, the terminal in cbreak mode, the loop.
+
+    :param name: the program's (manager's) name.
+    :param options: its own options, in getopt form (``b:`` ...).
+    :param help_text: the lines ``-h`` prints about them.
+    :param make: makes the program from the manager, the parsed options and the number asker;
+        a ValueError (a bad option value) ends the program with status 2.
+    :param argv: the command line, the program's name first (None: ``sys.argv``).
+    :returns: the exit status (2 without a terminal or for a bad option value).
+    """
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager(name)
     manager.set_help_string(help_text)

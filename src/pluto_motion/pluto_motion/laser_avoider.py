@@ -5,33 +5,17 @@ VectorMover, a source of Egomotion, and a source of RangeFinder (should be laser
 use :class:`wurde_core.wrappers.ObstacleAvoider` (``stop()``, ``move_to_relative_point(p)``,
 ``rotate_to_relative_angle(a)``, ``info.brake``), as the guide's BlindTeleop does (1.1.5).  The
 algorithm is :mod:`pluto_motion.corridor_avoid`, on the last scan and what earlier scans saw near
-the robot where the laser cannot see now (:mod:`pluto_motion.scan_memory`), both placed at the
-odometry's pose at the scan's stamp (:mod:`pluto_nav.pose_history`) and moved to where the robot
-is now: at 38400 baud a scan is 0.2 s old when it arrives.
+the robot where the laser cannot see now (:mod:`pluto_motion.scan_memory`).  It drives either the
+mover (the appendix's mapping) or the mover's Navigator stream (chapter 1's mapping; goals in the
+Navigator's frame: :mod:`pluto_motion.frame_link`).  docs/pluto-motion.md ("laserAvoider") has
+its streams and how they are assigned.
 
-Streams (module ``laserAvoider``):
-
-====================== ======================== ===========================================================
-stream / alias         interface                what
-====================== ======================== ===========================================================
-``SimpleAvoider``      ObstacleAvoiderTransport supplied (``-s`` renames it; BlindTeleop's mapping names it)
-``LaserClient``        RangeFinder              the laser
-``EgoClient``          Egomotion                odometry: relative goals are fixed in its frame when given
-                                                (kept through a restart of the base:
-                                                :mod:`pluto_nav.continuous_odometry`)
-``VectorMoverClient``  VectorMoverTransport     the mover (the guide's appendix mapping) ...
-``NavClient``          NavigatorTransport       ... or its Navigator stream (the chapter-1 mapping): goals in the
-                                                Navigator's frame (:mod:`pluto_motion.frame_link`)
-====================== ======================== ===========================================================
-
-The consumers are STRAT_ASSIGNED unless ``-L``, ``-e``, ``-m`` (VectorMoverTransport) or ``-N``
-(NavigatorTransport) name their streams.  The avoider starts braked (``info.brake`` true); a
-request releases the brake by carrying ``brake`` false, as every ObstacleAvoider verb does.
-A speed limit or safety distance of 0 in a request means the avoider's own.
-
-Fail-safe: no scan for ``LASER_STALE_S`` (or a scan of the SICK's error values only), no odometry,
-or a blocked way stop the robot (state -1 error or 4 blocked); the way is looked at again on every
-scan, so a blocked robot goes on when the way clears.
+Before changing it: a scan and the memory are placed at the odometry's pose at the scan's stamp
+(:mod:`pluto_nav.pose_history`) and moved to where the robot is now, since a scan is old when it
+arrives (0.2 s at 38400 baud).  It fails safe: it starts braked, and no scan for
+:data:`LASER_STALE_S` (or a scan of the SICK's error values only), no odometry, or a blocked way
+stop the robot (state -1 error or 4 blocked); the way is looked at again on every scan, so a
+blocked robot goes on when the way clears.
 """
 
 from __future__ import annotations

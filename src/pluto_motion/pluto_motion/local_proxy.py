@@ -23,6 +23,12 @@ class LocalProxy(LocProxy):
     """The localModule as seen from ``manager``: the interfaces of ``mask`` and the status."""
 
     def __init__(self, manager: CommsManager, mask: int = ALL_INTERFACES) -> None:
+        """Read the pose interfaces of ``mask`` and ``Localization/Status``.
+
+        :param manager: the program's manager.
+        :param mask: which pose interfaces to read: bit n for interface n (0 Dead-Reckoning ...
+            3 Pose); :data:`ALL_INTERFACES` all five.
+        """
         super().__init__(manager, mask)
         self.status = FVectorState(STATUS)
         manager.register_consumer(self.status)

@@ -22,6 +22,11 @@ class Proxy:
     :meth:`_take`."""
 
     def __init__(self, manager: CommsManager) -> None:
+        """Hold nothing yet; subclasses register their streams with ``manager``.
+
+        :param manager: the program's manager; the proxy's consumers are registered with it and
+            :meth:`wait_for` runs its loop.
+        """
         self.manager = manager
         #: Objects whose request waits for the module's reader to be matched (see :meth:`_request`).
         self._held: list[Any] = []
@@ -62,7 +67,11 @@ class Proxy:
         return None
 
     def wait_for(self, test: Callable[[Any], bool], timeout: float) -> bool:
-        """Run the manager's loop until ``test(self)`` holds; False after ``timeout`` s or on Quit."""
+        """Run the manager's loop until ``test(self)`` holds; False after ``timeout`` s or on Quit.
+
+        :param test: asked with the proxy after each turn, once what arrived is taken in.
+        :param timeout: the longest wait (s).
+        """
         deadline = time.monotonic() + timeout
         while True:
             self._exchange()
@@ -73,7 +82,10 @@ class Proxy:
 
     def spin_once(self, timeout: float) -> bool:
         """One turn of the manager's loop, waiting at most ``timeout`` s for something to arrive;
-        False when the program is to quit."""
+        False when the program is to quit.
+
+        :param timeout: the longest wait (s).
+        """
         if self.manager.run_update() != RunState.RUN:
             return False
         self.manager.wait(timeout)

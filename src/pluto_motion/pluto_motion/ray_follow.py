@@ -7,23 +7,16 @@ finds an opening it will stop and decide if it is better to turn here (set a new
 continue."  And: "It will move the robot down the middle of the street"; near the goal it uses the
 simple goto (element[2] = -2).
 
-:func:`decide` is one such decision, called on every scan:
+:func:`decide` is one such decision, called on every scan: near the goal with a clear street to
+it, the avoid goto to the goal (``nearing``); with the goal behind the laser and no ray yet, a turn
+in place towards it; otherwise the best open ray, kept unless a new one is better by
+:attr:`RaySettings.switch`, its target moved to the middle of the street; with no open ray, a turn
+towards the longest free beam.  docs/pluto-motion.md ("Ray following") gives each rule with its
+settings and the element[3] codes it reports.
 
-1. Near the goal (within :attr:`RaySettings.near`) with a clear street of the robot's width to it:
-   the avoid goto to the goal itself (``nearing``).
-2. No ray followed yet and the goal more than 100 degrees off the heading (behind the laser):
-   turn in place towards it (scanning, element[3] = 1).
-3. Otherwise the rays: directions every :attr:`RaySettings.step` within the laser's view; a ray's
-   street is :attr:`RaySettings.half_width` to each side (1.5 m) or narrower, down to
-   :attr:`RaySettings.min_half_width` (indoors), a narrower street scoring worse; a ray is open
-   when its street is free for :attr:`RaySettings.open_length` (or up to the goal).  Each open ray
-   is scored by the distance left to the goal after driving along it, plus a penalty when it is
-   blocked before it gets nearest the goal (a dead end); the current ray is kept
-   unless a new one (an opening seen left or right) is better by :attr:`RaySettings.switch`.  The
-   target is :attr:`RaySettings.lookahead` along the ray, moved sideways to the middle of the
-   street there.  Following the kept ray is element[3] = 3; choosing a new ray (the first one too)
-   is 1, scanning for new paths.
-4. No open ray at all: turn towards the side with the longest free beam (scanning).
+Before changing it: it keeps no state but the ray it follows (passed in and returned), so it is
+tested without ROS; a street narrower than :attr:`RaySettings.half_width` (indoors) scores worse
+but still counts, down to :attr:`RaySettings.min_half_width`.
 """
 
 from __future__ import annotations

@@ -35,6 +35,10 @@ class Scan:
         return bool(self.ranges) and all(r == -1.0 for r in self.ranges)
 
     def bearing(self, index: int) -> float:
+        """The bearing of beam ``index`` (rad, counter-clockwise, 0 straight ahead).
+
+        :param index: the beam's index in :attr:`ranges`.
+        """
         return self.first + index * self.step
 
     def ahead(self) -> float:
@@ -52,6 +56,11 @@ class SickProxy(Proxy):
     """The laser ``name`` as seen from ``manager``: :attr:`scan`, :attr:`rwi`, :attr:`points`."""
 
     def __init__(self, manager: CommsManager, name: str = 'PlutoLaser') -> None:
+        """Read the laser's streams ``<name>``, ``<name>/RWI`` and ``<name>/Timing``.
+
+        :param manager: the program's manager.
+        :param name: the laser module's name.
+        """
         super().__init__(manager)
         self.main = self._consume(RangeFinder(name))
         self.rwi_stream = self._consume(RangeFinder(f'{name}/RWI'))

@@ -23,6 +23,10 @@ class SlamProxy(Proxy):
     """The slamModule as seen from ``manager``."""
 
     def __init__(self, manager: CommsManager) -> None:
+        """Read and request on the slamModule's status stream, every status kept.
+
+        :param manager: the program's manager.
+        """
         super().__init__(manager)
         self.status = self._consume(FVectorState(STATUS), queue_mode=True)   # the save's -1 too
         self.element: list[int] = []

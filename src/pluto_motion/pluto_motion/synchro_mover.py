@@ -4,29 +4,15 @@
 not queue commands; when it receives a new goal point, it overrides its current goal point ... it
 requires ... sources of Egomotion ... and RobotDrive capabilities" (7.3).  Consumers use the
 :class:`wurde_core.wrappers.VectorMover` class: ``move(PVector)``, ``move_to(x, y)``, ``stop()``.
+It also supplies the NavigatorTransport view ``<name>Navigator`` that the guide's chapter-1
+mapping gives VectorMover (a goal in the Egomotion frame).  docs/pluto-motion.md ("SynchroMover")
+has its streams and options; ``-h`` lists the options too.
 
-Streams (module name ``N``, ``SynchroMover`` by default):
-
-================ ===================== =================================================================
-stream           interface             what
-================ ===================== =================================================================
-``N``            VectorMoverTransport  requests: vector (relative to the robot when sent), brake, speed
-                                       limits; data: velocities, distance and angle left, done
-``NNavigator``   NavigatorTransport    the guide's chapter-1 mapping (``VectorMoverNavigator``):
-                                       requests: goal (x, y in the Egomotion frame), autonomous (go /
-                                       stop); data: robot pose, goal, goal_set, stop_reason
-``DriveClient``  RobotDrive (consumer) the base; ``SynchroDrive`` for the ``vectorMover`` program (the
-                                       guide's chapter-1 mapping gives VectorMover a SynchroDrive)
-``EgoClient``    Egomotion (consumer)  odometry (in one frame through a restart of the base:
-                                       :mod:`pluto_nav.continuous_odometry`)
-================ ===================== =================================================================
-
+Before changing it: a vector is relative to the robot when it is sent and is fixed in the
+odometry frame then, kept through a restart of the base (:mod:`pluto_nav.continuous_odometry`).
+It fails safe: with the brake on, or no odometry for :data:`EGO_STALE_S`, the robot is stopped.
 The consumers are STRAT_ASSIGNED (the MCP maps them, as in the guide's configurations) unless
-``-d STREAM`` / ``-e STREAM`` name their streams.  Fail-safe: with the brake on, or no odometry for
-``EGO_STALE_S``, the robot is stopped; a speed limit of 0 in a request means the mover's own.
-
-Options: ``-d DRIVE`` ``-e EGO`` (stream names instead of the MCP's), ``-k robot|synchro`` (the
-drive interface), ``-v MAX_TV`` (m/s, 0.5), ``-w MAX_RV`` (rad/s, 1.0).
+options name their streams.
 """
 
 from __future__ import annotations

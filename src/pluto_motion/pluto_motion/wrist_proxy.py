@@ -25,6 +25,11 @@ class WristProxy(Proxy):
     """The wrist ``name`` as seen from ``manager``."""
 
     def __init__(self, manager: CommsManager, name: str = 'PlutoWrist') -> None:
+        """Read and command the wrist's ActuatorState stream ``name``.
+
+        :param manager: the program's manager.
+        :param name: the wrist module's name (its stream).
+        """
         super().__init__(manager)
         self.wrist = self._consume(ActuatorState(name))
         #: The newest state: (pan, tilt) rad and their velocities (None before the first).
@@ -34,7 +39,15 @@ class WristProxy(Proxy):
         self.target: tuple[float, float] | None = None
 
     def move(self, pan: float, tilt: float, speed: float = SPEED, acceleration: float = ACCELERATION) -> bool:
-        """Turn to (``pan``, ``tilt``) rad at ``speed`` rad/s, accelerating at ``acceleration``."""
+        """Turn to (``pan``, ``tilt``) rad at ``speed`` rad/s, accelerating at ``acceleration``.
+
+        :param pan: the pan (rad, left > 0).
+        :param tilt: the tilt (rad, down < 0).
+        :param speed: each axis's speed (rad/s), above 0.
+        :param acceleration: each axis's acceleration (rad/s²), above 0.
+        :returns: whether it went now (False: held until the wrist reads commands).
+        :raises ValueError: a speed or acceleration that is not above 0 (Pluto 8.3).
+        """
         if speed <= 0 or acceleration <= 0:
             raise ValueError('the wrist moves only with speed and acceleration > 0 (Pluto 8.3)')
         req = self.wrist.requests

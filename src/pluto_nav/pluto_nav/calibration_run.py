@@ -34,8 +34,8 @@ SPEED, TURN = 0.2, 0.3
 COMMAND_S = 0.2
 #: Seconds of the base's odometry the robot must have stood before the wall is found again: the
 #: find-wall takes the next scan the poseModule processes, and a loaded poseModule may still be
-#: working through scans taken while the robot slowed down (a fresh-clone make test measured a
-#: turn 0.02 rad short, one such scan).
+#: working through scans taken while the robot slowed down, and one such scan makes the measured
+#: turn short.
 STILL_S = 0.6
 
 

@@ -3,25 +3,9 @@
 The file is written as rosbag2 writes MCAP (profile ``ros2``; per type a ``ros2msg`` schema with
 its full definition; CDR messages; per channel the ``offered_qos_profiles`` YAML and the type's
 RIHS01 hash), so that ``ros2 bag info/play``, Foxglove, rosbags' readers and wurde_mcp's ``replay``
-read it.  Messages are serialized by rosbags' ROS 2 Jazzy typestore.  Topics:
-
-=============== ===================== ==========================================================
-topic           type                  what
-=============== ===================== ==========================================================
-``/scan``       sensor_msgs/LaserScan the main laser (the front one; else as :func:`load_log`
-                                      chooses), frame ``laser``; no-return as ``inf``,
-                                      ``range_max`` the log's maximum range, remissions as
-                                      intensities
-``/<c>_scan``   sensor_msgs/LaserScan every other laser channel ``c`` (``rear``, ``raw1``, ...),
-                                      frame ``<c>_laser``
-``/odom``       nav_msgs/Odometry     the odometry (the log's ODOM lines, else the laser lines'
-                                      odometry fields: :mod:`pluto_nav.logs.robot_log`'s rule),
-                                      frame ``odom``, child ``base_link``
-``/tf``         tf2_msgs/TFMessage    ``odom`` → ``base_link`` at each odometry record
-``/tf_static``  tf2_msgs/TFMessage    ``base_link`` → each laser's frame at its mount (latched:
-                                      transient local), once, at the log's first stamp
-``/truth``      nav_msgs/Odometry     TRUEPOS (a simulator's truth), frame ``map``, when present
-=============== ===================== ==========================================================
+read it.  Messages are serialized by rosbags' ROS 2 Jazzy typestore.  The topics are ``/scan``
+(and ``/<c>_scan`` for every other laser channel ``c``), ``/odom``, ``/tf``, ``/tf_static`` and
+``/truth``; docs/pluto-nav.md ("carmen_log convert") gives each one's type, frames and content.
 
 Each message's log time and header stamp are the record's (the CARMEN line's IPC timestamp).
 Besides rosbag2's metadata each channel carries wurde_mcp's ``durability`` and ``reliability``

@@ -2,33 +2,18 @@
 
     carmen_log play LOG [-R RATE] [-b BASE] [-s LASER] [-L CHANNEL] [-w SECONDS] [-W MODULES] [-k] [-t] [-n NAME]
 
-A WURDE module (WURDE's standard options too: ``-n NAME``, ``-r`` registration, ``-g``, ...)
-that supplies what the simulated robot's dummies supply, from the log, so that the localModule,
-poseModule and slamModule run on it as on the robot:
+A WURDE module that supplies, from the log, what the simulated robot's dummies supply
+(``<BASE>Motion``, ``<LASER>`` with its info, ``<LASER>/Timing`` and the ROS mirrors of
+:mod:`.carmen_log_ros`), so that the localModule, poseModule and slamModule run on it as on the
+robot.  The README ("Real robots' data") gives the usage; docs/pluto-nav.md ("carmen_log play")
+each stream's content, the pace and the waits.
 
-- ``<BASE>Motion`` (Egomotion; default PlutoBase): each odometry record (the log's ODOM lines, or
-  the laser lines' odometry fields in logs without them), stamped with the record's time;
-- ``<LASER>`` (RangeFinder; default PlutoLaser): each scan of the laser channel ``-L`` (front,
-  rear, raw1..4; default the front laser), ranges in metres in the robot's (counter-clockwise)
-  order, no-return ``inf``, no reading NaN; its info the laser's fan and mount: ``theta_offset`` =
-  mount yaw + first beam's angle, ``theta_separation`` the resolution, ``x/y_offset`` the mount
-  (``z_offset`` 0: CARMEN logs give no height), ``max_range``, uniform;
-- ``<LASER>/Timing`` (FVectorState): ``element = [number of beams]``, stamped at the scan's time;
-- the standard ROS mirrors of :mod:`.carmen_log_ros`.
-
-Pace: ``-R 1`` the log's (default), ``-R 4`` four times faster, ``-R 0`` as fast as the readers
-take them: each message waits (at most :data:`ACK_DEADLINE_S`) until every matched reader
-acknowledged it (the streams are reliable), so none is lost.  (``-R`` and ``-L``: ``-r`` and ``-l``
-are every WURDE module's registration and capability options, which the MCP uses.)  Before the
-first message it waits, at most ``-w`` seconds (default 10), until the laser stream has a
-reader and every reader the ROS graph shows of its streams is matched (as wurde_mcp's
-``replay -w``), and until each module named in ``-W`` (comma-separated, e.g.
-``localModule,slamModule``) reads one of them: under the MCP the modules start in any order, and
-what is published before a reader exists reaches nobody.  While the MCP idles the module the log pauses.
-
-At the end it prints one line (scans, odometry records, the log's problems) and exits 0, so under
-the MCP configure it ``managed="unmanaged"`` (a managed module that exits is started again, and the
-log would play again); ``-k`` keeps it alive (publishing nothing) until told to quit instead.
+Before changing it: what is published before a reader exists reaches nobody, so before the first
+message it waits (``-w``, ``-W``) for its readers, and at ``-R 0`` each message waits (at most
+:data:`ACK_DEADLINE_S`) until every matched reader acknowledged it.  ``-R`` and ``-L`` are not
+``-r`` and ``-l`` because those are every WURDE module's registration and capability options,
+which the MCP uses.  At the end it exits 0 (``-k``: it stays until told to quit), so under the MCP
+it is ``managed="unmanaged"``: a managed module that exits is started again and would replay the log.
 """
 
 from __future__ import annotations

@@ -17,12 +17,10 @@ auxiliary matrices from the start of the phase (subscript 0):
 An update therefore costs ``O(|A|^2)`` whatever the size of the map.  :meth:`commit` (the *global
 update*, done when the robot leaves its local area, and before anything reads the whole state)
 applies the three to ``B`` in ``O(|B|^2 |A0|)`` and starts a new phase; :meth:`activate` commits
-and chooses a new active set.  The result is the full EKF's, exactly (the test compares the two):
-compression changes when the work is done, not what is computed.
+and chooses a new active set.  The result is the full EKF's, exactly (the test compares the two).
 
-Landmarks are named by integer keys the caller chooses; the filter stores them in slots of
-arrays that grow as needed, and a slot freed by :meth:`remove` is reused only after the next
-commit (the phase's bookkeeping may still refer to it).
+Landmarks are named by integer keys the caller chooses; the filter stores them in slots of arrays
+that grow as needed, and a slot freed by :meth:`remove` is reused only after the next commit.
 """
 
 from __future__ import annotations

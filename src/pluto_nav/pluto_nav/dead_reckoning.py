@@ -1,7 +1,6 @@
 """Dead reckoning of Pluto's localModule: odometry for translation, the DMU for rotation.
 
-Pluto 3: the localization service "uses the odometry, dmu and wrist orientation data along with
-timing information from the sick" and fuses "the odometer and inertial data".  The rule here:
+Pluto 3: the localization service fuses "the odometer and inertial data".  The rule here:
 
 - Translation always comes from the odometry: each odometry sample's increment (dx, dy) in the
   frame of the previous sample.
@@ -11,18 +10,16 @@ timing information from the sick" and fuses "the odometer and inertial data".  T
   roll come from the DMU when fresh, else 0 (flat floor).
 - An odometry increment no robot could make (faster than ``MAX_SPEED`` / ``MAX_TURN_RATE``) is
   the base's odometry starting again from zero (its module restarted): it counts as no motion; so
-  does the first sample of a new base process however slow the jump (the caller says so: the
-  base's messages are numbered from 1 again).
+  does the first sample of a new base process however slow the jump (the caller says so).
 - An odometry sample waits (at most ``dmu_stale_s`` of odometry time) for the DMU to cover it, so
   both sources are used at the same instants.
 
 The pose starts at ``start`` and never jumps: it is the continuous estimate of stream (0).  A
-dead reckoning resumed from a saved state (``resume_odometry``: the odometry reading the saved
-``start`` corresponds to, see :mod:`pluto_nav.resume`) applies the increment from that reading to
-its first odometry sample, with the same reset rule, so the motion made meanwhile is not lost.  Its
-covariance grows by :func:`pluto_nav.odometry_model.increment_covariance` of each step (with the
-heading part of a DMU step from ``dmu_sigma``).  A history of a few seconds lets the laser's scan
-time be interpolated (stream 1) and a Post_Pose of the recent past be related to the present.
+dead reckoning resumed from a saved state (``resume_odometry``, see :mod:`pluto_nav.resume`)
+applies the increment from that reading to its first odometry sample, with the same reset rule.
+Its covariance grows by :func:`pluto_nav.odometry_model.increment_covariance` of each step (with
+the heading part of a DMU step from ``dmu_sigma``).  A history of a few seconds lets the laser's
+scan time be interpolated (stream 1) and a Post_Pose of the recent past be related to the present.
 """
 
 from __future__ import annotations

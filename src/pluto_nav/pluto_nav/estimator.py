@@ -53,6 +53,15 @@ class Estimator:
 
     def __init__(self, manager: CommsManager, logger: Logger, method: Method, *, status: str,
                  laser: str, start_running: bool) -> None:
+        """Register the estimator's streams with ``manager`` and publish its first status.
+
+        :param manager: the module's CommsManager.
+        :param logger: where the thread's starts and stops are logged.
+        :param method: the estimation method the scan cycle runs (:mod:`.estimation`).
+        :param status: the status stream's name (``pose/status``, ``slam/status``).
+        :param laser: the laser module's name (its RangeFinder stream).
+        :param start_running: start the thread at once (a request on the status stream can later).
+        """
         self.manager, self.logger = manager, logger
         self.cycle = ScanCycle(method)
         self.laser_dr = LocalizationPose(STREAMS[LASER_DEAD_RECKONING])
@@ -89,14 +98,23 @@ class Estimator:
         return self.cycle.method
 
     def on_scan(self, scan: Scan) -> None:
-        """Every good scan, whether the thread runs or not (e.g. the find-wall)."""
+        """Every good scan, whether the thread runs or not (e.g. the find-wall).
+
+        :param scan: the scan, in the laser's frame; a scan of fatal-error values is not passed.
+        """
 
     def on_stop(self) -> None:
         """The thread is stopping: called while it still holds the setter, which is released after."""
 
     def start_covariance(self, adjusted: LocPose) -> np.ndarray:
-        """The filter's initial covariance from the Laser_Pose it starts at: that pose's own,
-        widened by :attr:`START_SIGMA` (the a-priori map's frame is not the dead reckoning's)."""
+        """The filter's initial covariance from the Laser_Pose it starts at.
+
+        That pose's own, widened by :attr:`START_SIGMA` (the a-priori map's frame is not the dead
+        reckoning's).
+
+        :param adjusted: the Laser_Pose (4) at the first scan; a covariance that is not finite counts as zero.
+        :returns: 3x3 over (x, y, theta).
+        """
         own = adjusted.covariance if np.all(np.isfinite(adjusted.covariance)) else np.zeros((3, 3))
         return own + np.diag(np.square(self.START_SIGMA))
 
@@ -159,6 +177,10 @@ class Estimator:
         self.publish_status()
 
     def write_post(self, value: LocPose) -> None:
+        """Send ``value`` to Post_Pose as a request.
+
+        :param value: the pose and its setter; ``LocPose(setter=NOBODY)`` releases the setter.
+        """
         write_pose(self.post.requests, value)
         self.post.publish_request()
 
@@ -202,7 +224,12 @@ class Estimator:
         self.write_post(self.estimate(dr, stamp, self.SETTER))
 
     def estimate(self, dr: LocPose, stamp: float, setter: int) -> LocPose:
-        """The method's laser pose as a Post_Pose value (z, attitude, pan and tilt from (1))."""
+        """The method's laser pose as a Post_Pose value.
+
+        :param dr: the Laser_Dead-Reckoning pose (1) at the scan: z, attitude, pan and tilt come from it.
+        :param stamp: the scan's time, seconds.
+        :param setter: the cmdFlags to write with (:attr:`SETTER`, or the saving setter).
+        """
         pose = self.method.pose
         return LocPose(pose=(pose[0], pose[1], dr.pose[2], pose[2], dr.pose[4], dr.pose[5]), pan=dr.pan,
                        tilt=dr.tilt, covariance=np.asarray(self.method.covariance)[:3, :3], setter=setter,

@@ -46,7 +46,11 @@ def find_wall(lines: Sequence[LineFeature], *,
               front_angle: float = DEFAULT_FRONT_ANGLE) -> FoundWall | None:
     """The line with the most points among those in front (see the module's description).
 
+    :param lines: the scan's lines in the laser frame.
+    :param front_angle: rad; a line is in front when its normal is within this of straight ahead
+        (in (0, pi/2)).
     :returns: the wall, or None when no line is in front.
+    :raises ValueError: ``front_angle`` outside (0, pi/2).
     """
     if not 0.0 < front_angle < math.pi / 2:
         raise ValueError(f'front_angle must be in (0, pi/2), not {front_angle}')

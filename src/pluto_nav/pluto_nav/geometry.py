@@ -37,7 +37,11 @@ def wrap(angle: ArrayLike) -> NDArray | float: ...
 
 
 def wrap(angle: ArrayLike) -> NDArray | float:
-    """``angle`` (radians, scalar or array) wrapped to ``(-pi, pi]``; a scalar gives a float."""
+    """``angle`` wrapped to ``(-pi, pi]``.
+
+    :param angle: radians, a scalar or an array.
+    :returns: a float for a scalar (a 0-d array too), else an array of the same shape.
+    """
     if isinstance(angle, (float, int)):
         return _wrap1(float(angle))
     wrapped = math.pi - np.mod(math.pi - np.asarray(angle, dtype=np.float64), _TWO_PI)
@@ -55,7 +59,12 @@ def _xyt(pose: ArrayLike) -> list[float]:
 
 
 def compose(a: ArrayLike, b: ArrayLike) -> NDArray:
-    """``a ⊕ b``: pose ``b``, given in the frame of ``a``, in ``a``'s parent frame."""
+    """``a ⊕ b``: pose ``b``, given in the frame of ``a``, in ``a``'s parent frame.
+
+    :param a: pose ``(x, y, theta)`` in the parent frame, metres and radians.
+    :param b: pose ``(x, y, theta)`` in ``a``'s frame.
+    :returns: ``(x, y, theta)``, theta wrapped to ``(-pi, pi]``.
+    """
     ax, ay, at = _xyt(a)
     bx, by, bt = _xyt(b)
     c, s = math.cos(at), math.sin(at)
@@ -63,7 +72,11 @@ def compose(a: ArrayLike, b: ArrayLike) -> NDArray:
 
 
 def compose_jacobians(a: ArrayLike, b: ArrayLike) -> tuple[NDArray, NDArray]:
-    """``(d(a⊕b)/da, d(a⊕b)/db)``, each 3x3."""
+    """``(d(a⊕b)/da, d(a⊕b)/db)``, each 3x3.
+
+    :param a: pose ``(x, y, theta)`` in the parent frame.
+    :param b: pose ``(x, y, theta)`` in ``a``'s frame.
+    """
     at = _xyt(a)[2]
     bx, by, _ = _xyt(b)
     c, s = math.cos(at), math.sin(at)
@@ -77,14 +90,20 @@ def compose_jacobians(a: ArrayLike, b: ArrayLike) -> tuple[NDArray, NDArray]:
 
 
 def inverse(a: ArrayLike) -> NDArray:
-    """``⊖a``: the parent frame's origin as seen from pose ``a``."""
+    """``⊖a``: the parent frame's origin as seen from pose ``a``.
+
+    :param a: pose ``(x, y, theta)`` in the parent frame.
+    """
     ax, ay, at = _xyt(a)
     c, s = math.cos(at), math.sin(at)
     return np.array([-c * ax - s * ay, s * ax - c * ay, _wrap1(-at)])
 
 
 def inverse_jacobian(a: ArrayLike) -> NDArray:
-    """``d(⊖a)/da``, 3x3."""
+    """``d(⊖a)/da``, 3x3.
+
+    :param a: pose ``(x, y, theta)`` in the parent frame.
+    """
     ax, ay, at = _xyt(a)
     c, s = math.cos(at), math.sin(at)
     return np.array([[-c, -s, s * ax - c * ay],
@@ -93,7 +112,11 @@ def inverse_jacobian(a: ArrayLike) -> NDArray:
 
 
 def relative(a: ArrayLike, b: ArrayLike) -> NDArray:
-    """``⊖a ⊕ b``: pose ``b`` as seen from pose ``a`` (both in the same parent frame)."""
+    """``⊖a ⊕ b``: pose ``b`` as seen from pose ``a`` (both in the same parent frame).
+
+    :param a: the reference pose ``(x, y, theta)``.
+    :param b: the other pose ``(x, y, theta)``; ``relative(previous, now)`` is an odometry increment.
+    """
     ax, ay, at = _xyt(a)
     bx, by, bt = _xyt(b)
     c, s = math.cos(at), math.sin(at)
@@ -102,7 +125,11 @@ def relative(a: ArrayLike, b: ArrayLike) -> NDArray:
 
 
 def relative_jacobians(a: ArrayLike, b: ArrayLike) -> tuple[NDArray, NDArray]:
-    """``(d(⊖a⊕b)/da, d(⊖a⊕b)/db)``, each 3x3."""
+    """``(d(⊖a⊕b)/da, d(⊖a⊕b)/db)``, each 3x3.
+
+    :param a: the reference pose ``(x, y, theta)``.
+    :param b: the other pose ``(x, y, theta)``, in the same parent frame.
+    """
     ax, ay, at = _xyt(a)
     bx, by, _ = _xyt(b)
     c, s = math.cos(at), math.sin(at)
@@ -117,7 +144,11 @@ def relative_jacobians(a: ArrayLike, b: ArrayLike) -> tuple[NDArray, NDArray]:
 
 
 def transform_points(pose: ArrayLike, points: ArrayLike) -> NDArray:
-    """``(N, 2)`` points given in the frame at ``pose``, expressed in its parent frame."""
+    """``(N, 2)`` points given in the frame at ``pose``, expressed in its parent frame.
+
+    :param pose: the frame's pose ``(x, y, theta)`` in the parent frame.
+    :param points: ``(N, 2)`` (or anything of ``2N`` values) metres in the frame at ``pose``.
+    """
     x, y, t = _xyt(pose)
     xy = np.asarray(points, dtype=np.float64).reshape(-1, 2)
     c, s = math.cos(t), math.sin(t)
@@ -131,6 +162,9 @@ def line_to_frame(gamma: ArrayLike, rho: ArrayLike, pose: ArrayLike) -> tuple[ND
     comes out negative (the sensor is on the other side of the line than the parent's origin) the
     normal is flipped: ``rho' -> -rho'``, ``gamma' -> gamma' + pi``.
 
+    :param gamma: rad, the lines' normal directions (scalar or array).
+    :param rho: m, their distances from the parent's origin.
+    :param pose: the sensor's pose ``(x, y, theta)`` in the parent frame.
     :returns: ``(gamma', rho')`` arrays, ``gamma'`` wrapped (a float for a scalar ``gamma``), ``rho' >= 0``.
     """
     g, r, _, _ = lines_in_frame(gamma, rho, pose)
@@ -138,10 +172,14 @@ def line_to_frame(gamma: ArrayLike, rho: ArrayLike, pose: ArrayLike) -> tuple[ND
 
 
 def line_to_frame_jacobian(gamma: ArrayLike, rho: ArrayLike, pose: ArrayLike) -> NDArray:
-    """``d(gamma', rho')/d(x, y, theta)`` of :func:`line_to_frame`: ``(N, 2, 3)``, each
-    ``[[0, 0, -1], [hx, hy, 0]]``.
+    """``d(gamma', rho')/d(x, y, theta)`` of :func:`line_to_frame`.
 
     The flip changes the sign of the ``rho'`` row only (``gamma' + pi`` moves with theta the same).
+
+    :param gamma: rad, the lines' normal directions (scalar or array).
+    :param rho: m, their distances from the parent's origin.
+    :param pose: the sensor's pose ``(x, y, theta)`` in the parent frame.
+    :returns: ``(N, 2, 3)``, each ``[[0, 0, -1], [hx, hy, 0]]``.
     """
     _, _, hx, hy = lines_in_frame(np.atleast_1d(gamma), np.atleast_1d(rho), pose)
     jac = np.zeros((len(hx), 2, 3))
@@ -156,7 +194,11 @@ def lines_in_frame(gamma: ArrayLike, rho: ArrayLike, pose: ArrayLike, *,
                    sin_gamma: NDArray | None = None) -> tuple[NDArray, NDArray, NDArray, NDArray]:
     """:func:`line_to_frame` and its Jacobian in one pass, for the matcher's inner loop.
 
-    :param cos_gamma: ``cos(gamma)`` and ``sin_gamma`` if already known.
+    :param gamma: rad, the lines' normal directions.
+    :param rho: m, their distances from the parent's origin.
+    :param pose: the sensor's pose ``(x, y, theta)`` in the parent frame.
+    :param cos_gamma: ``cos(gamma)`` if already known; None: computed.
+    :param sin_gamma: ``sin(gamma)`` if already known; None: computed.
     :returns: ``(gamma', rho', hx, hy)``: ``gamma'`` *not* wrapped, and the Jacobian's second row
         ``[hx, hy, 0]`` (its first is always ``[0, 0, -1]``).
     """
@@ -170,6 +212,11 @@ def lines_in_frame(gamma: ArrayLike, rho: ArrayLike, pose: ArrayLike, *,
 
 
 def interpolate(a: ArrayLike, b: ArrayLike, f: float) -> NDArray:
-    """The pose a fraction ``f`` of the way from ``a`` to ``b`` (the angle the short way round)."""
+    """The pose a fraction ``f`` of the way from ``a`` to ``b`` (the angle the short way round).
+
+    :param a: pose ``(x, y, theta)`` at ``f = 0``.
+    :param b: pose ``(x, y, theta)`` at ``f = 1``.
+    :param f: the fraction; outside [0, 1] it extrapolates.
+    """
     a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
     return np.array([a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), _wrap1(a[2] + f * _wrap1(b[2] - a[2]))])

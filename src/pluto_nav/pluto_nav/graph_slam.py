@@ -4,25 +4,23 @@ The line-feature EKF (:mod:`.slam_filter`, Pluto's own) maps rooms made of strai
 buildings have clutter, glass, people and doors, where lines are few and unreliable.  This
 estimator uses every laser point instead:
 
-1. **Front end** (each scan): the scan is matched against a local map made of the last
-   ``local_nodes`` nodes' points: a correlative search (:mod:`.correlative`) round the odometry's
-   guess — and round the last matched motion and standing still when those differ from it, since
-   real odometry lags and jumps — then point-to-line ICP (:mod:`.icp`).  A scan that moved
-   ``node_distance`` or turned ``node_turn`` from the last node becomes a node of the pose graph,
-   tied to the previous node by the match (its information from ICP, so a corridor's match holds
-   across the corridor, not along it); other scans are placed relative to the last node.
-2. **Loop closure** (every ``loop_every`` nodes): when the estimate puts the robot within
-   ``loop_radius`` of a node it left ``loop_separation`` metres of path ago, the scan is searched
-   for in that node's neighbourhood over a wide window, coarse then fine, and refined by ICP; the
-   closure is kept only if most of the scan fits, no distant pose of the window fits nearly as
-   well (a look-alike corridor) and the match pins the position in every direction.
+1. **Front end** (each scan): the scan is matched against the last ``local_nodes`` nodes' points:
+   a correlative search (:mod:`.correlative`) round the odometry's guess — and round the last
+   matched motion and standing still, since real odometry lags and jumps — then point-to-line ICP
+   (:mod:`.icp`).  A scan that moved ``node_distance`` or turned ``node_turn`` from the last node
+   becomes a node, tied to the previous one by the match (its information from ICP, so a
+   corridor's match holds across the corridor, not along it); other scans are placed relative to
+   the last node.
+2. **Loop closure** (every ``loop_every`` nodes): within ``loop_radius`` of a node left
+   ``loop_separation`` metres of path ago, the scan is searched for over a wide window, coarse
+   then fine, and refined by ICP; the closure is kept only if most of the scan fits, no distant
+   pose fits nearly as well (a look-alike corridor) and the match pins the position in every
+   direction.
 3. **Back end**: the pose graph (:mod:`.pose_graph`) is solved after each closure, with a robust
    kernel on closures so that a wrong one bends the map a little instead of folding it.
 
-Its interface is the estimators' (:class:`.estimator.Estimator`): :meth:`GraphSlam.set_pose`,
-:meth:`GraphSlam.predict` with the laser's odometry increment, :meth:`GraphSlam.update` with the
-scan, :attr:`GraphSlam.pose` (the laser's) and :attr:`GraphSlam.covariance`; the whole trajectory
-(:meth:`GraphSlam.trajectory`) and the map's points (:meth:`GraphSlam.map_points`) after it.
+Its interface is the estimators' (:class:`.estimator.Estimator`); :meth:`GraphSlam.trajectory`
+and :meth:`GraphSlam.map_points` give the whole trajectory and the map's points after it.
 Deterministic: the same scans give the same poses.
 """
 

@@ -1,19 +1,12 @@
 """Line features from one laser scan: split-and-merge with total-least-squares fits.
 
 Pluto's poseModule "extracts features from the laser scan then matches them to the map" (Pluto
-7.1); the features are straight walls.  :func:`extract_lines` works in four steps, all on the
-scan's points in the laser frame (x forward, y left):
-
-1. *Runs*: valid beams (finite, ``min_range < r < max_range``; ``inf``, ``-1`` and NaN are not)
-   cut into runs of consecutive beams; a run also breaks where two neighbouring points are farther
-   apart than ``gap_distance + gap_ratio * r * dphi`` (a door, an occlusion edge).
-2. *Split* (iterative end-point fit): a run whose farthest point from the chord between its ends
-   lies more than ``split_distance`` off is cut there (that point is dropped: it is the corner,
-   or an outlier); pieces of fewer than ``min_points`` points are discarded.
-3. *Merge*: neighbouring pieces whose joint total-least-squares line leaves no point more than
-   ``split_distance`` off are joined again (a split caused by noise at the chord's ends).
-4. *Fit*: each piece of at least ``min_points`` points and ``min_length`` metres gets its total
-   least-squares line ``(gamma, rho)`` and the covariance of that fit from the range noise alone.
+7.1); the features are straight walls.  :func:`extract_lines` works on the scan's points in the
+laser frame (x forward, y left): valid beams are cut into *runs* at invalid beams and gaps, a run
+is *split* where a point lies more than ``split_distance`` off the chord between its ends
+(iterative end-point fit), neighbouring pieces are *merged* again when their joint line fits, and
+each piece of ``min_points`` points and ``min_length`` metres is *fitted*; docs/pluto-nav.md
+("Line extraction") states each step's rule.
 
 The covariance is the first-order propagation of independent range errors of standard deviation
 ``range_sigma`` through the total-least-squares fit (Pfister et al., "Weighted line fitting
@@ -96,6 +89,10 @@ def scan_points(ranges: ArrayLike, *, angles: ArrayLike | None = None,
     :param ranges: ``(N,)`` metres in robot order.
     :param angles: ``(N,)`` beam directions; by default ``start_angle + i * angle_step`` with
         ``angle_step = pi / (N - 1)`` (N = 181 or 361: a SICK over 180 degrees).
+    :param start_angle: rad, the first beam's direction when ``angles`` is None.
+    :param angle_step: rad between beams when ``angles`` is None; None: ``pi / (N - 1)``.
+    :param min_range: m; a range at or below it is no reading.
+    :param max_range: m; a range at or beyond it is no reading.
     :returns: ``(index, r, x, y, dphi)`` of the valid beams (finite, ``min_range < r <
         max_range``); ``dphi`` is the absolute angle between each valid beam and the next.
     :raises ValueError: on a scan that is not 1-D, shorter than 2, or angles of another length.
@@ -141,9 +138,18 @@ def extract_lines(ranges: ArrayLike, *, angles: ArrayLike | None = None,
     :param ranges: ``(N,)`` metres in robot order; ``inf``, ``-1``, NaN, ``<= min_range`` and
         ``>= max_range`` are no reading.
     :param angles: beam directions, or ``start_angle`` and ``angle_step`` (see :func:`scan_points`).
+    :param start_angle: rad, the first beam's direction when ``angles`` is None.
+    :param angle_step: rad between beams when ``angles`` is None; None: ``pi / (N - 1)``.
     :param range_sigma: m, standard deviation of one range reading; sets the lines' covariances.
+    :param min_range: m; see ``ranges``.
+    :param max_range: m; see ``ranges``.
     :param split_distance: m; by default the larger of :data:`DEFAULT_SPLIT_DISTANCE` and
         :data:`SPLIT_SIGMAS` times ``range_sigma``.
+    :param gap_distance: m; a run breaks where neighbouring points are farther apart than
+        ``gap_distance + gap_ratio * r * dphi``.
+    :param gap_ratio: beam spacings added to ``gap_distance`` (see there).
+    :param min_points: the fewest points a line has (2 or more).
+    :param min_length: m, the shortest line kept.
     :raises ValueError: on a malformed scan, a non-positive ``range_sigma`` or ``min_points < 2``.
     """
     if not range_sigma > 0.0:

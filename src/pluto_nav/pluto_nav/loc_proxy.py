@@ -29,6 +29,14 @@ class LocProxy:
     """The streams of ``mask`` (sum of 2**n) as consumers of ``manager``; queue mode optional."""
 
     def __init__(self, manager: CommsManager, mask: int, *, queue_mode: bool = False) -> None:
+        """Register the streams of ``mask`` (and Post_Pose, for the setter) as consumers.
+
+        :param manager: the program's CommsManager; the streams are registered with it.
+        :param mask: the interfaces used, the sum of ``2**n`` for each stream ``n`` in 0..4 (Pluto 3:
+            9 for interfaces 0 and 3).
+        :param queue_mode: keep every sample for :meth:`get_poses` rather than only the newest.
+        :raises ValueError: ``mask`` is not in 1..31.
+        """
         if not 0 < mask < 2 ** len(STREAMS):
             raise ValueError(f'mask {mask}: the sum of 2**n for the interfaces n = 0..4 used (1..31)')
         self.manager = manager
@@ -61,7 +69,12 @@ class LocProxy:
         return self._held
 
     def get_pose(self, n: int) -> LocPose | None:
-        """The newest pose of interface ``n`` taken in so far (None before the first)."""
+        """The newest pose of interface ``n`` taken in so far.
+
+        :param n: the stream's number, 0..4 (:mod:`pluto_nav.streams`); it must be in the mask.
+        :returns: the pose, or None before the first one arrived.
+        :raises ValueError: ``n`` is not in the proxy's mask.
+        """
         self.update()
         obj = self._check(n)
         while obj.get_next_data():
@@ -69,7 +82,12 @@ class LocProxy:
         return self._latest.get(n)
 
     def get_poses(self, n: int) -> list[LocPose]:
-        """Every pose of interface ``n`` taken in since the last call (queue mode keeps them all)."""
+        """Every pose of interface ``n`` taken in since the last call (queue mode keeps them all).
+
+        :param n: the stream's number, 0..4; it must be in the mask.
+        :returns: the poses, oldest first; empty when none came.
+        :raises ValueError: ``n`` is not in the proxy's mask.
+        """
         self.update()
         obj = self._check(n)
         poses = []
@@ -90,12 +108,19 @@ class LocProxy:
 
     def set_pose(self, pose: tuple[float, float, float], setter: int = USER_SETTER, *,
                  covariance: np.ndarray | None = None, stamp: float = 0.0) -> bool:
-        """Write ``pose`` (x, y, theta) to Post_Pose: a robot pose when ``setter`` < 0, else a laser
-        pose at ``stamp`` (0: now).  The localModule refuses a setter that is not allowed now.
+        """Write ``pose`` to Post_Pose; the localModule refuses a setter that is not allowed now.
 
         A request channel keeps nothing for a reader that matches later, so a pose written before
         the localModule's reader is matched is held (the newest one) and sent by the proxy's next
-        call once it is.  Whether it was sent now (False: held, or not sendable in this state)."""
+        call once it is.
+
+        :param pose: ``(x, y, theta)`` in the map frame, metres and radians.
+        :param setter: the cmdFlags: negative (default ``USER_SETTER``) a robot pose, else the
+            estimator's setter for a laser pose; 0 releases the setter.
+        :param covariance: 3x3 over (x, y, theta); None sends zeros.
+        :param stamp: the time the laser pose belongs to, seconds; 0 means now.
+        :returns: whether it was sent now (False: held, or not sendable in this state).
+        """
         value = LocPose(pose=(pose[0], pose[1], 0.0, pose[2], 0.0, 0.0), setter=setter, stamp=stamp,
                         covariance=np.zeros((3, 3)) if covariance is None else np.asarray(covariance))
         posts = self.streams[POST_POSE]
@@ -107,8 +132,12 @@ class LocProxy:
         return False
 
     def wait_for_setter(self, accept: int | Callable[[int], bool], timeout: float) -> bool:
-        """Run the manager's loop until the setter is ``accept`` (or ``accept(setter)`` holds), at
-        most ``timeout`` seconds; False on timeout or Quit."""
+        """Run the manager's loop until the setter is ``accept``.
+
+        :param accept: the setter value awaited, or a test on the setter.
+        :param timeout: seconds to wait at most.
+        :returns: True once it is; False on timeout or Quit.
+        """
         test = accept if callable(accept) else (lambda value: value == accept)
         deadline = time.monotonic() + timeout
         while True:

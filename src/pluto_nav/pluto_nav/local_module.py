@@ -1,47 +1,25 @@
 """local_module: Pluto's localization service, localModule (Pluto 3).
 
-Inputs (any subset may be missing; what is present is used):
+It fuses the base's odometry, the DMU's filtered state, the wrist's pan and tilt and the laser's
+timing stream (any subset may be missing; :mod:`.dead_reckoning` says which gives what) into the
+five LocalizationPose streams of :mod:`pluto_nav.streams`, the status stream
+``Localization/Status`` and the standard topics of :mod:`pluto_nav.ros_std`.  The README
+("Navigation") gives the inputs, options, streams and status; docs/pluto-nav.md ("localModule")
+the start, the resume file and the status stream's constants.
 
-- the base's odometry, Egomotion ``<base>Motion`` (``-b BASE``, default PlutoBase),
-- the DMU's filtered state, DMUState ``<dmu>`` (``-d DMU``, default PlutoDMU): heading, pitch, roll,
-- the wrist's state, ActuatorState ``<wrist>`` (``-w WRIST``, default PlutoWrist): pan and tilt,
-- the laser's timing interface, FVectorState ``<laser>/Timing`` (``-s LASER``, default PlutoLaser),
-  stamped at the scan's centre, and the laser's RangeFinder info for its mounting on the robot.
+Before changing it:
 
-Outputs: the five LocalizationPose streams of :mod:`pluto_nav.streams`, a status stream
-``Localization/Status`` (FVectorState, below), and the standard topics of :mod:`pluto_nav.ros_std`.
-(0) and (3) go out at the odometry's rate, (1) and (4) once per scan, interpolated at the scan's time
-as soon as the odometry (or DMU) passes it — sample by sample, so that a loaded machine's backlog
-of odometry never trims the history past a scan still waiting — and published only once the
-laser's mounting is known (its RangeFinder info, which on a loaded machine can come seconds after
-the first scans): until then the placed scans are held (up to ``MAX_HELD_SCANS``), never placed at
-the robot's centre.
-
-Start: a process the MCP restarted (``wurde_core.heartbeat.restart_count() > 0``: WURDE_MCP_RESTART)
-goes on where the killed one was: from the state file the MCP gives it (WURDE_MCP_STATE,
-:func:`wurde_core.resume.state_path`; the format is :mod:`pluto_nav.resume`'s; a module started
-by hand has none and keeps none), which the module rewrites (atomically) at most every
-``RESUME_PERIOD_S`` of wall time, and once more
-on a clean exit: the dead-reckoned pose and its covariance, the adjusted Pose (3) with its
-covariance and setter, and the base's odometry reading they correspond to.  Dead reckoning
-continues from that reading, so the motion the base made while no localModule ran is applied to
-the new process's first odometry sample (unless the odometry jumped, the base having restarted
-too: then it is no motion, as always).  A restarted process whose resume file is missing or
-unreadable warns with the file and the reason and starts as a first one does.  A first start
-(count 0: the MCP's first, or a module started by hand) ignores the file and removes it (a new
-run starts where the configuration says, and a stale file cannot leak into a later restart):
-``-p POSE_FILE`` (:mod:`pluto_nav.start_pose`), else the place ``start`` of the map ``-m MAP``
-(default ``map.xml`` in the config directory, WURDE_CONFIG_DIR), else the origin.  One log line
-says where it started and why.  A resume file that cannot be written is logged once; the module
-runs on.
-
-``Localization/Status``: element = [odometry fresh (1/0), DMU fresh (1/0), setter, refused Post_Pose
-writes]; data = [seconds since the last odometry (wall clock), the Pose's position standard deviation
-in m].  When the odometry stops (no sample for ``ODOMETRY_STALE_S`` of wall time) element[0] turns 0
-and the Pose's covariance grows by ``STALE_GROWTH`` per second until it comes back.
-
-Clocks: stamps are the inputs' (the robot's clock: the odometry's, the scan's); the staleness
-watchdog and the status rate use the wall clock (monotonic).
+- Stamps are the inputs' (the robot's clock: the odometry's, the scan's); the staleness watchdog
+  (``ODOMETRY_STALE_S``) and the status rate use the wall clock (monotonic).
+- Streams (1) and (4) are interpolated at the scan's time as soon as the odometry (or DMU) passes
+  it, sample by sample, so that a loaded machine's backlog of odometry never trims the history
+  past a scan still waiting.
+- They are published only once the laser's mounting is known (its RangeFinder info, which on a
+  loaded machine can come seconds after the first scans): until then the placed scans are held
+  (up to ``MAX_HELD_SCANS``), never placed at the robot's centre.
+- A process the MCP restarted (``wurde_core.heartbeat.restart_count() > 0``) goes on from the
+  resume file (:mod:`pluto_nav.resume`, rewritten at most every ``RESUME_PERIOD_S``); a first
+  start removes it, so that a stale file cannot leak into a later restart.
 """
 
 from __future__ import annotations

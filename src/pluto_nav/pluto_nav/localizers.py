@@ -38,6 +38,12 @@ class LineLocalizer:
     """Pluto 7.1's poseModule method: lines to walls in a Kalman filter."""
 
     def __init__(self, wall_map: WallMap, settings: Callable[[], MatchSettings] | None = None) -> None:
+        """A :class:`.pose_filter.PoseFilter` against ``wall_map``.
+
+        :param wall_map: the a-priori map's walls.
+        :param settings: called before each update for the matcher's current settings (the poseModule's
+            tunables); None: the filter's defaults.
+        """
         self.wall_map = wall_map
         self.filter = PoseFilter()
         self._settings = settings
@@ -51,19 +57,39 @@ class LineLocalizer:
         return self.filter.covariance
 
     def set_pose(self, pose: ArrayLike, covariance: ArrayLike) -> None:
+        """Start from ``pose`` with ``covariance`` (:meth:`.PoseFilter.set_pose`).
+
+        :param pose: the laser pose ``(x, y, theta)`` in the map frame.
+        :param covariance: 3x3, symmetric positive definite.
+        """
         self.filter.set_pose(pose, covariance)
 
     def predict(self, increment: ArrayLike, increment_covariance: ArrayLike) -> None:
+        """Move by the odometry ``increment`` (:meth:`.PoseFilter.predict`).
+
+        :param increment: ``(dx, dy, dtheta)`` in the previous laser frame.
+        :param increment_covariance: its 3x3 covariance.
+        """
         self.filter.predict(increment, increment_covariance)
 
     def update(self, scan: Scan) -> bool:
+        """Correct the pose with the scan's lines matched to the map's walls.
+
+        :param scan: the scan, in the laser frame.
+        :returns: whether any line matched a wall.
+        """
         if self._settings is not None:
             self.filter.settings = self._settings()
         return self.filter.update(scan.lines(), self.wall_map).matches > 0
 
 
 def wall_points(walls: ArrayLike, spacing: float = 0.025) -> NDArray:
-    """Points every ``spacing`` metres along each wall ``(x1, y1, x2, y2)``, ends included."""
+    """Points every ``spacing`` metres along each wall, ends included.
+
+    :param walls: ``(N, 4)`` segments ``x1, y1, x2, y2``, metres.
+    :param spacing: m between points (at most; each wall is cut into equal steps).
+    :returns: ``(M, 2)`` points.
+    """
     segments = np.asarray(walls, dtype=np.float64).reshape(-1, 4)
     points = []
     for x1, y1, x2, y2 in segments:
@@ -109,6 +135,12 @@ class ScanLocalizer:
     """
 
     def __init__(self, map_points: ArrayLike, settings: ScanLocalizerSettings = ScanLocalizerSettings()) -> None:
+        """The map's points, thinned to one per 5 cm, as a :class:`.point_map.PointMap`.
+
+        :param map_points: ``(N, 2)`` points of the map: its walls sampled (:func:`wall_points`) or
+            an occupancy grid's occupied cells.
+        :param settings: the tunables (:class:`ScanLocalizerSettings`).
+        """
         self.settings = settings
         self.map = PointMap(voxel_filter(map_points, 0.05), resolution=settings.field_resolution,
                             sigma=settings.field_sigma)
@@ -127,17 +159,33 @@ class ScanLocalizer:
         return self._cov.copy()
 
     def set_pose(self, pose: ArrayLike, covariance: ArrayLike) -> None:
+        """Start from ``pose`` with ``covariance``.
+
+        :param pose: the laser pose ``(x, y, theta)`` in the map frame.
+        :param covariance: its 3x3 covariance.
+        """
         self._pose = compose(np.asarray(pose, dtype=np.float64), (0.0, 0.0, 0.0))
         self._cov = np.asarray(covariance, dtype=np.float64).reshape(3, 3).copy()
         self._last, self._step = self._pose.copy(), np.zeros(3)
 
     def predict(self, increment: ArrayLike, increment_covariance: ArrayLike) -> None:
+        """Move by the odometry ``increment`` with its covariance.
+
+        :param increment: ``(dx, dy, dtheta)`` in the previous laser frame.
+        :param increment_covariance: its 3x3 covariance.
+        """
         j_pose, j_inc = compose_jacobians(self._pose, increment)
         self._pose = compose(self._pose, increment)
         cov = j_pose @ self._cov @ j_pose.T + j_inc @ np.asarray(increment_covariance).reshape(3, 3) @ j_inc.T
         self._cov = 0.5 * (cov + cov.T)
 
     def update(self, scan: Scan) -> bool:
+        """Match the scan to the map round the prediction and fuse the match with it.
+
+        :param scan: the scan, in the laser frame.
+        :returns: whether the scan matched (enough points, and ``min_inliers`` of them fitting); the
+            pose is unchanged when not.
+        """
         s = self.settings
         _, _, x, y, _ = scan_points(scan.ranges, angles=scan.angles, min_range=s.min_range,
                                     max_range=min(s.max_range, scan.max_range))

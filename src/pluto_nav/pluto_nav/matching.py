@@ -1,37 +1,20 @@
 """Data association for Pluto's poseModule (Pluto 7.1): which map wall each extracted line is.
 
 For a predicted laser pose with covariance ``P``, every wall the laser could see
-(:meth:`WallMap.visible`) is predicted in the laser frame, ``h = (gamma', rho')`` with Jacobian
-``H`` (:func:`geometry.line_to_frame`).  An observed line ``z`` with covariance ``R`` is a
-*candidate* for a wall when both hold:
+(:meth:`WallMap.visible`) is predicted in the laser frame with its Jacobian
+(:func:`geometry.line_to_frame`).  An observed line is a *candidate* for a wall when its
+innovation is inside the chi-square gate of 2 degrees of freedom at ``gate_probability`` and its
+segment, put in the map at the predicted pose, lies within the extent of the wall's chain of
+collinear walls (:attr:`WallMap.chain_extent`).  A line with no candidate gets a second chance
+with the gate widened to ``fallback_gate_probability`` (its matches are flagged ``fallback``): an
+odometry slip may put the prediction off by more than its covariance says, and the line that would
+show it must not be the one thrown away; the filter accepts such matches only when they agree with
+the others.
 
-- *gate*: the squared Mahalanobis distance ``v^T S^-1 v`` of the innovation ``v = z - h``
-  (``gamma`` wrapped) with ``S = H P H^T + R`` is inside the chi-square gate of 2 degrees of
-  freedom at ``gate_probability``;
-- *overlap*: the observed segment, put in the map at the predicted pose and projected onto the
-  wall's line, lies at least ``min_coverage`` of its length within the extent of the wall's chain
-  (:attr:`WallMap.chain_extent`: collinear walls that touch look like one wall) widened by
-  ``overlap_tolerance`` plus three standard deviations of where the pose puts it; and, whatever
-  the pose, the segment is no longer than that chain plus twice ``overlap_tolerance`` (a long
-  line is not a short wall, even when the pose is too uncertain for the overlap to tell).
-
-A line with no candidate at ``gate_probability`` gets a second chance with the gate widened to
-``fallback_gate_probability`` (its matches are flagged ``fallback``): the prediction may be off
-by more than its covariance says (an odometry slip), and the line that would show it must not be
-the one thrown away; the filter accepts such matches only when they agree with the others.
-
-Each observed line goes to at most one wall.  When several walls are candidates:
-
-1. *Same line*: walls on one infinite line (:attr:`WallMap.line`: a wall drawn in pieces, the
-   pieces of a corridor wall between doors) give the same measurement; the one the segment covers
-   best stands for them.
-2. *Hidden*: of two parallel candidates on the same side of the laser (the two faces of a thin
-   wall, a cupboard before a wall) the nearer hides the farther if, at the predicted pose and
-   with only ``overlap_tolerance`` as slack, it covers the segment at all and at least as well:
-   then the farther one is dropped.
-3. *Ambiguous*: if two different lines are still left and the second's distance is within
-   ``ambiguity_margin`` of the best's, the line is not used at all (a wrong match does more harm
-   than a missing one); otherwise the nearest in Mahalanobis distance wins.
+Each observed line goes to at most one wall.  Of several candidates, walls on one infinite line
+count as one, a nearer parallel wall hides a farther one, and a line whose two best candidates are
+within ``ambiguity_margin`` is not used at all: a wrong match does more harm than a missing one.
+docs/pluto-nav.md ("Matching lines to walls") states every test with its settings.
 """
 
 from __future__ import annotations
@@ -52,7 +35,11 @@ __all__ = ['Match', 'MatchArrays', 'MatchSettings', 'Matching', 'chi2_gate', 'ma
 
 
 def chi2_gate(probability: float) -> float:
-    """The chi-square quantile of 2 degrees of freedom: ``-2 ln(1 - probability)``."""
+    """The chi-square quantile of 2 degrees of freedom: ``-2 ln(1 - probability)``.
+
+    :param probability: the probability mass inside the gate, in (0, 1).
+    :raises ValueError: ``probability`` outside (0, 1).
+    """
     if not 0.0 < probability < 1.0:
         raise ValueError(f'a gate probability must be in (0, 1), not {probability}')
     return -2.0 * math.log1p(-probability)
@@ -165,11 +152,13 @@ class Matching:
 
 def match_lines(lines: Sequence[LineFeature], wall_map: WallMap, pose: ArrayLike,
                 covariance: ArrayLike, settings: MatchSettings = MatchSettings()) -> Matching:
-    """Match observed ``lines`` (laser frame) to ``wall_map`` for a laser at ``pose`` (see the
-    module's description).
+    """Match observed ``lines`` to ``wall_map`` for a laser at ``pose`` (see the module's description).
 
+    :param lines: the scan's lines in the laser frame (:func:`.lines.extract_lines`).
+    :param wall_map: the map's walls.
     :param pose: predicted laser pose ``(x, y, theta)`` in the map frame.
     :param covariance: its 3x3 covariance.
+    :param settings: the gates, ranges and margins (:class:`MatchSettings`).
     """
     x, y, theta = np.asarray(pose, dtype=np.float64).reshape(3).tolist()
     p = np.asarray(covariance, dtype=np.float64).reshape(3, 3)

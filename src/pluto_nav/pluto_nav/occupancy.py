@@ -50,8 +50,19 @@ class Grid:
 def build_grid(poses: ArrayLike, rays: Sequence[tuple[NDArray, NDArray]], *, resolution: float = 0.05,
                max_range: float = 30.0, free_range: float = 10.0, min_hits: int = 2,
                occupied_ratio: float = 0.25) -> Grid:
-    """The grid of scans ``rays`` (each ``(angles, ranges)`` in the laser's frame; inf: nothing
-    within range) taken at the laser ``poses`` (see the module's description)."""
+    """The occupancy grid of scans taken at known laser poses (see the module's description).
+
+    :param poses: ``(N, 3)`` the laser poses ``(x, y, theta)``, one per scan, in the map frame.
+    :param rays: per scan ``(angles, ranges)`` in the laser's frame, radians and metres; ``inf``:
+        nothing within range, NaN or 0 or less: no reading.
+    :param resolution: m per cell.
+    :param max_range: m; a range beyond it is taken as nothing within range.
+    :param free_range: m a beam that saw nothing clears along its direction.
+    :param min_hits: beams that must end in a cell for it to be occupied.
+    :param occupied_ratio: the share of the beams reaching a cell that must end in it for it to be
+        occupied.
+    :returns: the grid, covering every beam's cells with a cell of border.
+    """
     poses = np.asarray(poses, dtype=np.float64).reshape(-1, 3)
     ends, starts, free_ends = [], [], []
     for pose, (angles, ranges) in zip(poses, rays):
@@ -121,5 +132,10 @@ def _flat_all(points: NDArray, low: NDArray, resolution: float, rows: int, cols:
 
 def grid_walls(grid: Grid, *, tolerance: float | None = None, min_length: float | None = None) -> NDArray:
     """``(N, 4)`` wall segments along the outlines of ``grid``'s occupied regions
-    (:func:`wurde_idl.gridwalls.grid_walls`)."""
+    (:func:`wurde_idl.gridwalls.grid_walls`).
+
+    :param grid: the occupancy grid.
+    :param tolerance: m the simplified outline may stray; None: one cell.
+    :param min_length: m; a shorter outline is dropped; None: two cells.
+    """
     return gridwalls.grid_walls(grid.cells, grid.origin, grid.resolution, tolerance=tolerance, min_length=min_length)

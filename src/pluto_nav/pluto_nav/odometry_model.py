@@ -59,8 +59,12 @@ class OdometryNoiseModel:
 
 def increment_covariance(increment: ArrayLike,
                          model: OdometryNoiseModel = OdometryNoiseModel()) -> NDArray:
-    """The 3x3 covariance of an odometry ``increment`` ``(dx, dy, dtheta)`` in the frame it
-    started in (metres, radians; driving backwards has ``dx < 0``)."""
+    """The 3x3 covariance of an odometry ``increment``.
+
+    :param increment: ``(dx, dy, dtheta)`` in the frame it started in (metres, radians; driving
+        backwards has ``dx < 0``).
+    :param model: the noise model: translation, rotation and drift factors and a floor.
+    """
     dx, dy, dtheta = np.asarray(increment, dtype=np.float64).reshape(3).tolist()
     distance = math.copysign(math.hypot(dx, dy), dx)
     travel = abs(distance)
@@ -83,6 +87,9 @@ def laser_increment(increment: ArrayLike, covariance: ArrayLike,
     The robot moves by ``u`` (in its previous frame); a sensor at ``mount`` ``(x, y, theta)`` on
     the robot then moves by ``⊖mount ⊕ u ⊕ mount`` in its own previous frame.
 
+    :param increment: the robot's ``(dx, dy, dtheta)`` in its previous frame.
+    :param covariance: its 3x3 covariance.
+    :param mount: the sensor's pose ``(x, y, theta)`` on the robot.
     :returns: ``(increment, covariance)`` of the sensor.
     """
     u = np.asarray(increment, dtype=np.float64).reshape(3)

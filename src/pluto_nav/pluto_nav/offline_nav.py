@@ -6,24 +6,12 @@
 ``LOG`` is a CARMEN log (plain or gzip) or a rosbag2 bag (its directory, metadata.yaml, or one
 .mcap/.db3 file).  The estimation is the slamModule's or poseModule's own code
 (:mod:`.slam_methods`, :mod:`.localizers`, run by :mod:`.offline_run` as the modules run it), over
-the whole log as fast as one core allows, the same every time.  ``--method`` chooses the method
-(``scans`` by default: scan matching, made for real data; ``lines``: Pluto's line features).
-
-- ``--trajectory OUT.tum``: one line per scan used, ``timestamp x y z qx qy qz qw`` (TUM, read by
-  ``evo``), the robot's pose at the scan's time stamp (a CARMEN line's IPC ``timestamp``).  For
-  SLAM it is the final trajectory: every scan where the finished map puts it.
-- ``--map-out MAP.xml`` (SLAM): the map in the suite's format, which the poseModule loads, and
-  as a ROS map_server pair beside it (``MAP.yaml`` + ``MAP.pgm``).
-- ``--relations FILE`` (Kümmerle et al.'s relations) and ``--reference FILE`` (a reference
-  trajectory: TUM or a graph log) score the trajectory (:mod:`.slam_metric`), odometry beside it.
-- ``--start X,Y,THETA`` (localization): the robot's pose at the log's first odometry in the map;
-  by default the map's place ``start``.
-- A bag's IMU orientation gives the heading, as the localModule takes the DMU's (``--no-imu``:
-  the odometry's).
+the whole log as fast as one core allows, the same every time.  The README ("Offline runs") gives
+the outputs and the scoring; docs/pluto-nav.md ("offline_nav") the start pose, the IMU option and
+the exit status.
 
 Prints progress (a bar on a terminal) and a summary; problems with the log are warned once per
-kind and counted in the summary.  Exit status 0, 1 when the run failed, 2 for wrong arguments or
-an unreadable log or map.
+kind and counted in the summary.
 """
 
 from __future__ import annotations
@@ -79,6 +67,12 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """Run ``offline_nav`` (see the module's description and docs/pluto-nav.md).
+
+    :param argv: the arguments without the program's name; None: ``sys.argv[1:]``.
+    :returns: the exit status: 0, 1 when the run failed, 2 for wrong arguments or an unreadable
+        log or map.
+    """
     args = _parser().parse_args(list(sys.argv[1:] if argv is None else argv))
     say = _Say(quiet=args.quiet)
     try:

@@ -54,13 +54,17 @@ def run_offline(log: RobotLog, method: Method, *, start: tuple[float, float, flo
                 progress: Callable[[int, int], None] | None = None) -> OfflineResult:
     """Every scan of ``log`` through ``method``.
 
+    :param log: the recording (:func:`pluto_nav.logs.load_log`); it must have odometry.
+    :param method: the estimator, a SLAM method or a localizer (:mod:`.slam_methods`,
+        :mod:`.localizers`).
     :param start: the robot's pose at the first odometry record in the method's frame (a map's
         start place); None: the odometry's own first pose (a SLAM's map is then in the odometry
         frame, as comparable with it as can be).
-    :param start_covariance: of the first laser pose the method starts from (zero: exact).
+    :param start_covariance: of the first laser pose the method starts from (None or zero: exact).
     :param imu: take the heading from the log's IMU orientation where it has one (as the
         localModule takes the DMU's); False: from the odometry alone.
     :param progress: called with (scans done, scans in all) now and then.
+    :raises ValueError: the log has no odometry.
     """
     begun = time.perf_counter()
     if not log.odometry:

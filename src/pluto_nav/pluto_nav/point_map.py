@@ -33,7 +33,11 @@ BORDER = 1.0
 
 
 def voxel_filter(points: ArrayLike, size: float) -> NDArray:
-    """The first point of each ``size`` x ``size`` cell, in the points' order (deterministic)."""
+    """The first point of each ``size`` x ``size`` cell, in the points' order (deterministic).
+
+    :param points: ``(N, 2)`` metres.
+    :param size: m, the cell's side.
+    """
     xy = np.asarray(points, dtype=np.float64).reshape(-1, 2)
     if len(xy) == 0:
         return xy
@@ -53,6 +57,13 @@ class PointMap:
     """
 
     def __init__(self, points: ArrayLike, *, resolution: float = 0.05, sigma: float = 0.08) -> None:
+        """Index the points and compute each one's normal (the field is computed when first asked).
+
+        :param points: ``(N, 2)`` metres, at least :data:`NORMAL_NEIGHBOURS`.
+        :param resolution: m per cell of the likelihood field.
+        :param sigma: m, the field's spread.
+        :raises ValueError: too few points.
+        """
         self.points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         if len(self.points) < NORMAL_NEIGHBOURS:
             raise ValueError(f'a point map needs {NORMAL_NEIGHBOURS} points or more, not {len(self.points)}')
@@ -71,8 +82,12 @@ class PointMap:
         return vectors[:, :, 0]                    # the direction of least spread
 
     def field(self, factor: int = 1) -> NDArray:
-        """The likelihood field at ``factor`` times the resolution (cells: the largest value of
-        the fine cells beneath)."""
+        """The likelihood field at ``factor`` times the resolution.
+
+        :param factor: the cell size in fine cells; a coarse cell holds the largest value of the fine
+            cells beneath (computed once, then kept).
+        :returns: ``field[i, j]`` for the cell ``origin + (i, j) * resolution * factor``, values in (0, 1].
+        """
         if factor not in self._fields:
             if factor == 1:
                 self._fields[1] = self._fine_field()
@@ -94,8 +109,11 @@ class PointMap:
         return np.exp(-0.5 * np.square(distance / self.sigma))
 
     def nearest(self, points: NDArray, max_distance: float) -> tuple[NDArray, NDArray]:
-        """Distance to, and index of, each point's nearest map point (``inf`` and ``len(map)``
-        beyond ``max_distance``)."""
+        """Distance to, and index of, each point's nearest map point.
+
+        :param points: ``(M, 2)`` metres, in the map's frame.
+        :param max_distance: m; a point with no map point this near gets ``inf`` and ``len(map)``.
+        """
         return self.tree.query(points, distance_upper_bound=max_distance)
 
     def __len__(self) -> int:

@@ -84,6 +84,12 @@ class PoseFilter:
 
     def __init__(self, *, settings: MatchSettings = MatchSettings(),
                  consistency_probability: float = 0.99999) -> None:
+        """A filter at the origin with unit covariance; call :meth:`set_pose` first.
+
+        :param settings: data association tunables (:class:`~.matching.MatchSettings`).
+        :param consistency_probability: the chi-square (2 dof) quantile beyond which a match's residual
+            after the correction drops it (see the class).
+        """
         self._limit = chi2_gate(consistency_probability)
         self.settings = settings
         self._pose = np.zeros(3)
@@ -100,8 +106,10 @@ class PoseFilter:
         return self._cov.copy()
 
     def set_pose(self, pose: ArrayLike, covariance: ArrayLike) -> None:
-        """Start from ``pose`` with ``covariance`` (3x3, symmetric positive definite).
+        """Start from ``pose`` with ``covariance``.
 
+        :param pose: the laser pose ``(x, y, theta)`` in the map frame, metres and radians.
+        :param covariance: 3x3 over (x, y, theta), symmetric positive definite.
         :raises ValueError: on a non-finite pose or a covariance that is not SPD.
         """
         p = np.asarray(pose, dtype=np.float64).reshape(3)
@@ -113,8 +121,11 @@ class PoseFilter:
         self._cov = 0.5 * (c + c.T)
 
     def predict(self, increment: ArrayLike, increment_covariance: ArrayLike) -> None:
-        """Move by the odometry ``increment`` (in the previous laser frame) with its covariance.
+        """Move by the odometry ``increment`` with its covariance.
 
+        :param increment: ``(dx, dy, dtheta)`` in the previous laser frame (:func:`.geometry.relative`).
+        :param increment_covariance: its 3x3 covariance, e.g.
+            :func:`.odometry_model.increment_covariance`.
         :raises ValueError: on a non-finite increment or a covariance that is not symmetric
             positive semi-definite.
         """
@@ -140,6 +151,10 @@ class PoseFilter:
         correction that moves the pose by more than one standard deviation while some lines
         found no wall matches the lines again at the corrected pose and keeps whichever uses
         more lines.
+
+        :param lines: the scan's lines in the laser frame (:func:`.lines.extract_lines`).
+        :param wall_map: the a-priori map's walls.
+        :returns: what the update did; the pose is unchanged when ``accepted`` is False.
         """
         prior_info = np.linalg.inv(self._cov)
         matching = match_lines(lines, wall_map, self._pose, self._cov, self.settings)

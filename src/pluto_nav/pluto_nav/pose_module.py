@@ -6,25 +6,14 @@ module.  It first extracts features from the laser scan then matches them to the
 feeds this along with the dead-reckoning pose into a Kalman Filter to get an improved pose which it
 writes to the localization module."  The cycle, the thread and the setter are
 :class:`pluto_nav.estimator.Estimator`'s: the filter is :class:`pluto_nav.pose_filter.PoseFilter`
-(lines matched to the map's walls with a statistical gate), the setter is 1, and the thread runs
-from the start unless ``-x``.
+(lines matched to the map's walls with a statistical gate; ``-e scans``: every laser point matched
+to the map, :mod:`pluto_nav.localizers` says which suits what), the setter is 1, and the thread
+runs from the start unless ``-x``.
 
-``pose/status`` (FVectorState, Pluto 7.1):
-
-- element[0]: 1 the thread runs, 0 stopped.  A request writing element[0] = 0 stops it and 1
-  starts it (the proxy's start/stop activity).
-- element[1]: a request writing 2 starts the find-wall: -1 while it searches, then the number of
-  scan points in the longest wall in front (0 when none); data = (gamma, rho) of that wall in the
-  laser frame and its 2x2 covariance, row-major (6 values).
-- element[2], element[3] (ours): scans used, scans whose lines matched no wall.
-
-Options: ``-m MAP`` (default ``map.xml`` in the config directory: Pluto's "default mapfile"),
-``-s LASER`` (default PlutoLaser), ``-x`` (do not start the thread), ``-e METHOD``: ``lines``
-(default, Pluto 7.1's line features in a Kalman filter) or ``scans`` (every laser point matched to
-the map, for real buildings' clutter; :mod:`pluto_nav.localizers` says which suits what).
-
-Tunables (ROS 2 parameters, :data:`MATCH_TUNABLES`): the matcher's gates and ranges,
-``match.<field>`` of :class:`pluto_nav.matching.MatchSettings`, taken at the next scan.
+``pose/status`` (FVectorState, Pluto 7.1; elements 2 and 3 are ours) and the options are in the
+README ("Navigation"); docs/pluto-nav.md ("poseModule") adds the status layout's detail and the
+tunables: the matcher's gates and ranges are ROS 2 parameters (:data:`MATCH_TUNABLES`,
+``match.<field>`` of :class:`pluto_nav.matching.MatchSettings`), taken at the next scan.
 """
 
 from __future__ import annotations

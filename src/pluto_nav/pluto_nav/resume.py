@@ -5,25 +5,13 @@ While it runs under an MCP the localModule keeps the state file the MCP gave it
 module log directory) up to date; a process the MCP restarts
 (``wurde_core.heartbeat.restart_count() > 0``) starts from it (:mod:`pluto_nav.local_module`).
 
-The file is JSON, one object (metres, radians, seconds; covariances 3x3 over (x, y, theta), row by
-row as 9 numbers)::
-
-    {"format": "pluto_nav.resume", "version": 1,
-     "odometry": {"stamp": 1764718000.12, "x": 1.5, "y": -0.2, "theta": 0.3, "sequence": 812,
-                  "session": 4711},
-     "dead_reckoning": {"x": 4.4, "y": 7.9, "theta": 0.3, "covariance": [9 numbers]},
-     "pose": {"x": 4.5, "y": 7.8, "theta": 0.31, "covariance": [9 numbers] or null,
-              "setter": 1, "holder": "poseModule"}}
-
-``odometry`` is the base's odometry reading (its own frame, its stamp) that the poses correspond
-to, and the number and the sender's session of the last odometry message taken (``sequence``,
-``session``, both optional: a restarted localModule whose first odometry message comes from
-another session, or without sessions is numbered lower, knows the base restarted too,
-:class:`wurde_core.sender_watch.SenderWatch`); ``dead_reckoning`` is stream (0) then, ``pose``
-stream (3) (dead reckoning adjusted by the
-accepted Post_Pose writes) with the setter and the module holding it; its covariance is null while
-no write was accepted (stream (3)'s covariance is then dead reckoning's).  It is written to a
-temporary file beside it (``<file>.<pid>.tmp``) and renamed over it (``os.replace``), so a reader (or a process killed
+The file is one JSON object, format ``pluto_nav.resume`` version 1 (docs/pluto-nav.md, "The
+resume file", shows it): the base's odometry reading the poses correspond to, with the number and
+the sender's session of the last odometry message taken (so that a restarted localModule knows
+whether the base restarted too, :class:`wurde_core.sender_watch.SenderWatch`), stream (0)'s
+dead-reckoned pose and stream (3)'s pose with its setter and holder; metres, radians, seconds,
+covariances 3x3 over (x, y, theta) row by row.  It is written to a temporary file beside it
+(``<file>.<pid>.tmp``) and renamed over it (``os.replace``), so a reader (or a process killed
 while writing) never sees half a file.  :func:`read_resume` refuses anything else with a reason.
 """
 
@@ -76,7 +64,10 @@ def _matrix(matrix: np.ndarray) -> list[float]:
 
 
 def to_json(state: ResumeState) -> str:
-    """The file's text for ``state``."""
+    """The file's text for ``state``.
+
+    :param state: what the localModule saves.
+    """
     pose = {**_xyt(state.pose),
             'covariance': None if state.pose_covariance is None else _matrix(state.pose_covariance),
             'setter': int(state.setter), 'holder': state.holder}
@@ -93,6 +84,8 @@ def to_json(state: ResumeState) -> str:
 def write_resume(path: str | os.PathLike[str], state: ResumeState) -> None:
     """Write ``state`` to ``path`` atomically (:func:`wurde_core.resume.replace_file`).
 
+    :param path: the resume file (the MCP's ``WURDE_MCP_STATE``).
+    :param state: what to save.
     :raises OSError: when it cannot be written (the caller decides what that means).
     """
     replace_file(path, to_json(state))
@@ -166,8 +159,12 @@ def _parse(text: str) -> ResumeState:
 
 
 def read_resume(path: str | os.PathLike[str]) -> tuple[ResumeState | None, str]:
-    """``(state, '')`` from the file at ``path``, or ``(None, reason)`` when there is none or it is
-    not a whole, valid resume file (never raises for a bad file)."""
+    """The state saved in the file at ``path``; never raises for a bad file.
+
+    :param path: the resume file.
+    :returns: ``(state, '')``, or ``(None, reason)`` when there is none or it is not a whole, valid
+        resume file.
+    """
     try:
         with open(path, encoding='utf-8') as stream:
             text = stream.read()

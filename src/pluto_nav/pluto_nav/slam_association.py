@@ -4,29 +4,20 @@ For every observed line (laser frame) and active landmark the filter predicts th
 laser frame (:func:`.line_landmark.observe`) with the innovation covariance
 ``S = H P H^T + R`` over the laser pose *and* the landmark (their correlation included: a
 landmark mapped from here is known well relative to the robot however lost the map is).  A
-landmark is a *candidate* for a line when all hold:
-
-- *gate*: ``v^T S^-1 v`` is inside the chi-square gate of 2 dof at ``gate_probability``;
-- *facing*: the laser is at least ``min_facing`` off the landmark's line (no edge-on walls);
-- *overlap*: the observed segment, put in the map at the predicted pose and projected onto the
-  landmark's line, reaches the landmark's extent within ``overlap_tolerance`` plus three
-  standard deviations of where the pose puts it;
-- *side*: a landmark seen so far only from the other side (its line between the laser and where
-  the laser was) must fit within ``other_side_tolerance`` in absolute terms too: the two faces of
-  a thick wall are a few centimetres apart and must not be taken for each other when the pose is
-  uncertain, while a thin wall is seen from both sides.
+landmark is a *candidate* for a line when it passes the chi-square gate (``gate_probability``),
+the laser is not edge-on to its line (``min_facing``), the segment reaches its extent
+(``overlap_tolerance``) and, for a landmark seen so far only from the other side, the fit is
+within ``other_side_tolerance`` (the two faces of a thick wall must not be taken for each other);
+docs/pluto-nav.md ("SLAM data association") states each test.
 
 A line with no candidate gets a second chance with the gate widened to
 ``fallback_gate_probability`` (its match is flagged): odometry can be off by more than its
-covariance says (the simulated base's heading noise grows with the square root of the turn, so a
-short turn measured shorter than it was is given too small a variance), and the lines that would
-show it must not all be taken for new walls.  The filter uses fallback matches only when they
-agree with the others, and alone only when two or more agree.
-
-Of several candidates the nearest in Mahalanobis distance wins unless a different one is within
-``ambiguity_margin`` of it; candidates that predict the same line (a wall and its duplicate,
-about to merge) are not different, and a parallel candidate behind the best one on the same side
-is hidden by it.  An ambiguous line is used neither to correct nor to start a landmark.
+covariance says, and the lines that would show it must not all be taken for new walls.  The
+filter uses fallback matches only when they agree with the others, and alone only when two or
+more agree.  Of several candidates the nearest in Mahalanobis distance wins unless a different
+one is within ``ambiguity_margin`` of it (a wall and its duplicate about to merge are not
+different; a parallel candidate behind the best one is hidden by it).  An ambiguous line is used
+neither to correct nor to start a landmark.
 """
 
 from __future__ import annotations

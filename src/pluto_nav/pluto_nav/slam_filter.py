@@ -4,48 +4,21 @@ map while also using the map to improve the pose estimates".
 :class:`SlamFilter` is line-feature EKF SLAM.  The state is the laser pose ``(x, y, theta)`` in
 the map frame and one landmark per wall: its infinite line ``(gamma, rho)``
 (:mod:`.line_landmark`), with the part of it seen so far kept beside the state
-(:mod:`.landmark_extent`) to turn lines into wall segments.  Per scan, as PoseFilter:
+(:mod:`.landmark_extent`) to turn lines into wall segments.  Per scan, as PoseFilter,
+:meth:`~SlamFilter.predict` composes the odometry increment onto the pose and
+:meth:`~SlamFilter.update` matches the scan's lines to the landmarks near the robot
+(:mod:`.slam_association`), corrects pose and landmarks with the consistent matches in one EKF
+update, extends the matched landmarks' extents, starts landmarks from unmatched lines, merges
+landmarks that have become the same wall (how a loop closes) and prunes short-lived tentative
+ones; docs/pluto-nav.md ("The SLAM filter") states each step with its settings.
 
-1. :meth:`~SlamFilter.predict` composes the odometry increment (in the previous laser frame) onto
-   the pose;
-2. :meth:`~SlamFilter.update` matches the scan's lines to the landmarks near the robot
-   (:mod:`.slam_association`: Mahalanobis gate on pose *and* landmark uncertainty, overlap of
-   extents), drops matches inconsistent with the others (each residual after the joint
-   correction tested against its expected spread, the worst dropped until all agree) and
-   corrects pose and landmarks with the rest in one EKF update;
-3. extends the matched landmarks' extents by what was seen (only the part of each line within
-   ``extent_range`` of the laser, and only where it continues the known extent);
-4. starts landmarks from unmatched lines with ``new_min_points`` points and ``new_min_length``
-   metres within ``extent_range``;
-5. merges landmarks that have become the same wall: lines statistically equal (chi-square on
-   their difference with its full covariance), extents overlapping or within ``merge_gap``, and
-   no other landmark as plausible.  The merge is an update with the constraint "these two lines
-   are one" followed by dropping one of them; it is how a loop closes when the robot comes back
-   to walls it mapped long ago and first sees them as new ones;
-6. prunes *tentative* landmarks (matched fewer than ``confirm_matches`` times) not seen for
-   ``tentative_scans`` scans: short-lived spurious lines.  :meth:`~SlamFilter.walls` gives only
-   confirmed landmarks.
-
-A map error is permanent, so the filter is wary of an odometry increment worse than its model
-says (the simulated base's heading noise grows with the square root of the turn, and a short
-turn measured shorter than it was gets too small a variance): it inflates the increments'
-covariance (``odometry_inflation``), gives lines that fit no landmark a second, wider gate
-(:mod:`.slam_association`), and starts landmarks only in scans whose pose was pinned by
-:data:`MIN_MATCHES_TO_MAP` matches, or once the robot has seen nothing it knows for
-``adrift_scans`` scans.
-
-Which Kalman filter: the *compressed* EKF of Guivant & Nebot, as Pluto's (:mod:`.compressed_ekf`).
-The landmarks within reach of a local area (a disc of ``zone_radius`` round where the robot was
-at the last global update, widened by ``max_range``, ``anchor_radius`` and the pose's
-uncertainty) are active; updates cost ``O(active^2)``, and the full covariance is brought up to
-date only when the robot leaves the disc, in ``O(passive^2 active)``.  Why this one: it is the
-seed's, it computes exactly what the full EKF computes (the tests run both and compare), so
-nothing is lost in accuracy, and it bounds the cost per scan by what the laser can see rather
-than by the size of the map.  Every rule that picks landmarks (association, merging, anchors)
-looks only at landmarks the laser could see, so compression changes no decision either.  With
-the default 30 m range a map smaller than that is all active and the filter is the plain EKF;
-``bench/slam_offline.py`` measures the time per update (about 12 ms with 150 landmarks all
-active, against 200 ms between scans).
+Before changing it: a map error is permanent, so the filter is wary of an odometry increment worse
+than its model says: it inflates the increments' covariance (``odometry_inflation``), gives lines
+that fit no landmark a second, wider gate, and starts landmarks only in scans whose pose was pinned
+by :data:`MIN_MATCHES_TO_MAP` matches (or once it has been adrift for ``adrift_scans`` scans).  The
+Kalman filter is Guivant & Nebot's compressed EKF, as Pluto's (:mod:`.compressed_ekf`): it computes
+exactly what the full EKF computes (the tests run both), and every rule that picks landmarks looks
+only at landmarks the laser could see, so compression changes no decision either.
 
 :meth:`~SlamFilter.to_map_data` saves the walls as a :class:`wurde_idl.mapfile.MapData` with the
 place ``start`` where SLAM started, so the poseModule can load it as its a-priori map next run.
@@ -110,6 +83,10 @@ class SlamFilter:
     """
 
     def __init__(self, *, settings: SlamSettings = SlamSettings()) -> None:
+        """An empty map with the laser at the origin; call :meth:`set_pose` first.
+
+        :param settings: the filter's tunables (:class:`.slam_settings.SlamSettings`).
+        """
         self.settings = settings
         self._limit = -2.0 * math.log1p(-settings.consistency_probability)
         self.set_pose((0.0, 0.0, 0.0), np.zeros((3, 3)))
@@ -155,6 +132,7 @@ class SlamFilter:
     def to_map_data(self, name: str, *, mount: ArrayLike = (0.0, 0.0, 0.0)) -> MapData:
         """The map: the confirmed walls, and the place ``start`` where SLAM started.
 
+        :param name: the map's name.
         :param mount: the laser's pose on the robot: ``start`` is the *robot's* pose (as the
             map files' places are), the laser's start composed with the inverse mount.
         """
@@ -167,6 +145,7 @@ class SlamFilter:
     def set_pose(self, pose: ArrayLike, covariance: ArrayLike) -> None:
         """Start a new map with the laser at ``pose`` (the map frame is where this puts it).
 
+        :param pose: the laser pose ``(x, y, theta)``, metres and radians.
         :param covariance: 3x3, symmetric positive semi-definite (zero: the map frame *is* this
             pose).
         :raises ValueError: on a non-finite pose or a covariance that is not symmetric PSD.
@@ -181,8 +160,10 @@ class SlamFilter:
         self._zone = self._start[:2].copy()
 
     def predict(self, increment: ArrayLike, increment_covariance: ArrayLike) -> None:
-        """Move by the odometry ``increment`` (in the previous laser frame) with its covariance.
+        """Move by the odometry ``increment`` with its covariance.
 
+        :param increment: ``(dx, dy, dtheta)`` in the previous laser frame.
+        :param increment_covariance: its 3x3 covariance, before ``odometry_inflation`` multiplies it.
         :raises ValueError: on a non-finite increment or a covariance that is not symmetric PSD.
         """
         u, q = _checked(increment, 'increment', increment_covariance, 'increment_covariance')

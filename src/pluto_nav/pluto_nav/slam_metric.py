@@ -88,13 +88,25 @@ def _rows(path: str | os.PathLike[str], count: int) -> tuple[NDArray, list[int]]
 
 
 def load_relations(path: str | os.PathLike[str]) -> NDArray:
-    """``(N, 4)``: ``t1, t2, dx, dy`` and ``dyaw`` of each relation (columns 0, 1, 2, 3, 4)."""
+    """The relations of a relation file (Kümmerle et al.'s format, plain or gzip).
+
+    :param path: the file: ``t1 t2 dx dy dz roll pitch dyaw`` a line, ``#`` comments.
+    :returns: ``(N, 5)``: ``t1, t2, dx, dy`` and ``dyaw`` of each relation.
+    :raises MetricError: the file cannot be read, or a line is not 8 finite numbers.
+    """
     rows, _ = _rows(path, 8)
     return rows[:, [0, 1, 2, 3, 7]]
 
 
 def load_trajectory(path: str | os.PathLike[str]) -> tuple[NDArray, NDArray]:
-    """``(stamps, poses)`` of a TUM file or a graph log (see the module's description)."""
+    """``(stamps, poses)`` of a TUM file or a graph log (see the module's description).
+
+    :param path: the trajectory file, plain or gzip; a graph log is told by its ``VERTEX2`` or
+        ``VERTEX_SE2`` lines.
+    :returns: ``(N,)`` seconds and ``(N, 3)`` poses ``(x, y, theta)``.
+    :raises MetricError: a malformed file.
+    :raises OSError: a file that cannot be opened.
+    """
     head = next(iter(_open_text(path)), '')
     if head.split()[:1] in (['VERTEX2'], ['VERTEX_SE2']) or _looks_like_graph(path):
         return _load_graph_log(path)
@@ -136,7 +148,12 @@ def _load_graph_log(path: str | os.PathLike[str]) -> tuple[NDArray, NDArray]:
 
 
 def save_tum(path: str | os.PathLike[str], stamps: ArrayLike, poses: ArrayLike) -> None:
-    """One line per pose: ``timestamp x y 0 0 0 sin(theta/2) cos(theta/2)``."""
+    """Write a TUM trajectory: one line per pose, ``timestamp x y 0 0 0 sin(theta/2) cos(theta/2)``.
+
+    :param path: the file to write (replaced).
+    :param stamps: ``(N,)`` seconds.
+    :param poses: ``(N, 3)`` ``(x, y, theta)``, metres and radians.
+    """
     with open(path, 'w', encoding='ascii') as out:
         out.write('# timestamp x y z qx qy qz qw\n')
         for t, (x, y, theta) in zip(np.asarray(stamps, dtype=float), np.asarray(poses, dtype=float).reshape(-1, 3)):
@@ -163,7 +180,12 @@ def _summary(errors: list[tuple[float, float]], missing: int) -> Score:
 
 
 def relation_error(stamps: ArrayLike, poses: ArrayLike, relations: NDArray) -> Score:
-    """The relation metric (see the module's description)."""
+    """The relation metric (see the module's description).
+
+    :param stamps: ``(N,)`` seconds of the trajectory's poses, in any order.
+    :param poses: ``(N, 3)`` the trajectory's ``(x, y, theta)``.
+    :param relations: ``(M, 5)`` as :func:`load_relations` gives them.
+    """
     t = np.asarray(stamps, dtype=np.float64)
     order = np.argsort(t, kind='stable')
     t, p = t[order], np.asarray(poses, dtype=np.float64).reshape(-1, 3)[order]
@@ -179,8 +201,15 @@ def relation_error(stamps: ArrayLike, poses: ArrayLike, relations: NDArray) -> S
 
 def relative_pose_error(stamps: ArrayLike, poses: ArrayLike, ref_stamps: ArrayLike, ref_poses: ArrayLike, *,
                         min_distance: float = 0.3, max_distance: float = 2.0) -> Score:
-    """Relative pose error on the pairs of common times whose reference poses lie
-    ``min_distance`` to ``max_distance`` apart (m)."""
+    """Relative pose error against a reference trajectory.
+
+    :param stamps: ``(N,)`` seconds of the trajectory's poses, in any order.
+    :param poses: ``(N, 3)`` the trajectory's ``(x, y, theta)``.
+    :param ref_stamps: ``(M,)`` seconds of the reference's poses.
+    :param ref_poses: ``(M, 3)`` the reference's ``(x, y, theta)``.
+    :param min_distance: m; pairs of common times whose reference poses are closer are not scored.
+    :param max_distance: m; nor are pairs farther apart.
+    """
     t = np.asarray(stamps, dtype=np.float64)
     order = np.argsort(t, kind='stable')
     t, p = t[order], np.asarray(poses, dtype=np.float64).reshape(-1, 3)[order]

@@ -5,28 +5,19 @@ localModule's poses.
 improve the pose estimates.  Aside from saving the map not doing odometry calibration it works like
 the pose module.  The slam thread does not start automatically when you run the slamModule script,
 one must start it when ready."  The cycle, the thread and the setter are
-:class:`pluto_nav.estimator.Estimator`'s, with :class:`pluto_nav.slam_filter.SlamFilter`; the
-setter is 2 while estimating and 3 while saving.  Each start of the thread starts a new map whose
-frame is the Laser_Pose (4) the thread started at, taken as exact: the map is drawn in the frame
-the localModule's poses are in.
+:class:`pluto_nav.estimator.Estimator`'s, with a method of :mod:`pluto_nav.slam_methods` (``-e
+lines``: :class:`pluto_nav.slam_filter.SlamFilter`; ``-e scans``: graph SLAM for real robots'
+data); the setter is 2 while estimating and 3 while saving.  Each start of the thread starts a new
+map whose frame is the Laser_Pose (4) the thread started at, taken as exact: the map is drawn in
+the frame the localModule's poses are in.
 
-``slam/status`` (FVectorState, Pluto 7.2): element[0] 1 the thread runs, 0 stopped (requests
-writing 0 or 1 stop or start it); a request writing element[1] = 2 saves the map: element[1] is -1
-and the setter 3 while it saves, then 0 and the estimate cycle continues.  Stopping the thread
-saves the map too ("when the slam thread is stopped the map is saved so one should wait"), and so
-does the module's end while the thread runs.  element[2], element[3]: scans used, scans whose
-lines matched no landmark; data = [confirmed walls, landmarks in the filter, maps saved].
-
-The map is saved in the simulator's map format (config/maps/README.md, :mod:`wurde_idl.mapfile`)
-with the place ``start``, the robot's pose where the thread started, so a poseModule can load it
-next run (``-m``) and a localModule start at that place (its ``-m``); a method that builds an
-occupancy grid also writes it beside, as a ROS map_server pair (``FILE`` with ``.yaml`` and
-``.pgm``, :mod:`wurde_idl.gridmap`).  Options: ``-f FILE`` (default ``slam-map.xml``; a relative
-path is in the data directory, WURDE_DATA_DIR; ``-o`` is WURDE's namespace option), ``-s LASER``
-(default PlutoLaser), ``-a`` (start the thread at launch), ``-e METHOD``: ``lines`` (default,
-Pluto's line landmarks in a compressed EKF) or ``scans`` (scan-matching graph SLAM with loop
-closure, for real robots' data; :mod:`pluto_nav.slam_methods`).  With ``scans``, data[0] is the
-number of walls of the last map saved and data[1] the nodes of the pose graph.
+Stopping the thread saves the map ("when the slam thread is stopped the map is saved so one should
+wait"), and so does the module's end while the thread runs, which is why it asks the MCP for
+:data:`QUIT_TIME_S` after Quit.  The map is saved in the simulator's map format
+(:mod:`wurde_idl.mapfile`) with the place ``start``, so a poseModule can load it next run; a method
+that builds an occupancy grid also writes a map_server pair beside it (:mod:`wurde_idl.gridmap`).
+The README ("Navigation") gives ``slam/status`` and the options; docs/pluto-nav.md ("slamModule")
+what it adds.
 """
 
 from __future__ import annotations

@@ -25,7 +25,11 @@ __all__ = ['read_pose_file', 'start_pose']
 
 
 def read_pose_file(path: str | os.PathLike[str]) -> tuple[float, float, float]:
-    """The pose ``x y theta`` of a pose file."""
+    """The pose ``x y theta`` of a pose file.
+
+    :param path: the file: exactly one line ``x y theta`` (metres, radians), ``#`` comments.
+    :raises ConfigError: unreadable, no pose, a second pose, or a malformed or non-finite value.
+    """
     try:
         with open(path, encoding='utf-8') as stream:
             lines = stream.read().splitlines()
@@ -56,7 +60,12 @@ def read_pose_file(path: str | os.PathLike[str]) -> tuple[float, float, float]:
 
 
 def start_pose(pose_file: str | None, map_file: str | None) -> tuple[float, float, float]:
-    """The pose file's pose if given, else the map's ``start`` place, else the origin."""
+    """The pose file's pose if given, else the map's ``start`` place, else the origin.
+
+    :param pose_file: the ``-p`` pose file, or None.
+    :param map_file: the ``-m`` map (any format :func:`wurde_idl.maps.load_map` reads), or None.
+    :raises ConfigError: a bad pose file, or a map with no place ``start``.
+    """
     if pose_file:
         return read_pose_file(pose_file)
     if map_file:

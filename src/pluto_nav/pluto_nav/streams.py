@@ -73,7 +73,11 @@ class LocPose:
 
 
 def write_pose(target: object, value: LocPose) -> None:
-    """Fill a LocalizationPose data struct (or a request/info, whose members are Writable)."""
+    """Fill a LocalizationPose data struct (or a request/info, whose members are Writable).
+
+    :param target: the struct to fill; its ``timestamp``, if it has one, is set to ``value.stamp``.
+    :param value: the pose, covariance and setter (written as cmdFlags).
+    """
     x, y, z, theta, phi, psi = value.pose
     covariance = [float(c) for c in np.asarray(value.covariance, dtype=float).reshape(-1)]
     fields = {'pose': Pose3D(x, y, z, theta, phi, psi), 'pan': value.pan, 'tilt': value.tilt,
@@ -84,7 +88,11 @@ def write_pose(target: object, value: LocPose) -> None:
 
 
 def read_pose(source: object) -> LocPose:
-    """A LocPose from a LocalizationPose data struct or request (Writable members)."""
+    """A LocPose from a LocalizationPose data struct or request (Writable members).
+
+    :param source: the struct; without a ``timestamp`` the stamp is 0, and a covariance that is not
+        9 numbers is read as NaN.
+    """
     def get(name: str) -> Any:
         member = getattr(source, name)
         return member.get_value() if hasattr(member, 'get_value') else member

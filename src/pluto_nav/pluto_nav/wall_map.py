@@ -37,6 +37,12 @@ class WallMap:
     """
 
     def __init__(self, walls: ArrayLike) -> None:
+        """Each wall's line and extent, the collinear walls and the chains they form.
+
+        :param walls: ``(N, 4)`` segments ``x1, y1, x2, y2`` in metres in the map frame.
+        :raises ValueError: on a malformed array, a non-finite coordinate or a zero-length wall
+            (naming the wall's row).
+        """
         segments = np.array(walls, dtype=np.float64)
         if segments.size == 0:
             segments = segments.reshape(0, 4)
@@ -103,7 +109,10 @@ class WallMap:
         is at least ``min_distance`` from the wall's line, so it does not see the wall edge-on.
         Occlusion is not considered (the matcher's overlap test and gate deal with hidden walls).
 
+        :param pose: the laser pose ``(x, y, theta)`` in the map frame.
+        :param max_range: m, the laser's range.
         :param margin: m, slack for the uncertainty of ``pose``.
+        :param min_distance: m the laser must be from a wall's line.
         """
         x, y, theta = np.asarray(pose, dtype=np.float64).reshape(3).tolist()
         c, s = math.cos(theta), math.sin(theta)

@@ -24,6 +24,9 @@ def _message_type(package: str, name: str) -> type:
 def bind(cls: Any, interface: str) -> None:
     """Give ``cls`` the message types and structures of ``interface``.
 
+    :param cls: a RobotObject class; its ``description``, ``data_type``, ``info_type`` and
+        structures are set.
+    :param interface: the interface's name (``Foo``).
     :raises UnknownInterfaceError: when no installed package defines ``interface``.
     """
     desc = load(interface)

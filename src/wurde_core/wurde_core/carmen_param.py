@@ -8,18 +8,12 @@ The calls of "Programming with CARMEN", section 6, on ROS 2 parameters::
     flipped = params.get_onoff('laser_flipped')      # None, and a warning, if not defined
 
 The daemon serves ``module_variable`` of carmen.ini as its ROS 2 parameter ``module.variable``;
-here names are spelt as CARMEN spells them.  Where the seed is silent:
-
-- A get returns the value, or ``None`` (after the seed's warning on stderr, unless
-  :meth:`CarmenParams.allow_unfound_variables`) when the daemon has no such parameter.  A value
-  that cannot be converted to the type asked for (``"abc"`` as an int, ``0.5`` as an int) raises
-  :class:`ParamTypeError`: it is a wrong carmen.ini, not a missing parameter.
-- Subscription targets are ``(obj, 'attr')`` (``setattr``) or ``(mapping, key)``: Python has no
-  pointers.  Handlers are called ``handler(module, variable, value)`` (CARMEN's
-  ``carmen_param_change_handler_t``), after the target is set.
-- Changes are applied in the program's own thread when it calls :meth:`CarmenParams.update`
-  once per loop turn (CARMEN applied them when the program's IPC dispatch ran) — and while any
-  other call of this object waits for the daemon.  Handlers never run in another thread.
+here names are spelt as CARMEN spells them.  Where the seed is silent (the README, "CARMEN's
+parameters", has the user's side): a missing parameter is ``None``, a value that does not convert
+raises :class:`ParamTypeError` (a wrong carmen.ini); targets are ``(obj, 'attr')`` or
+``(mapping, key)``, as Python has no pointers; changes are applied in the program's own thread by
+:meth:`CarmenParams.update` (and while any other call of this object waits for the daemon), as
+CARMEN applied them in the program's IPC dispatch.  Handlers never run in another thread.
 
 How it talks to the daemon: through rclpy's :class:`~rclpy.parameter_client.AsyncParameterClient`
 on a node of its own in the module's context (one context, one DDS participant per process), spun
@@ -86,7 +80,12 @@ class CarmenParams:
     """
 
     def __init__(self, manager: Any, daemon: str = DAEMON) -> None:
-        """``manager`` is the program's CommsManager (its name names this client's node)."""
+        """A client of ``daemon`` for the program of ``manager``; nothing is opened yet.
+
+        :param manager: the program's CommsManager (its name names this client's node, which
+            lives in the manager's context); anything with a ``name`` for a program without one.
+        :param daemon: the daemon's node name; a leading ``/`` is added when missing.
+        """
         self.daemon = daemon if daemon.startswith('/') else '/' + daemon
         self._node_name = re.sub(r'[^A-Za-z0-9_]', '_', str(manager.name)) + '_carmen_param'
         self._manager = manager
@@ -193,6 +192,9 @@ class CarmenParams:
         """The daemon's values of those ``module_variable`` of ``variables`` it has, unconverted,
         by variable: two calls for any number (a module's whole table at start).
 
+        :param module: the CARMEN module name (``robot``).
+        :param variables: variable names within ``module`` (``max_t_vel``); those the daemon
+            lacks are left out of the result.
         :raises DaemonError: when the daemon does not answer.
         """
         values = self._fetch([f'{module}.{variable}' for variable in variables])
@@ -213,12 +215,19 @@ class CarmenParams:
 
     # -- getting parameters (6) ------------------------------------------------------------------
     def set_module(self, module: str | None) -> None:
-        """carmen_param_set_module: bare variable names are looked up in ``module`` (6)."""
+        """carmen_param_set_module: bare variable names are looked up in ``module`` (6).
+
+        :param module: the module for later gets and sets; None or empty: names must be
+            ``module_variable``.
+        """
         self._module = module or None
 
     def allow_unfound_variables(self, allow: bool = True) -> None:
         """carmen_param_allow_unfound_variables: no warning for a missing parameter, and
-        :meth:`install_params` does not exit on one (6, 6.2)."""
+        :meth:`install_params` does not exit on one (6, 6.2).
+
+        :param allow: True to allow missing parameters, False for the default (warn, exit).
+        """
         self._allow_unfound = bool(allow)
 
     def _candidates(self, name: str) -> list[str]:
@@ -249,15 +258,22 @@ class CarmenParams:
                   f'{shown} (is carmen.ini out of date?)', file=sys.stderr, flush=True)
 
     def get_int(self, name: str) -> int | None:
-        """carmen_param_get_int: ``module_variable`` (or the variable after set_module).
+        """carmen_param_get_int.
 
+        :param name: ``module_variable``, or the variable after :meth:`set_module` (looked up in
+            that module first).
+        :returns: the value, or None (after a warning on stderr unless unfound variables are
+            allowed) when the daemon has no such parameter.
         :raises ParamTypeError: for a value that is not an integer.
+        :raises DaemonError: when the daemon is not found or does not answer.
         """
         return self._get(name, ParamType.INT, 'get_int')
 
     def get_double(self, name: str) -> float | None:
         """carmen_param_get_double (an int is a fine double).
 
+        :param name: ``module_variable``, or the variable after :meth:`set_module`.
+        :returns: the value, or None when the daemon has no such parameter (as :meth:`get_int`).
         :raises ParamTypeError: for a value that is not a number.
         """
         return self._get(name, ParamType.DOUBLE, 'get_double')
@@ -265,12 +281,18 @@ class CarmenParams:
     def get_onoff(self, name: str) -> bool | None:
         """carmen_param_get_onoff: True for on, False for off.
 
+        :param name: ``module_variable``, or the variable after :meth:`set_module`.
+        :returns: the value, or None when the daemon has no such parameter (as :meth:`get_int`).
         :raises ParamTypeError: for a value that is not on/off.
         """
         return self._get(name, ParamType.ONOFF, 'get_onoff')
 
     def get_string(self, name: str) -> str | None:
-        """carmen_param_get_string: any value, as its text (on/off for a bool)."""
+        """carmen_param_get_string: any value, as its text (on/off for a bool).
+
+        :param name: ``module_variable``, or the variable after :meth:`set_module`.
+        :returns: the text, or None when the daemon has no such parameter (as :meth:`get_int`).
+        """
         return self._get(name, ParamType.STRING, 'get_string')
 
     # -- subscribing to changes (6.1) ----------------------------------------------------------
@@ -290,7 +312,15 @@ class CarmenParams:
 
     def watch(self, module: str, variable: str, kind: ParamType, handler: Handler) -> None:
         """A subscription (6.1) that does not wait for the daemon's events to be matched: for
-        a loop that must not block (see :meth:`events_matched`)."""
+        a loop that must not block (see :meth:`events_matched`).
+
+        :param module: the CARMEN module name.
+        :param variable: the variable within ``module``.
+        :param kind: the type each new value is converted to (a value that does not convert is
+            ignored with a warning).
+        :param handler: called ``handler(module, variable, value)`` by :meth:`update`.
+        :raises DaemonError: when the daemon is not found.
+        """
         self._subscribe(module, variable, kind, None, handler, wait=False)
 
     def events_matched(self) -> bool:
@@ -329,22 +359,50 @@ class CarmenParams:
 
     def subscribe_int(self, module: str, variable: str, target: Target | None = None,
                       handler: Handler | None = None) -> None:
-        """carmen_param_subscribe_int (6.1)."""
+        """carmen_param_subscribe_int (6.1): follow the daemon's changes of one parameter.
+        Waits (at most :data:`MATCH_WAIT_S`) for the daemon's parameter events at the first
+        subscription; the changes are applied by :meth:`update`.
+
+        :param module: the CARMEN module name (``robot``).
+        :param variable: the variable within ``module`` (``max_t_vel``).
+        :param target: ``(obj, 'attr')`` or ``(mapping, key)`` set to each new value; None: none.
+        :param handler: called ``handler(module, variable, value)`` after the target is set;
+            None: none.
+        :raises DaemonError: when the daemon is not found.
+        """
         self._subscribe(module, variable, ParamType.INT, target, handler)
 
     def subscribe_double(self, module: str, variable: str, target: Target | None = None,
                          handler: Handler | None = None) -> None:
-        """carmen_param_subscribe_double (6.1)."""
+        """carmen_param_subscribe_double (6.1), as :meth:`subscribe_int`.
+
+        :param module: the CARMEN module name.
+        :param variable: the variable within ``module``.
+        :param target: ``(obj, 'attr')`` or ``(mapping, key)`` set to each new value; None: none.
+        :param handler: called ``handler(module, variable, value)`` after the target is set.
+        """
         self._subscribe(module, variable, ParamType.DOUBLE, target, handler)
 
     def subscribe_onoff(self, module: str, variable: str, target: Target | None = None,
                         handler: Handler | None = None) -> None:
-        """carmen_param_subscribe_onoff (6.1)."""
+        """carmen_param_subscribe_onoff (6.1), as :meth:`subscribe_int`.
+
+        :param module: the CARMEN module name.
+        :param variable: the variable within ``module``.
+        :param target: ``(obj, 'attr')`` or ``(mapping, key)`` set to each new value; None: none.
+        :param handler: called ``handler(module, variable, value)`` after the target is set.
+        """
         self._subscribe(module, variable, ParamType.ONOFF, target, handler)
 
     def subscribe_string(self, module: str, variable: str, target: Target | None = None,
                          handler: Handler | None = None) -> None:
-        """carmen_param_subscribe_string (6.1)."""
+        """carmen_param_subscribe_string (6.1), as :meth:`subscribe_int`.
+
+        :param module: the CARMEN module name.
+        :param variable: the variable within ``module``.
+        :param target: ``(obj, 'attr')`` or ``(mapping, key)`` set to each new value; None: none.
+        :param handler: called ``handler(module, variable, value)`` after the target is set.
+        """
         self._subscribe(module, variable, ParamType.STRING, target, handler)
 
     def _on_event(self, event: ParameterEvent) -> None:
@@ -366,9 +424,13 @@ class CarmenParams:
                     sub.handler(module, variable, value)
 
     def update(self, timeout: float = 0.0) -> int:
-        """Apply the changes that arrived (targets, then handlers), waiting up to ``timeout``
-        for the first; returns how many parameter events were taken in.  Call it once per loop
-        turn of a program that subscribes."""
+        """Apply the changes that arrived (targets, then handlers).  Call it once per loop turn
+        of a program that subscribes.
+
+        :param timeout: seconds to wait for the first event; 0: no waiting.
+        :returns: how many parameter events were taken in (of any node: the daemon's only are
+            applied); 0 before the first subscription.
+        """
         if self._events is None or self._executor is None:
             return 0
         before = self._received
@@ -383,12 +445,15 @@ class CarmenParams:
     # -- the parameter factory (6.2) and the command line (6.3) ---------------------------------
     def install_params(self, argv: Sequence[str], params: Sequence[Param]) -> list[str]:
         """carmen_param_install_params: load every parameter of ``params`` in one step into its
-        target, and subscribe those marked so (6.2).
+        target, and subscribe those marked so (6.2).  Call this before ``manager.parse_options``.
 
-        ``-h`` or ``-help`` in ``argv`` prints :func:`param_table` and exits 0.  ``-VARIABLE
-        VALUE`` (no module name, 6.3) overrides that parameter for this process; the daemon need
-        not have it, and a subscribed one still follows later changes.  Call this before
-        ``manager.parse_options``: it returns ``argv`` without the pairs it took.
+        :param argv: the command line, program name first.  ``-h``, ``-help`` or ``--help``
+            prints :func:`param_table` and exits 0.  ``-VARIABLE VALUE`` (no module name, 6.3)
+            overrides that parameter for this process; the daemon need not have it, and a
+            subscribed one still follows later changes.  Everything from ``--ros-args`` on is
+            left alone.
+        :param params: the parameter factory's list.
+        :returns: ``argv`` without the override pairs it took.
 
         :raises ParamExit: status 0 after ``-h``; status 1 naming the first parameter the daemon
             does not have (unless unfound variables are allowed) or whose value does not convert.
@@ -450,8 +515,12 @@ class CarmenParams:
 
     # -- changing the daemon's parameters (param_tool) ------------------------------------------
     def set_variable(self, name: str, value: Any) -> str:
-        """carmen_param_set_variable: set ``module_variable`` on the daemon; text is taken as the
-        type the daemon serves when it reads as one.  Returns the value set, as text.
+        """carmen_param_set_variable: set a parameter on the daemon.
+
+        :param name: ``module_variable``, or the variable after :meth:`set_module`.
+        :param value: the new value; text is taken as the type the daemon serves when it reads as
+            one (``"0.4"`` for a float, ``"on"`` or ``"true"`` for a bool).
+        :returns: the value set, as CARMEN's text (on/off for a bool).
 
         :raises DaemonError: with the daemon's reason (undeclared, wrong type, read-only).
         """

@@ -9,14 +9,12 @@ module follows the daemon when its role configuration has the option ``param_dae
 
     <option name="param_daemon" value="on"/>
 
-Tunable ``name`` of module ``M`` is the CARMEN parameter ``M_name`` (a ``.`` in the tunable's
-name is ``_``): ``driveModule_max_tv``, ``avoidModule_goto_reach``, ``poseModule_match_max_range``
-— ``ros2 param list /M`` shows the names.  Where carmen.ini has the parameter, its value wins over
-the module's options, defaults and ``--params-file``, and every later change at the daemon
-(``param_tool set``, a ``reread``) is applied while the module runs (6.1).  A value the tunable
-refuses (out of its range, a failed check, a wrong type) is reported with its reason and the
-tunable keeps its value; a tunable carmen.ini does not name keeps its own (no warning:
-CARMEN's ``allow_unfound_variables``).
+Tunable ``name`` of module ``M`` is the CARMEN parameter ``M_name`` (:func:`carmen_name`).  Where
+carmen.ini has it, its value wins over the module's options, defaults and ``--params-file``, and
+later changes at the daemon are applied while the module runs (6.1); a value the tunable refuses
+is reported and the tunable keeps its value; one carmen.ini does not name keeps its own, without a
+warning (CARMEN's ``allow_unfound_variables``).  The README ("CARMEN's parameters") and
+docs/wurde-core.md have the rest.
 
 The link never blocks the module's loop: :meth:`DaemonTunables.poll`, called by the
 CommsManager each turn, waits for the daemon's services without waiting (a daemon that starts
@@ -51,8 +49,13 @@ _KINDS = ((bool, ParamType.ONOFF), (int, ParamType.INT), (float, ParamType.DOUBL
 
 
 def daemon_of(value: str) -> str | None:
-    """The daemon node an option value names (``on``/``yes``/``true``: CARMEN's), or None for
-    ``off``/``no``/``false``/``empty`` (the guide's value of an unset option)."""
+    """The daemon node an option value names, or None for none.
+
+    :param value: the ``param_daemon`` option's value: ``on``/``yes``/``true``/``1`` for CARMEN's
+        (:data:`~wurde_core.carmen_param.DAEMON`), ``off``/``no``/``false``/``0``/``empty`` (the
+        guide's value of an unset option) or empty for none, else a node name (``/`` added
+        when missing).
+    """
     text = value.strip()
     if text.lower() in ('', 'empty', 'off', 'no', 'false', '0'):
         return None
@@ -64,7 +67,12 @@ def daemon_of(value: str) -> str | None:
 def carmen_name(module: str, tunable: str) -> tuple[str, str]:
     """(CARMEN module, variable) of ``tunable`` of WURDE module ``module``: ``module_tunable``
     split where carmen.ini's names split, at the first ``_`` (``map_server``'s ``x`` is module
-    ``map``, variable ``server_x``)."""
+    ``map``, variable ``server_x``).
+
+    :param module: the WURDE module's name; characters other than letters, digits and ``_``
+        become ``_``.
+    :param tunable: the tunable's name (``goto.reach``: its ``.`` becomes ``_``).
+    """
     name = f'{_ILLEGAL.sub("_", module)}_{_ILLEGAL.sub("_", tunable)}'
     carmen_module, _, variable = name.partition('_')
     return carmen_module, variable
@@ -80,8 +88,14 @@ class DaemonTunables:
     def __init__(self, manager: Any, tunables: Tunables, daemon: str,
                  warn: Callable[[str], None],
                  client: Callable[[], CarmenParams] | None = None) -> None:
-        """``warn`` reports refusals and a missing daemon; ``client`` makes the CarmenParams
-        (default: one for ``manager`` talking to ``daemon``)."""
+        """A link that is looking for the daemon; :meth:`poll` drives it.
+
+        :param manager: the module's CommsManager (its name makes the CARMEN names).
+        :param tunables: the module's tunables, set through their node like ``ros2 param set``.
+        :param daemon: the daemon's node name (``/param_daemon``).
+        :param warn: reports refusals and a missing or lost daemon.
+        :param client: makes the CarmenParams; None: one for ``manager`` talking to ``daemon``.
+        """
         self.daemon = daemon
         self._name = str(manager.name)
         self._module = carmen_name(self._name, 'x')[0]

@@ -47,6 +47,11 @@ class ParamExit(SystemExit):
     missing or unusable (status 1); ``str()`` is the message, already printed."""
 
     def __init__(self, status: int, message: str) -> None:
+        """The exit of :meth:`CarmenParams.install_params`.
+
+        :param status: the exit status (0 after ``-h``, 1 for a parameter missing or unusable).
+        :param message: what was printed.
+        """
         super().__init__(status)
         self.message = message
 
@@ -84,7 +89,11 @@ class Param:
 
 def typed_value(text: str) -> bool | int | float | str:
     """A carmen.ini value as the daemon serves it: an int, a float, on/off (any case) as a bool,
-    else the text."""
+    else the text.
+
+    :param text: the value's text (surrounding blanks are ignored); an integer beyond 64 bits is
+        taken as a float, a number beyond a float's range stays text.
+    """
     text = text.strip()
     if _INT.fullmatch(text) and abs(int(text)) < 2**63:
         return int(text)
@@ -94,7 +103,10 @@ def typed_value(text: str) -> bool | int | float | str:
 
 
 def text_of(value: Any) -> str:
-    """A value as CARMEN's text: on/off for a bool."""
+    """A value as CARMEN's text: on/off for a bool.
+
+    :param value: any value; ``str()`` of anything but a bool.
+    """
     if isinstance(value, bool):
         return 'on' if value else 'off'
     return str(value)
@@ -104,6 +116,9 @@ def convert(value: Any, kind: ParamType | str, name: str) -> Any:
     """``value`` (a served value, or text) as ``kind`` — the conversion on demand of section 6:
     an int is a fine double, anything is a string (its text).
 
+    :param value: a served value (bool, int, float, str) or carmen.ini text.
+    :param kind: the type asked for, a ParamType or its value (``'int'``).
+    :param name: the parameter's name, for the error (``robot_max_t_vel``).
     :raises ParamTypeError: naming the parameter, its value and the type asked for.
     """
     kind = ParamType(kind)
@@ -123,7 +138,11 @@ def convert(value: Any, kind: ParamType | str, name: str) -> Any:
 
 
 def param_table(program: str, params: Sequence[Param]) -> str:
-    """The ``-h`` listing of 6.2: each parameter, its type and whether it is subscribed."""
+    """The ``-h`` listing of 6.2: each parameter, its type and whether it is subscribed.
+
+    :param program: the program's name, in the first line.
+    :param params: the parameter factory's list.
+    """
     width = max([len(p.name) for p in params] + [4])
     lines = [f'{program}: parameters (from the parameter server; -VARIABLE VALUE overrides one)',
              f'  {"name":<{width}}  type    subscribed']
@@ -133,6 +152,12 @@ def param_table(program: str, params: Sequence[Param]) -> str:
 
 
 def assign(target: Target | None, value: Any) -> None:
+    """Put ``value`` where ``target`` says.
+
+    :param target: ``(obj, 'attr')`` (set as an attribute) or ``(mapping, key)`` (a mutable
+        mapping's item); None: nothing is done.
+    :param value: the value.
+    """
     if target is None:
         return
     obj, key = target
@@ -144,7 +169,11 @@ def assign(target: Target | None, value: Any) -> None:
 
 def as_served(text: str, served: Any) -> Any:
     """``text`` as the served value's type, where it reads as one; else as the daemon types
-    carmen.ini text (the daemon then refuses a mismatch with its reason)."""
+    carmen.ini text (the daemon then refuses a mismatch with its reason).
+
+    :param text: the new value's text (``true``/``false`` are taken for a bool too).
+    :param served: the value the daemon serves now, or None when it has none.
+    """
     if isinstance(served, str):
         return text
     kind = {bool: ParamType.ONOFF, int: ParamType.INT, float: ParamType.DOUBLE}.get(type(served))

@@ -33,11 +33,18 @@ class Outbox:
     __slots__ = ('publisher', 'sequence')
 
     def __init__(self, publisher: Any) -> None:
+        """An outbox counting from 1.
+
+        :param publisher: the channel's rclpy publisher.
+        """
         self.publisher = publisher
         self.sequence = 0
 
     def send(self, message: Any) -> None:
-        """Publish ``message`` with the next sequence number."""
+        """Publish ``message`` with the next sequence number and this process's session.
+
+        :param message: a Data or Info message of the channel's type; its header is written.
+        """
         self.sequence += 1
         message.header.sequence = self.sequence
         message.header.session = SESSION
@@ -56,6 +63,13 @@ class Inbox:
 
     def __init__(self, subscription: Any, queue_mode: bool,
                  accept: Callable[[Any], bool] | None = None) -> None:
+        """An empty inbox.
+
+        :param subscription: the channel's rclpy subscription (its callback is never called).
+        :param queue_mode: keep every event (up to the cap) rather than the newest only.
+        :param accept: a filter of each message taken (a supplier's lock check of requests): a
+            message it refuses is dropped and not counted as received; None: every message.
+        """
         self.subscription = subscription
         self.pointer = pointer(subscription)
         self.queue: collections.deque[Any] | None = collections.deque() if queue_mode else None
@@ -67,7 +81,11 @@ class Inbox:
         self.accept = accept
 
     def set_queue_mode(self, queue_mode: bool) -> None:
-        """Switch modes; events already queued stay available in queue mode."""
+        """Switch modes; what was taken in and not read stays available (in latest mode only
+        the newest of it).
+
+        :param queue_mode: True: queue mode; False: latest mode.
+        """
         if queue_mode and self.queue is None:
             self.queue = collections.deque()
             if self.fresh and self.latest is not None:
@@ -78,7 +96,10 @@ class Inbox:
             self.queue = None
 
     def adopt(self, old: 'Inbox') -> None:
-        """Take over what ``old`` (the same channel before a reconnection) held and counted."""
+        """Take over what ``old`` held and counted.
+
+        :param old: the same channel's inbox before a reconnection.
+        """
         if old.queue is not None:
             self.queue = collections.deque(old.queue) if self.queue is not None else None
             if self.queue is None and old.queue:

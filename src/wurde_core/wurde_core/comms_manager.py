@@ -12,22 +12,16 @@ Nothing blocks longer than asked: waits are sliced so that signals and state com
 within :data:`WAIT_SLICE_S`.  ``step()`` is the deterministic single step for tests.
 
 Run states (guide 5.2.1).  ``run_update()`` returns only RUN or QUIT, so the guide's loop is
-correct as printed: the module lives through the MCP's other states.  A program whose loop
-interprets the states itself, as the guide's main does, asks for them with
-:meth:`CommsManager.set_return_states`; then none of the defaults below runs.
+correct as printed: the module lives through the MCP's other states, Idle (no data in or out),
+Reset (forget what was taken in and not read) and Restart (re-execute the program in the same
+process).  :meth:`CommsManager.on_state` callbacks run in the loop's thread and replace the
+defaults of Reset and Restart; :meth:`CommsManager.set_return_states` hands the states to a loop
+that interprets them itself.  The README ("Programming with wurde_core") describes each state.
 
-- **Idle**: ``run_update`` does not return; it carries only heartbeat and MCP traffic (no data in
-  or out, no busy wait: it sleeps on those channels) until the state is Run again or Quit.
-- **Reset**: by default the module forgets every event it has taken in and not yet read (they
-  were meant for the state before the reset) and returns to Run.
-- **Restart**: by default the module starts itself again: it announces a long heartbeat TTL,
-  closes its node and re-executes its own command line in the same process (same PID, fresh
-  state), so neither the MCP nor a program without one has anything to do.
-
-A module that wants to act on a state asks for it with :meth:`CommsManager.on_state`: its
-callback runs in the loop's thread when the module enters that state (for Run: when it returns to
-Run from another state).  A callback for Reset or Restart replaces the default; the module then
-returns to Run by itself unless the callback chose another state.
+Before changing it: everything runs in the program's own thread (no executor: the node's services
+are served from the loop), and a quitting module's clean-up must end in bounded time even when DDS
+hangs in C
+(:data:`SLOW_CLEANUP_DUMP_S`, :mod:`wurde_core.exit_timer`).
 """
 
 from __future__ import annotations
@@ -59,7 +53,7 @@ from .carmen_tunables import OPTION as DAEMON_OPTION
 from .carmen_tunables import DaemonTunables, daemon_of
 from .parameters import Check, Tunable, Tunables, declare_configuration
 from .ros_adaptor import NodeEntities, SubscriptionWaiter, open_node
-from .timestamp import Time
+from .timestamp import Timestamp
 from .trigger import Trigger
 
 #: Longest single wait inside run_update, so that signals and commands are seen promptly.
@@ -72,13 +66,12 @@ REGISTRATION_WAIT_S = 10.0
 RESTART_TTL_S = 30.0
 #: Bound on waiting for the goodbye heartbeat to be acknowledged at clean-up.
 GOODBYE_WAIT_S = 1.0
-#: A quitting module's clean-up (goodbye, node and context shutdown, normally well under a second;
-#: at most 1.26 s over the 760 clean-ups of a make test, 2026-12-05) still running this long is
-#: stuck: every thread's traceback to stderr (faulthandler's "Timeout" dump), then the process
-#: exits — with status 1 if it was in our own part (goodbye, daemon, objects), with status 0 if
-#: it was in the DDS teardown of an exiting program (``clean_up(exiting=True)``: make test r107
-#: and the CI of e7b6197 saw Fast DDS's node deletion take past 2 s on a loaded machine; the
-#: module had done all it owed).  A hang inside DDS runs no Python: both timers are C-level.
+#: A quitting module's clean-up (goodbye, node and context shutdown, normally well under a second)
+#: still running this long is stuck: every thread's traceback to stderr (faulthandler's "Timeout"
+#: dump), then the process exits — with status 1 if it was in our own part (goodbye, daemon,
+#: objects), with status 0 if it was in the DDS teardown of an exiting program
+#: (``clean_up(exiting=True)``: the module had done all it owed, and Fast DDS's node deletion can
+#: take past 2 s on a loaded machine).  A hang inside DDS runs no Python: both timers are C-level.
 SLOW_CLEANUP_DUMP_S = 2.0
 #: An abandoned DDS teardown's exit comes this long after its dump, for the dump to be written.
 ABANDON_AFTER_DUMP_S = 0.2
@@ -106,9 +99,15 @@ class CommsManager:
     """The communication manager of one module (process)."""
 
     def __init__(self, name: str, *, node_type: type[Node] = Node) -> None:
-        """``name`` is the module's (and its node's) name; ``node_type`` the rclpy node class to
-        create (a LifecycleNode subclass for the MCP: one node per module, whose services the
-        manager's loop serves)."""
+        """The manager of the module ``name``; its node is created at the first registration.
+
+        :param name: the module's name: its node's (written as a stream segment when it is not a
+            plain ROS name) and its heartbeat stream's (``heartbeat/<name>``); ``-n`` in
+            :meth:`parse_options` replaces it.
+        :param node_type: the rclpy node class to create (a LifecycleNode subclass for the MCP:
+            one node per module, whose services the manager's loop serves).
+        :raises InvalidValueError: for an empty ``name``.
+        """
         if not name:
             raise InvalidValueError('a CommsManager needs the module name')
         self.name = name
@@ -156,14 +155,26 @@ class CommsManager:
 
     # -- options (guide 5.1.1) -----------------------------------------------------------------
     def set_help_string(self, text: str) -> None:
-        """Extra text for ``-h``."""
+        """Extra text for ``-h``.
+
+        :param text: printed after the standard usage lines.
+        """
         self._help = text
 
     def parse_options(self, argv: Sequence[str], user_spec: str | None = None) -> _options.Options:
-        """Parse the standard options and ``user_spec`` (getopt form, e.g. ``"c:ab"``).
+        """Parse the standard options and ``user_spec``, and load the role configuration.
 
         ``-h`` prints help and exits 0; a wrong option or an unreadable role-config prints the
-        reason and usage on stderr and exits with status 2.
+        reason and usage on stderr and exits with status 2.  The configuration read (``-g FILE``,
+        else ``role-config.xml`` when the working directory has one) becomes the global one, with
+        the user options set in it.
+
+        :param argv: the command line, program name first (``sys.argv``); ``--ros-args ...`` is
+            kept for the node.
+        :param user_spec: the program's own options in getopt form (``"c:ab"``: ``-c`` takes a
+            value, ``-a`` and ``-b`` do not and read ``"true"`` when given); None for none.  A
+            letter of a standard option is refused.
+        :returns: the options found.
         """
         argv = list(argv)
         program = os.path.basename(argv[0]) if argv else self.name
@@ -198,25 +209,45 @@ class CommsManager:
     def tunable(self, name: str, default: bool | int | float | str, description: str,
                 minimum: float | None = None, maximum: float | None = None) -> Tunable:
         """A value this module lets users change while it runs: a writable ROS 2 parameter of
-        its node (``ros2 param set``, ``--params-file``), typed by ``default``, kept within
-        ``minimum``..``maximum``; read it as ``.value`` where it is used.  The WURDE options and
-        configuration are parameters too, read-only (:mod:`wurde_core.parameters`)."""
+        its node (``ros2 param set``, ``--params-file``); read it as ``.value`` where it is used.
+        The WURDE options and configuration are parameters too, read-only
+        (:mod:`wurde_core.parameters`).
+
+        :param name: the parameter's name, not starting with ``wurde.``.
+        :param default: the value until a user sets one; its type (bool, int, float or str) is
+            the parameter's.
+        :param description: the parameter descriptor's text (``ros2 param describe``).
+        :param minimum: the lowest value taken, for a number; None: no bound.
+        :param maximum: the highest value taken, for a number; None: no bound.
+        :raises ValueError: for a name declared twice or inside ``wurde.``.
+        :raises TypeError: for a bound on a value that is not a number.
+        """
         return self._tunables.declare(name, default, description, minimum, maximum)
 
     def check_tunables(self, check: Check) -> None:
-        """Refuse new tunable values that ``check`` (``{name: value}`` -> reason or None) finds
-        wrong, with its reason, before any is taken."""
+        """Refuse new tunable values that ``check`` finds wrong, with its reason, before any is
+        taken.
+
+        :param check: called with ``{name: value}`` of the tunables being set; returns the reason
+            to refuse them, or None to accept.
+        """
         self._tunables.add_check(check)
 
     # -- rate and heartbeat (guide 5.2) --------------------------------------------------------
     def set_sleep(self, seconds: float) -> None:
-        """Sleep ``seconds`` per loop; the heartbeat TTL becomes twice that."""
+        """Sleep ``seconds`` per loop; the heartbeat TTL becomes twice that.
+
+        :param seconds: the sleep of each ``run_update`` (default 0.1 s).
+        """
         self._sleep_s = float(seconds)
         self._ttl_s = 2 * float(seconds)
         self._sleep_enabled = True
 
     def set_sleep_only(self, seconds: float) -> None:
-        """Sleep ``seconds`` per loop without changing the heartbeat TTL."""
+        """Sleep ``seconds`` per loop without changing the heartbeat TTL.
+
+        :param seconds: the sleep of each ``run_update``.
+        """
         self._sleep_s = float(seconds)
         self._sleep_enabled = True
 
@@ -233,10 +264,14 @@ class CommsManager:
         self._pre_sleep = False
 
     def set_heartbeat_only(self, ttl: float, *, trust: bool = False) -> None:
-        """Set the heartbeat TTL to ``ttl`` seconds (the guide's setHeartbeatOnly, 6.1: the TTL is
-        how long the MCP waits).  The MCP clamps TTLs to 1-10 s unless the module says ``trust``:
-        then it waits up to the announced TTL (at most 300 s), for a loop that may really stay
-        away that long (a long computation between two ``run_update`` calls)."""
+        """Set the heartbeat TTL without changing the sleep (the guide's setHeartbeatOnly, 6.1),
+        and turn the heartbeat on.
+
+        :param ttl: seconds the MCP waits for the next beat.  The MCP clamps it to 1-10 s unless
+            ``trust`` is set.
+        :param trust: the MCP waits up to the announced TTL (at most 300 s): for a loop that may
+            really stay away that long (a long computation between two ``run_update`` calls).
+        """
         self._ttl_s = float(ttl)
         self._heartbeat_enabled = True
         if trust != self._trust_ttl:
@@ -244,10 +279,13 @@ class CommsManager:
             self._describe()
 
     def set_quit_time(self, seconds: float) -> None:
-        """Tell the MCP that this module may take up to ``seconds`` to end after a Quit (work it
-        owes before exiting, as Pluto's slamModule saves its map when stopped, Pluto 7.2: "one
-        should wait"); the MCP waits that long (at most 120 s) before its signals.  0: the MCP's
-        default grace of about 2 s."""
+        """Tell the MCP how long this module may take to end after a Quit (work it owes before
+        exiting, as Pluto's slamModule saves its map when stopped, Pluto 7.2: "one should wait").
+
+        :param seconds: the MCP waits that long (at most 120 s) before its signals; 0: the MCP's
+            default grace of about 2 s.
+        :raises InvalidValueError: for a negative or non-finite number.
+        """
         if not math.isfinite(seconds) or seconds < 0:
             raise InvalidValueError(f'a quit time is a number of seconds >= 0, not {seconds!r}')
         if float(seconds) != self._quit_time:
@@ -259,6 +297,7 @@ class CommsManager:
         self._heartbeat_enabled = False
 
     def heartbeat_enabled(self) -> bool:
+        """Whether this module sends a heartbeat (see :meth:`set_no_heartbeat`)."""
         return self._heartbeat_enabled
 
     def ttl(self) -> float:
@@ -266,19 +305,39 @@ class CommsManager:
         return self._ttl_s
 
     def sleep_time(self) -> float:
+        """Seconds slept in each ``run_update`` (0 after :meth:`set_no_sleep`)."""
         return self._sleep_s if self._sleep_enabled else 0.0
 
     # -- registration --------------------------------------------------------------------------
     def register_supplier(self, obj: RobotObject) -> None:
-        """Make ``obj`` a supplier: it sends data and info, receives requests."""
+        """Make ``obj`` a supplier: it sends data and info, receives requests.  The first
+        registration creates the node.
+
+        :param obj: an object of an interface class, not yet registered; its stream is the name
+            it was made with.
+        :raises RegistrationError: when ``obj`` is already registered, or the manager was cleaned
+            up.
+        :raises InvalidTypeError: when ``obj`` is not a RobotObject.
+        """
         self._register(obj, SUPPLIER)
 
     def register_consumer(self, obj: RobotObject) -> None:
-        """Make ``obj`` a consumer: it receives data and info, sends requests."""
+        """Make ``obj`` a consumer: it receives data and info, sends requests.  An ASSIGNED or
+        AUTO object asks the MCP for its stream and connects when it answers; a NORMAL one
+        connects at once and asks the MCP to start its supplier.
+
+        :param obj: an object of an interface class, not yet registered.
+        :raises RegistrationError: when ``obj`` is already registered, or the manager was cleaned
+            up.
+        :raises InvalidTypeError: when ``obj`` is not a RobotObject.
+        """
         self._register(obj, CONSUMER)
 
     def register_trigger(self, trigger: Trigger) -> None:
-        """``run_update`` will return only when this (or another registered) trigger fires."""
+        """``run_update`` will return only when this (or another registered) trigger fires.
+
+        :param trigger: registered once; registering it again changes nothing.
+        """
         if trigger not in self._triggers:
             self._triggers.append(trigger)
 
@@ -287,11 +346,18 @@ class CommsManager:
         return list(self._triggers)
 
     def unregister_trigger(self, trigger: Trigger) -> None:
-        """Stop ``run_update`` waiting for ``trigger``."""
+        """Stop ``run_update`` waiting for ``trigger``.
+
+        :param trigger: a registered trigger (one that is not is ignored).
+        """
         self._triggers = [t for t in self._triggers if t is not trigger]
 
     def objects(self, user_only: bool = False) -> list[RobotObject]:
-        """Registered objects (the program's; plus the manager's own unless ``user_only``)."""
+        """Registered objects.
+
+        :param user_only: only the program's; False adds the manager's own (heartbeat, MCP
+            requests).
+        """
         return list(self._objects) if user_only else list(self._objects + self._system_objects)
 
     def _register(self, obj: RobotObject, role: str) -> None:
@@ -314,8 +380,10 @@ class CommsManager:
         self.entities_changed()
 
     def unregister(self, obj: RobotObject) -> None:
-        """Release ``obj``'s stream and forget it (it may be registered again afterwards).
+        """Release ``obj``'s stream and forget it (it may be registered again afterwards); it
+        also leaves every trigger.
 
+        :param obj: an object registered with this manager.
         :raises RegistrationError: when ``obj`` is not registered with this manager.
         """
         if not any(o is obj for o in self._objects):
@@ -388,8 +456,8 @@ class CommsManager:
         # A SIGTERM writes every thread's traceback to stderr (the MCP's module log) as it comes,
         # from faulthandler's C handler, then goes on to ours: the MCP sends it 3 s into a Quit
         # that has not ended, 1 s before its SIGKILL, so the log says where the exit was stuck —
-        # also when the main thread is held in C and runs no Python handler (make test r111: a
-        # DMU driver SIGKILLed with nothing in its log).  Not on SIGINT: a user's Ctrl-C may
+        # also when the main thread is held in C and runs no Python handler (a module SIGKILLed
+        # there would otherwise leave nothing in its log).  Not on SIGINT: a user's Ctrl-C may
         # rightly be followed by seconds of work (a mission's summary).
         try:
             faulthandler.register(signal.SIGTERM, all_threads=True, chain=True)
@@ -432,8 +500,14 @@ class CommsManager:
 
     # -- run states (guide 5.2.1) ----------------------------------------------------------------
     def on_state(self, state: RunState, callback: StateCallback) -> None:
-        """Call ``callback()`` when this module enters ``state`` (IDLE, RESET, RESTART, or RUN on
-        returning from another state); see the module docstring for the defaults it replaces."""
+        """Call ``callback()`` in the loop's thread when this module enters ``state``.
+
+        :param state: IDLE, RESET, RESTART, or RUN (on returning from another state).  A callback
+            for RESET or RESTART replaces the default; the module returns to Run after it unless
+            it chose another state.
+        :param callback: called with no arguments; several for one state run in order.
+        :raises InvalidValueError: for QUIT (act on it after ``run_update`` returns QUIT).
+        """
         state = RunState(state)
         if state == RunState.QUIT:
             raise InvalidValueError('Quit ends the loop; act on it after run_update returns QUIT')
@@ -444,7 +518,10 @@ class CommsManager:
         main loop interprets them (5.2.1): each call in such a state is one turn on the heartbeat
         and MCP channels only (no data in or out) and returns the state, until the MCP sets
         another or the program calls :meth:`set_run`.  ``on_state`` callbacks for Reset and
-        Restart still handle those states instead; no defaults run."""
+        Restart still handle those states instead; no defaults run.
+
+        :param enabled: True to return the states; False for the default (only RUN or QUIT).
+        """
         self._return_states = enabled
 
     def set_run(self) -> None:
@@ -452,7 +529,11 @@ class CommsManager:
         self._change_state(RunState.RUN)
 
     def set_state(self, state: RunState) -> None:
-        """Change this module's own run state (as a command from the MCP would)."""
+        """Change this module's own run state (as a command from the MCP would).
+
+        :param state: the new state; the heartbeat (when the module has one) tells the MCP at
+            once.
+        """
         self._change_state(RunState(state))
 
     def _change_state(self, state: RunState) -> None:
@@ -517,10 +598,11 @@ class CommsManager:
         os.execv(sys.executable, [sys.executable, *sys.orig_argv[1:]])
 
     def run_update(self, timeout: float | None = None) -> RunState:
-        """One turn of the module's loop; returns the run state.
+        """One turn of the module's loop; returns the run state (RUN or QUIT, unless
+        :meth:`set_return_states`).  Sleeps per the rate settings.
 
-        With triggers registered, returns only when one fires, the state changes, or ``timeout``
-        seconds have passed (``None``: no limit).  Sleeps per the rate settings.
+        :param timeout: with triggers registered, the longest wait in seconds for one to fire;
+            None: no limit (it still returns when the state changes).  Unused without triggers.
         """
         self._open()
         if not self._started:
@@ -557,8 +639,11 @@ class CommsManager:
     def wait(self, timeout: float) -> bool:
         """Block until something arrives on any stream of this module or ``timeout`` passes.
 
-        Returns whether something arrived.  For programs that wait between steps without
-        triggers; ``run_update`` uses it internally.
+        For programs that wait between steps without triggers.  What arrived is taken in by the
+        next ``run_update`` or ``step``.
+
+        :param timeout: the longest wait, in seconds.
+        :returns: whether something arrived (False at once in the QUIT state).
         """
         self._open()
         deadline = time.monotonic() + timeout
@@ -639,15 +724,17 @@ class CommsManager:
             time.sleep(min(remaining, WAIT_SLICE_S))
 
     def clean_up(self, *, goodbye: bool = True, wait: bool = True, exiting: bool = False) -> None:
-        """Say goodbye to the MCP (the Quit state, unless ``goodbye`` is False) and release
-        everything; idempotent, also run at exit.  ``wait`` False sends the goodbye without
-        waiting for its acknowledgement: the MCP's own, whose readers are mostly the modules it
-        has just ended (a loaded machine's DDS still counts them for a while, and the wait for
-        their acknowledgements took the MCP's SIGINT exit past 3 s).  ``exiting`` True says the
-        program ends right after (a module's main): a quitting module whose goodbye is sent
-        and whose own resources are released then gives the DDS teardown until
-        SLOW_CLEANUP_DUMP_S from the start, and if it is still running, dumps every thread
-        (where it was) and exits with status 0, abandoning it to the kernel (exit_timer)."""
+        """Say goodbye to the MCP and release everything; idempotent, also run at exit.
+
+        :param goodbye: announce the Quit state on the heartbeat first; False for a Restart.
+        :param wait: wait (at most :data:`GOODBYE_WAIT_S`) for the goodbye to be acknowledged,
+            unless the Quit was commanded.  False is the MCP's own: its readers are mostly the
+            modules it has just ended, which a loaded machine's DDS still counts for a while.
+        :param exiting: the program ends right after (a module's main): a quitting module whose
+            goodbye is sent and whose own resources are released then gives the DDS teardown
+            until :data:`SLOW_CLEANUP_DUMP_S` from the start, and if it is still running, dumps
+            every thread (where it was) and exits with status 0, abandoning it to the kernel.
+        """
         if self._closed:
             return
         self._closed = True
@@ -695,18 +782,21 @@ class CommsManager:
             faulthandler.cancel_dump_traceback_later()
 
     # -- time ----------------------------------------------------------------------------------
-    def now(self) -> Time:
+    def now(self) -> Timestamp:
         """The module's time, which auto-timestamps use: the ROS clock of its node — the wall
         clock, or the simulator's ``/clock`` when the node's ``use_sim_time`` is true (0 until
         the first ``/clock`` message, as in any ROS 2 node).  Loop rates, heartbeats and the
         MCP's TTLs stay on the machine's monotonic clock: they are about processes, not about
         the simulated world."""
         if self.node is None:
-            return Time.now()
-        return Time(microseconds=self.node.get_clock().now().nanoseconds // 1000)
+            return Timestamp.now()
+        return Timestamp(microseconds=self.node.get_clock().now().nanoseconds // 1000)
 
     # -- logging helpers -----------------------------------------------------------------------
     def log_warning(self, text: str) -> None:
-        """Warn through the global logger (stderr when there is none)."""
+        """Warn through the global logger (stderr when there is none).
+
+        :param text: the warning, prefixed with the module's name.
+        """
         from .logger import g_warn
         g_warn(f'{self.name}: {text}')

@@ -1,15 +1,14 @@
 """A timer that ends the process with a given status from C, for a program on its way out.
 
 A quitting module's last step is the DDS teardown (its node's and participant's deletion).  On a
-loaded machine Fast DDS has been seen to take more than 2 s there (make test r107, CI of e7b6197),
-inside one C call that holds the GIL: no Python thread, signal handler or ``threading.Timer`` runs
-until it returns.  The only ways out that need no Python are C-level: faulthandler's timer (which
-can only exit with status 1) and a POSIX timer whose expiry runs a C function in a thread of its
-own — here libc's ``_exit`` with the status as its argument (``timer_create`` with
-``SIGEV_THREAD``).  By then the module has said goodbye and released its own resources; what is
-abandoned is the middleware's deletion of sockets and shared memory, which the kernel releases at
-the exit (as after the SIGKILL the MCP would send at 4 s), and remote participants drop ours at its
-lease's end.
+loaded machine Fast DDS can take more than 2 s there, inside one C call that holds the GIL: no
+Python thread, signal handler or ``threading.Timer`` runs until it returns.  The only ways out that
+need no Python are C-level: faulthandler's timer (which can only exit with status 1) and a POSIX
+timer whose expiry runs a C function in a thread of its own — here libc's ``_exit`` with the status
+as its argument (``timer_create`` with ``SIGEV_THREAD``).  By then the module has said goodbye and
+released its own resources; what is abandoned is the middleware's deletion of sockets and shared
+memory, which the kernel releases at the exit (as after the SIGKILL the MCP would send at 4 s), and
+remote participants drop ours at its lease's end.
 """
 
 from __future__ import annotations
@@ -54,6 +53,12 @@ class ExitTimer:
     and frees it (idempotent).  Nothing is flushed at that exit: write what must be kept first."""
 
     def __init__(self, seconds: float, status: int) -> None:
+        """Arm the timer.
+
+        :param seconds: the delay, monotonic clock.
+        :param status: the process's exit status then.
+        :raises OSError: when the system refuses the timer.
+        """
         self._timer = ctypes.c_void_p()
         event = _SigEvent()
         # sigev_value is the function's argument: a union of int and pointer, passed as the

@@ -29,6 +29,12 @@ class SequenceView(MutableSequence):
 
     def __init__(self, items: list[Any], wrap: Callable[[Any], Any],
                  unwrap: Callable[[Any], Any]) -> None:
+        """A view over ``items``, which it changes in place.
+
+        :param items: the message's list of element messages.
+        :param wrap: element message -> what the program sees.
+        :param unwrap: what the program gives -> element message.
+        """
         self._items, self._wrap, self._unwrap = items, wrap, unwrap
 
     def __len__(self) -> int:
@@ -49,6 +55,11 @@ class SequenceView(MutableSequence):
         del self._items[index]
 
     def insert(self, index: int, value: Any) -> None:
+        """Insert ``value`` before ``index`` (``append`` and ``extend`` use it).
+
+        :param index: the position, as for ``list.insert``.
+        :param value: a view or enum (or an element message), unwrapped into the list.
+        """
         self._items.insert(index, self._unwrap(value))
 
     def __eq__(self, other: object) -> bool:
@@ -92,7 +103,12 @@ def _element_codec(wurde_type: str, element_type: type | None
 
 
 def field_spec(member: dict[str, Any], message_type: type) -> FieldSpec:
-    """The :class:`FieldSpec` of one member of ``message_type`` (from its description)."""
+    """The :class:`FieldSpec` of one member of ``message_type`` (from its description).
+
+    :param member: the member's entry of the installed description (``name``, ``type``,
+        ``is_array``).
+    :param message_type: the ROS message class holding the member.
+    """
     name, wurde_type, is_array = member['name'], member['type'], member['is_array']
     element_type = None
     if wurde_type in ENUMS or wurde_type in GEOMETRY:

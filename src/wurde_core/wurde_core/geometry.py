@@ -46,7 +46,10 @@ class _View:
 
     @classmethod
     def wrap(cls, message: Any) -> Any:
-        """A view writing through to ``message``."""
+        """A view writing through to ``message``.
+
+        :param message: a ``wurde_interfaces`` message of the view's type (not copied).
+        """
         view = cls.__new__(cls)
         view._m = message
         return view
@@ -75,15 +78,27 @@ class _XY(_View):
     __slots__ = ()
 
     def x(self, value: Any = _UNSET) -> Any:
-        """Read the x coordinate (m), or set it when given a value."""
+        """Read the x coordinate, or set it when given a value.
+
+        :param value: the new x, m; omitted: read it.
+        :returns: the value read, or None after a write.
+        """
         return self._access('x', value)
 
     def y(self, value: Any = _UNSET) -> Any:
-        """Read the y coordinate (m), or set it when given a value."""
+        """Read the y coordinate, or set it when given a value.
+
+        :param value: the new y, m; omitted: read it.
+        :returns: the value read, or None after a write.
+        """
         return self._access('y', value)
 
     def value(self, value: Any = _UNSET) -> Any:
-        """Read the weight, or set it when given a value."""
+        """Read the weight, or set it when given a value.
+
+        :param value: the new weight; omitted: read it.
+        :returns: the value read, or None after a write.
+        """
         return self._access('weight', value)
 
 
@@ -91,7 +106,11 @@ class _Z:
     __slots__ = ()
 
     def z(self, value: Any = _UNSET) -> Any:
-        """Read the z coordinate (m), or set it when given a value."""
+        """Read the z coordinate, or set it when given a value.
+
+        :param value: the new z, m; omitted: read it.
+        :returns: the value read, or None after a write.
+        """
         return self._access('z', value)  # type: ignore[attr-defined]
 
 
@@ -99,11 +118,15 @@ class _Theta:
     __slots__ = ()
 
     def theta(self, value: Any = _UNSET) -> Any:
-        """Read theta (rad, about z), or set it when given a value."""
+        """Read theta, or set it when given a value.
+
+        :param value: the new theta, rad about z; omitted: read it.
+        :returns: the value read, or None after a write.
+        """
         return self._access('theta', value)  # type: ignore[attr-defined]
 
 
-class Point(_XY):
+class PlanarPoint(_XY):
     """``Point()``, ``Point(x, y)``, ``Point(x, y, w)``."""
 
     __slots__ = ()
@@ -125,12 +148,17 @@ class Point3D(_Z, _XY):
         return cls._fields[:count]
 
 
-class Pose(_Theta, _XY):
+class PlanarPose(_Theta, _XY):
     """``Pose()``, ``Pose(x, y)``, ``Pose(x, y, t)``, ``Pose(x, y, t, w)``."""
 
     __slots__ = ()
     _msg_type = _MessageType('Pose')
     _fields = ('x', 'y', 'theta', 'weight')
+
+
+# The guide's names (3.2.4), kept as aliases of the canonical ones (docs/naming.md).
+Point = PlanarPoint
+Pose = PlanarPose
 
 
 class Pose3D(_Theta, _Z, _XY):
@@ -150,11 +178,19 @@ class Pose3D(_Theta, _Z, _XY):
         return cls._fields[:count]
 
     def phi(self, value: Any = _UNSET) -> Any:
-        """Read phi (rad, about y), or set it when given a value."""
+        """Read phi, or set it when given a value.
+
+        :param value: the new phi, rad about y; omitted: read it.
+        :returns: the value read, or None after a write.
+        """
         return self._access('phi', value)
 
     def psi(self, value: Any = _UNSET) -> Any:
-        """Read psi (rad, about x), or set it when given a value."""
+        """Read psi, or set it when given a value.
+
+        :param value: the new psi, rad about x; omitted: read it.
+        :returns: the value read, or None after a write.
+        """
         return self._access('psi', value)
 
 
@@ -166,11 +202,19 @@ class CVector(_View):
     _fields = ('x', 'y')
 
     def x(self, value: Any = _UNSET) -> Any:
-        """Read x, or set it when given a value."""
+        """Read x, or set it when given a value.
+
+        :param value: the new x; omitted: read it.
+        :returns: the value read, or None after a write.
+        """
         return self._access('x', value)
 
     def y(self, value: Any = _UNSET) -> Any:
-        """Read y, or set it when given a value."""
+        """Read y, or set it when given a value.
+
+        :param value: the new y; omitted: read it.
+        :returns: the value read, or None after a write.
+        """
         return self._access('y', value)
 
 
@@ -182,16 +226,24 @@ class PVector(_View):
     _fields = ('magnitude', 'angle')
 
     def magnitude(self, value: Any = _UNSET) -> Any:
-        """Read the magnitude, or set it when given a value."""
+        """Read the magnitude, or set it when given a value.
+
+        :param value: the new magnitude; omitted: read it.
+        :returns: the value read, or None after a write.
+        """
         return self._access('magnitude', value)
 
     def angle(self, value: Any = _UNSET) -> Any:
-        """Read the angle (rad), or set it when given a value."""
+        """Read the angle, or set it when given a value.
+
+        :param value: the new angle, rad; omitted: read it.
+        :returns: the value read, or None after a write.
+        """
         return self._access('angle', value)
 
 
 #: View classes by WURDE type name.
 GEOMETRY: dict[str, type[_View]] = {
-    'Point': Point, 'Point3D': Point3D, 'Pose': Pose, 'Pose3D': Pose3D,
+    'Point': PlanarPoint, 'Point3D': Point3D, 'Pose': PlanarPose, 'Pose3D': Pose3D,
     'CVector': CVector, 'PVector': PVector,
 }

@@ -33,7 +33,7 @@ RESTART_ENV = 'WURDE_MCP_RESTART'
 #: Environment variable naming the MCP a module belongs to: the MCP sets it (its own CommsManager
 #: name) for the modules it starts, and a module started by hand on a host whose MCP is not named
 #: ``MCP`` is given it in its shell.  Several MCPs can then share a domain, one per host: each
-#: module talks to its own MCP's streams only (:func:`wurde_core.mcp_client.request_stream`), and
+#: module talks to its own MCP's streams only (:func:`wurde_core.mcp_client.mcp_stream`), and
 #: its heartbeat says which MCP it belongs to, so that no other MCP commands it.
 MCP_ENV = 'WURDE_MCP_NAME'
 #: The seed's MCP: the name a module assumes when :data:`MCP_ENV` is not set.
@@ -72,7 +72,10 @@ def restart_count() -> int:
 
 
 def heartbeat_stream(module: str) -> str:
-    """The stream a module's heartbeat lives on."""
+    """The stream a module's heartbeat lives on (``heartbeat/<module>``).
+
+    :param module: the module's (CommsManager's) name.
+    """
     return STREAM_PREFIX + module
 
 
@@ -80,6 +83,10 @@ class ModuleHeartbeat:
     """Sends the beats and the process description, takes in state commands."""
 
     def __init__(self, module: str) -> None:
+        """A Heartbeat object on the module's stream, in queue mode; the manager registers it.
+
+        :param module: the module's name.
+        """
         self.obj: RobotObject = robot_object_class('Heartbeat')(heartbeat_stream(module))
         self.obj._system = True
         self.obj.set_queue_mode(True)  # never lose a state command
@@ -88,10 +95,14 @@ class ModuleHeartbeat:
 
     def describe(self, state: RunState, objects: Sequence[RobotObject], *,
                  trust_ttl: bool = False, quit_time: float = 0.0) -> None:
-        """Publish the process description (info) for the program's ``objects`` in ``state``
-        (``trust_ttl``: the MCP is to trust a TTL beyond its usual ceiling; ``quit_time``: the
-        seconds the module may take to end after Quit, 0 for the MCP's default); called at start
-        and on every change."""
+        """Publish the process description (info); called at start and on every change.
+
+        :param state: the module's run state.
+        :param objects: the program's registered objects (what it supplies and consumes).
+        :param trust_ttl: the MCP is to trust a TTL beyond its usual ceiling.
+        :param quit_time: the seconds the module may take to end after Quit; 0 for the MCP's
+            default.
+        """
         info = self.obj.info
         info.managed.set_value(managed_state())
         info.locale.set_value(ProcessLocale.INTERNAL)
@@ -112,11 +123,19 @@ class ModuleHeartbeat:
 
     @staticmethod
     def interval(ttl: float) -> float:
-        """Seconds between beats: half the TTL, at most :data:`MAX_BEAT_INTERVAL_S`."""
+        """Seconds between beats: half the TTL, at most :data:`MAX_BEAT_INTERVAL_S`.
+
+        :param ttl: the announced TTL, in seconds.
+        """
         return min(ttl / 2, MAX_BEAT_INTERVAL_S)
 
     def beat(self, ttl: float, *, force: bool = False) -> bool:
-        """Send a beat announcing ``ttl`` if :meth:`interval` has passed since the last one."""
+        """Send a beat announcing ``ttl`` if :meth:`interval` has passed since the last one.
+
+        :param ttl: seconds the MCP is to wait for the next beat.
+        :param force: send it now whatever the interval.
+        :returns: whether a beat was sent.
+        """
         now = time.monotonic()
         if not force and self._last_beat is not None and now - self._last_beat < self.interval(ttl):
             return False
@@ -127,7 +146,10 @@ class ModuleHeartbeat:
         return True
 
     def next_beat_in(self, ttl: float) -> float:
-        """Seconds until the next beat is due."""
+        """Seconds until the next beat is due (0 before the first).
+
+        :param ttl: the announced TTL, in seconds.
+        """
         if self._last_beat is None:
             return 0.0
         return max(0.0, self._last_beat + self.interval(ttl) - time.monotonic())

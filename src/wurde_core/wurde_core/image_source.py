@@ -22,9 +22,16 @@ class ImageSource(RobotObject, interface='ImageTransport'):
 
     def set_image(self, width: int, height: int, encoding: str, pixels: bytes | bytearray | memoryview,
                   *, step: int | None = None, frame_index: int | None = None) -> None:
-        """Put one image into ``data``: ``pixels`` row by row, ``step`` bytes a row (default:
-        ``len(pixels) // height``); ``frame_index`` counts up by one from the last by default.
-        The encoding names and layouts are ImageTransport's (mono8, rgb8, yuv422, yuv24)."""
+        """Put one image into ``data``.
+
+        :param width: pixels per row.
+        :param height: rows.
+        :param encoding: ImageTransport's encoding name (mono8, rgb8, yuv422, yuv24), which
+            fixes the layout.
+        :param pixels: the bytes, row by row (copied into the message).
+        :param step: bytes per row; None: ``len(pixels) // height``.
+        :param frame_index: the frame's number; None: one more than the last in ``data``.
+        """
         data = self.data
         data.width, data.height, data.encoding = int(width), int(height), str(encoding)
         data.step = int(step) if step is not None else len(pixels) // max(1, int(height))
@@ -34,7 +41,16 @@ class ImageSource(RobotObject, interface='ImageTransport'):
     def publish_image(self, width: int, height: int, encoding: str,
                       pixels: bytes | bytearray | memoryview, *, step: int | None = None,
                       frame_index: int | None = None) -> bool:
-        """:meth:`set_image`, then ``publish_data()``; False when the run state lets no data flow."""
+        """:meth:`set_image`, then ``publish_data()``.
+
+        :param width: pixels per row.
+        :param height: rows.
+        :param encoding: ImageTransport's encoding name (mono8, rgb8, yuv422, yuv24).
+        :param pixels: the bytes, row by row.
+        :param step: bytes per row; None: ``len(pixels) // height``.
+        :param frame_index: the frame's number; None: one more than the last.
+        :returns: whether it was sent (False when the run state lets no data flow).
+        """
         self.set_image(width, height, encoding, pixels, step=step, frame_index=frame_index)
         return self.publish_data()
 

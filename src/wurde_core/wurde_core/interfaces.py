@@ -21,12 +21,13 @@ from .robot_object import RobotObject
 _classes: dict[str, type[RobotObject]] = {}
 _WRAPPERS = {'ObstacleAvoider': 'wurde_core.wrappers', 'VectorMover': 'wurde_core.wrappers',
              'Navigator': 'wurde_core.wrappers', 'ImageSource': 'wurde_core.image_source',
-             'Logger': 'wurde_core.logger'}
+             'Logger': 'wurde_core.logger', 'ModuleLogger': 'wurde_core.logger'}
 
 
 def robot_object_class(name: str) -> type[RobotObject]:
-    """The RobotObject class of interface ``name``.
+    """The RobotObject class of interface ``name`` (made and bound once per process).
 
+    :param name: the interface's name (``Foo``, ``Heartbeat``).
     :raises UnknownInterfaceError: when no installed package defines it.
     """
     cls = _classes.get(name)

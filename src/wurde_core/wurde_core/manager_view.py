@@ -11,7 +11,7 @@ from __future__ import annotations
 from typing import Any, Protocol
 
 from .enums import RunState
-from .timestamp import Time
+from .timestamp import Timestamp
 
 
 class ManagerView(Protocol):
@@ -22,9 +22,12 @@ class ManagerView(Protocol):
     state: RunState
 
     def log_warning(self, text: str) -> None:
-        """Warn through the module's logger."""
+        """Warn through the module's logger.
 
-    def now(self) -> Time:
+        :param text: the warning.
+        """
+
+    def now(self) -> Timestamp:
         """The module's time (auto-timestamps): wall clock, or /clock with use_sim_time."""
 
     def entities_changed(self) -> None:

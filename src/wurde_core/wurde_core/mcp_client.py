@@ -36,13 +36,19 @@ CONTROL_STREAM = 'mcp_control'
 def mcp_stream(mcp: str = DEFAULT_MCP) -> str:
     """The McpRequest stream of the MCP named ``mcp``: :data:`STREAM` for the seed's MCP, and
     ``mcp/<name>`` for any other, so that several MCPs in one domain (one per host) each answer
-    only their own modules."""
+    only their own modules.
+
+    :param mcp: the MCP's CommsManager name (default ``MCP``, the seed's).
+    """
     return STREAM if mcp == DEFAULT_MCP else f'{STREAM}/{mcp}'
 
 
 def control_stream(mcp: str = DEFAULT_MCP) -> str:
     """The SimpleControl stream of the MCP named ``mcp`` (its commands and module table):
-    :data:`CONTROL_STREAM` for the seed's MCP, ``mcp_control/<name>`` for any other."""
+    :data:`CONTROL_STREAM` for the seed's MCP, ``mcp_control/<name>`` for any other.
+
+    :param mcp: the MCP's CommsManager name (default ``MCP``, the seed's).
+    """
     return CONTROL_STREAM if mcp == DEFAULT_MCP else f'{CONTROL_STREAM}/{mcp}'
 
 
@@ -54,6 +60,12 @@ class McpClient:
     """Sends requests to the MCP and applies its answers."""
 
     def __init__(self, module: str, warn: Callable[[str], None]) -> None:
+        """A consumer of the McpRequest stream of this process's MCP (:func:`mcp_stream`), in
+        queue mode; the manager registers it.
+
+        :param module: the module's name, sent in every request.
+        :param warn: reports a refused assignment (once per object and reason).
+        """
         self.module = module
         self._warn = warn
         self.obj: RobotObject = robot_object_class('McpRequest')(mcp_stream(mcp_name()))
@@ -81,15 +93,23 @@ class McpClient:
     @staticmethod
     def capabilities(objects: Sequence[RobotObject]) -> dict[str, list[tuple[str, str]]]:
         """``{'supplies': [(interface, stream)], 'consumes': [(interface, object)]}`` of the
-        program's ``objects``."""
+        program's ``objects``.
+
+        :param objects: registered objects; suppliers supply, the others consume (an
+            unconnected supplier's stream is ``''``).
+        """
         return {
             'supplies': [(o.interface_name, o.stream or '') for o in objects if o.role == SUPPLIER],
             'consumes': [(o.interface_name, o.object_name) for o in objects if o.role != SUPPLIER],
         }
 
     def report_capabilities(self, objects: Sequence[RobotObject], wait_s: float) -> bool:
-        """Send the capability report of ``objects``; wait up to ``wait_s`` for an MCP to be
-        listening.  Returns whether an MCP received it (its subscription acknowledged it).
+        """Send the capability report of ``objects`` (``-r``, ``-l``).
+
+        :param objects: the program's registered objects.
+        :param wait_s: seconds to wait, in all, for an MCP to be listening and to acknowledge the
+            report (0.5 s more are given to the acknowledgement).
+        :returns: whether an MCP received it (its subscription acknowledged it).
         """
         deadline = time.monotonic() + wait_s
         self.obj.wait_for_peers(wait_s)
@@ -104,13 +124,20 @@ class McpClient:
         return self.obj.wait_delivered(max(0.0, deadline - time.monotonic()) + 0.5)
 
     def request_stream(self, obj: RobotObject) -> None:
-        """Ask for the stream of an ASSIGNED or AUTO object; the answer connects it."""
+        """Ask for the stream of an ASSIGNED or AUTO object; :meth:`poll` returns the answer and
+        asks again every :data:`RETRY_S` until there is one.
+
+        :param obj: a registered consumer whose strategy is ASSIGNED or AUTO.
+        """
         request_id = self._request(KIND_ASSIGN, strategy=obj.strategy,
                                    interface=obj.interface_name, object=obj.object_name)
         self._pending[request_id] = (obj, time.monotonic())
 
     def request_start(self, obj: RobotObject) -> None:
-        """Ask the MCP to start the module that provides a NORMAL object's stream."""
+        """Ask the MCP to start the module that provides a NORMAL object's stream (sent once).
+
+        :param obj: a registered consumer whose strategy is NORMAL.
+        """
         self._request(KIND_START, strategy=ConnectionStrategy.NORMAL,
                       interface=obj.interface_name, object=obj.object_name)
 
@@ -143,7 +170,10 @@ class McpClient:
         return assigned
 
     def forget(self, obj: RobotObject) -> None:
-        """Stop asking for ``obj``'s stream (it was unregistered)."""
+        """Stop asking for ``obj``'s stream (it was unregistered).
+
+        :param obj: an object :meth:`request_stream` was called for (any other is ignored).
+        """
         self._pending = {k: v for k, v in self._pending.items() if v[0] is not obj}
         self._told.pop(id(obj), None)
 

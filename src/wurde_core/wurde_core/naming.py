@@ -57,6 +57,7 @@ def _decode(segment: str) -> str:
 def stream_segment_path(stream: str) -> str:
     """The topic path of ``stream`` below :data:`ROOT` (``Localization/w__Dead_2DReckoning``).
 
+    :param stream: a stream name, its levels separated by ``/``.
     :raises WurdeError: for an empty stream name or an empty segment (``a//b``, ``/a``).
     """
     segments = stream.split('/')
@@ -66,8 +67,13 @@ def stream_segment_path(stream: str) -> str:
 
 
 def relative_topic(stream: str, channel: str) -> str:
-    """The topic of one channel (``data``, ``info`` or ``request``) of ``stream``, relative: a
-    node resolves it in its namespace."""
+    """The topic of one channel of ``stream``, relative: a node resolves it in its namespace.
+
+    :param stream: a stream name.
+    :param channel: ``data``, ``info`` or ``request``.
+    :raises ValueError: for another channel.
+    :raises WurdeError: for an empty stream name or segment.
+    """
     if channel not in CHANNELS:
         raise ValueError(f'unknown channel {channel!r}')
     return f'{ROOT}/{stream_segment_path(stream)}/{channel}'
@@ -78,7 +84,12 @@ def _namespace_prefix(namespace: str) -> str:
 
 
 def topic(stream: str, channel: str, namespace: str = '/') -> str:
-    """The absolute ROS topic of one channel of ``stream`` in ``namespace``."""
+    """The absolute ROS topic of one channel of ``stream`` in ``namespace``.
+
+    :param stream: a stream name.
+    :param channel: ``data``, ``info`` or ``request``.
+    :param namespace: the node's namespace (``/robot1``); ``/`` for a module started plainly.
+    """
     return _namespace_prefix(namespace) + relative_topic(stream, channel)
 
 
@@ -89,6 +100,9 @@ def typed_view(stream: str, interface: str) -> str:
     and SynchroDrive) supplies the second on ``<stream>/<interface>``, and the MCP assigns it to a
     mapping of that interface to ``stream`` (WURDE guide 1.1.5 and appendix 10.1 map one base's
     drive as either).
+
+    :param stream: the stream of the first interface.
+    :param interface: the second interface's name (``SynchroDrive``).
     """
     return f'{stream}/{interface}'
 
@@ -96,6 +110,8 @@ def typed_view(stream: str, interface: str) -> str:
 def stream_name(topic_name: str, namespace: str = '/') -> tuple[str, str]:
     """Undo :func:`topic`: ``<namespace>/wurde/<path>/<channel>`` -> ``(stream, channel)``.
 
+    :param topic_name: an absolute topic name.
+    :param namespace: the namespace it is in (``/`` for a module started plainly).
     :raises WurdeError: when ``topic_name`` is not a WURDE stream topic of ``namespace``.
     """
     prefix = _namespace_prefix(namespace) + ROOT + '/'

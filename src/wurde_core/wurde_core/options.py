@@ -32,7 +32,10 @@ class Options:
 
 
 def split_ros_arguments(argv: list[str]) -> tuple[list[str], list[str]]:
-    """``(own arguments, ROS arguments)``: everything from ``--ros-args`` to ``--`` is ROS's."""
+    """``(own arguments, ROS arguments)``: everything from ``--ros-args`` to ``--`` is ROS's.
+
+    :param argv: the arguments, without the program name.
+    """
     own: list[str] = []
     ros: list[str] = []
     inside = False
@@ -51,8 +54,11 @@ def split_ros_arguments(argv: list[str]) -> tuple[list[str], list[str]]:
 
 
 def parse(argv: list[str], user_spec: str | None = None) -> Options:
-    """Parse ``argv`` (without the program name).
+    """Parse the standard options and the user's.
 
+    :param argv: the arguments, without the program name.
+    :param user_spec: the user options in getopt form (``"c:ab"``); None: none.  An option
+        without a value reads ``"true"``.
     :raises OptionError: for an unknown option, a missing argument, or a user option that
         clashes with a standard one.
     """
@@ -86,7 +92,13 @@ def parse(argv: list[str], user_spec: str | None = None) -> Options:
 
 
 def usage(program: str, name: str, user_spec: str | None, help_string: str) -> str:
-    """The -h text."""
+    """The -h text.
+
+    :param program: the program's name, in the usage line.
+    :param name: the module's name.
+    :param user_spec: the user options in getopt form, listed as given; None: none.
+    :param help_string: the program's own text, appended; empty: none.
+    """
     lines = [f'usage: {program} [-r] [-o] [-l] [-h] [-n NAME] [-g ROLE_CONFIG]'
              f'{" [user options: " + user_spec + "]" if user_spec else ""} [--ros-args ...]',
              f'WURDE module {name}',

@@ -2,23 +2,12 @@
 
 Every module's node serves parameters (``ros2 param list /PlutoLaser``), with one mapping for
 all modules, from what the guide's options and role configuration (5.1.1-5.1.4) gave it:
-
-==============================  ==========================================================
-``wurde.module``                the CommsManager's name (after ``-n``)
-``wurde.role_config``           the role-config file read (``-g`` or ``role-config.xml``), or ''
-``wurde.<setting>``             data_directory, config_directory, bin_directory, log_directory,
-                                log_level, mcp_config, mcp_mappings: as the getters give them
-                                (file, then the WURDE_* environment)
-``wurde.option.<name>``         each global option: the file's ``<option>`` and the command
-                                line's user options (``-c 3`` is ``wurde.option.c``)
-``wurde.module_option.<name>``  this module's ``<module name><option>`` values
-``use_sim_time``                rclpy's own: stamps and clocks from ``/clock``
-==============================  ==========================================================
-
-These are read-only (their descriptors say so): they were read once at start, and the program
-went its way with them; a ``--params-file`` naming them is accepted and leaves them as they are,
-so that ``ros2 param dump`` gives a file the module takes back.  Option names that are not legal
-in a parameter name have each such character replaced by ``_``.
+``wurde.module``, ``wurde.role_config``, ``wurde.<setting>`` for each getter's value,
+``wurde.option.<name>`` and ``wurde.module_option.<name>`` (the README, "Using it from ROS 2",
+lists them).  These are read-only (their descriptors say so): they were read once at start, and
+the program went its way with them; a ``--params-file`` naming them is accepted and leaves them as
+they are, so that ``ros2 param dump`` gives a file the module takes back.  Option names that are
+not legal in a parameter name have each such character replaced by ``_``.
 
 A module adds what may change while it runs with :meth:`Tunables.declare` (through
 ``CommsManager.tunable``): a writable, typed parameter with a range, whose current value the
@@ -53,7 +42,11 @@ def parameter_name(*parts: str) -> str:
 
 
 def configuration_values(module: str, config: RoleConfiguration) -> dict[str, str]:
-    """The read-only parameters of the mapping above, by name."""
+    """The read-only parameters of the mapping above, by name.
+
+    :param module: the module's name (after ``-n``); also selects its ``<module>`` options.
+    :param config: the configuration read at start.
+    """
     values = {parameter_name('module'): module,
               parameter_name('role_config'): config.path or ''}
     for setting in _SETTINGS:
@@ -71,7 +64,13 @@ def _getter(setting: str) -> str:
 
 
 def declare_configuration(node: Any, module: str, config: RoleConfiguration) -> None:
-    """Declare the mapping's parameters on ``node``, read-only."""
+    """Declare the mapping's parameters on ``node``, read-only (a ``--params-file`` value for
+    one is ignored).
+
+    :param node: the module's rclpy node.
+    :param module: the module's name.
+    :param config: the configuration read at start.
+    """
     for name, value in configuration_values(module, config).items():
         descriptor = ParameterDescriptor(
             description='WURDE configuration, read at start (see wurde_core.parameters)',
@@ -133,7 +132,11 @@ class Tunables:
 
     def add_check(self, check: Check) -> None:
         """Refuse a ``ros2 param set`` that ``check`` finds wrong (values that only make sense
-        together, such as a slow-down distance beyond the stop distance)."""
+        together, such as a slow-down distance beyond the stop distance).
+
+        :param check: called with ``{name: value}`` of the tunables being set (not called when
+            none is); returns the reason to refuse, or None.
+        """
         self._checks.append(check)
 
     def _on_set(self, parameters: list[Any]) -> SetParametersResult:
@@ -146,9 +149,16 @@ class Tunables:
 
     def declare(self, name: str, default: bool | int | float | str, description: str,
                 minimum: float | None = None, maximum: float | None = None) -> Tunable:
-        """A writable parameter ``name`` (no ``wurde.`` prefix: that is the configuration's).
+        """A writable parameter ``name``, declared on the node now or when it is attached.
 
+        :param name: the parameter's name (no ``wurde.`` prefix: that is the configuration's).
+        :param default: the starting value; its type is the parameter's.
+        :param description: the descriptor's text.
+        :param minimum: the lowest value, for a number (an int's bound is made an int); None:
+            unbounded.
+        :param maximum: the highest value, for a number; None: unbounded.
         :raises ValueError: for a name declared twice or inside ``wurde.``.
+        :raises TypeError: for a bound on a value that is not a number.
         """
         if name in self._tunables or name.startswith(PREFIX):
             raise ValueError(f'tunable {name}: declared twice or inside "{PREFIX}"')
@@ -165,14 +175,23 @@ class Tunables:
 
     def set(self, name: str, value: Any) -> str | None:
         """Set tunable ``name`` on the node as ``ros2 param set`` would (its range and the checks
-        apply); returns the reason it was refused, or None."""
+        apply).
+
+        :param name: a declared tunable's name.
+        :param value: the new value, of the tunable's type.
+        :returns: the reason it was refused, or None when it was taken.
+        """
         if self._node is None:
             return 'the module has no node yet'
         result = self._node.set_parameters([Parameter(name, value=value)])[0]
         return None if result.successful else (result.reason or 'refused')
 
     def attach(self, node: Any) -> None:
-        """Declare every tunable on ``node`` (a ``--params-file`` value wins over the default)."""
+        """Declare every tunable on ``node`` (a ``--params-file`` value wins over the default);
+        later declarations go straight to it.
+
+        :param node: the module's rclpy node.
+        """
         self._node = node
         node.add_on_set_parameters_callback(self._on_set)
         for tunable in self._tunables.values():
@@ -186,7 +205,12 @@ class Tunables:
 def out_of_range(settings: Any, fields: dict[str, tuple[str, float | None, float | None]],
                  prefix: str = '') -> str | None:
     """Why ``settings`` cannot start :class:`TunedSettings` with ``fields`` (a value outside
-    its tunable's range, which the node would refuse), or None: for checking options first."""
+    its tunable's range, which the node would refuse), or None: for checking options first.
+
+    :param settings: the settings object (any object with those fields as attributes).
+    :param fields: field -> (description, minimum, maximum), as for :class:`TunedSettings`.
+    :param prefix: put before the field's name in the reason (the tunables' prefix).
+    """
     for name, (_text, low, high) in fields.items():
         value = getattr(settings, name)
         if (low is not None and value < low) or (high is not None and value > high):
@@ -205,6 +229,13 @@ class TunedSettings:
 
     def __init__(self, manager: Any, settings: Any,
                  fields: Mapping[str, tuple[str, float | None, float | None]], prefix: str = '') -> None:
+        """Declare the tunables on ``manager`` and a check that runs the settings' own validation.
+
+        :param manager: the module's CommsManager.
+        :param settings: the starting settings, a frozen dataclass.
+        :param fields: field -> (description, minimum, maximum); None for an open bound.
+        :param prefix: put before each field's name to make the tunable's (``"goto."``).
+        """
         self._settings = settings
         self._prefix = prefix
         self._tunables = {name: manager.tunable(prefix + name, getattr(settings, name), text, low, high)
@@ -224,6 +255,7 @@ class TunedSettings:
         return None
 
     def current(self) -> Any:
+        """The settings with the tunables' present values (the same object until one changes)."""
         values = {name: tunable.value for name, tunable in self._tunables.items()}
         if any(getattr(self._settings, name) != value for name, value in values.items()):
             self._settings = dataclasses.replace(self._settings, **values)

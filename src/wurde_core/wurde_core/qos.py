@@ -16,14 +16,20 @@ QUEUE_CAPACITY = 1000
 
 
 def info_qos(queue_mode: bool = False) -> QoSProfile:
-    """QoS of info channels."""
+    """QoS of info channels.
+
+    :param queue_mode: depth :data:`QUEUE_CAPACITY` rather than 1.
+    """
     return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=QUEUE_CAPACITY if queue_mode else 1,
                       reliability=ReliabilityPolicy.RELIABLE,
                       durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
 def stream_qos(queue_mode: bool) -> QoSProfile:
-    """QoS of data and request channels."""
+    """QoS of data and request channels.
+
+    :param queue_mode: depth :data:`QUEUE_CAPACITY` rather than 1.
+    """
     return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=QUEUE_CAPACITY if queue_mode else 1,
                       reliability=ReliabilityPolicy.RELIABLE,
                       durability=DurabilityPolicy.VOLATILE)

@@ -32,6 +32,8 @@ def replace_file(path: str | os.PathLike[str], text: str) -> None:
     (``<path>.<pid>.tmp``, so two writers never share one), then ``os.replace``; a reader, or a
     process killed while writing, never sees half a file.
 
+    :param path: the file.
+    :param text: its new content (UTF-8).
     :raises OSError: when it cannot be written.
     """
     path = pathlib.Path(path)
@@ -50,6 +52,11 @@ class ResumeState:
     """The state file of this module, if the MCP gave it one."""
 
     def __init__(self, every_s: float = 0.5) -> None:
+        """The file of :func:`state_path` (none when started by hand).
+
+        :param every_s: the shortest time between two saves, in seconds (``force`` saves
+            anyway).
+        """
         self.path = state_path()
         self.every_s = every_s
         self._saved_at = -math.inf
@@ -78,8 +85,13 @@ class ResumeState:
         return state, f'restart {restart_count()}, state of {self.path}'
 
     def save(self, state: dict[str, Any], *, force: bool = False) -> bool:
-        """Write ``state`` (JSON-able) if it is time to (or ``force``); whether it was written.
-        A failure is kept in :attr:`failure`, never raised: the module goes on."""
+        """Write ``state`` if it is time to.  A failure is kept in :attr:`failure`, never
+        raised: the module goes on.
+
+        :param state: a JSON-able dict.
+        :param force: write it even if ``every_s`` has not passed since the last save.
+        :returns: whether it was written (False without a state file).
+        """
         if self.path is None:
             return False
         now = time.monotonic()

@@ -37,7 +37,7 @@ class RobotObject:
     gives an alias whose stream the MCP assigns (guide 6.3).
 
     A class of one's own names its interface when it is defined —
-    ``class Logger(RobotObject, interface='LoggerTransport')`` — and is bound to the installed
+    ``class ModuleLogger(RobotObject, interface='LoggerTransport')`` — and is bound to the installed
     messages when its first object is made, so defining it needs no sourced workspace.
     """
 
@@ -70,6 +70,15 @@ class RobotObject:
             bind(cls, cls.interface_name)
 
     def __init__(self, stream: str | ConnectionStrategy, name: str | None = None) -> None:
+        """An unregistered object; its class is bound to its interface first.
+
+        :param stream: the stream's name (``"Bar"``, ``"Localization/Dead-Reckoning"``), or a
+            ConnectionStrategy: NORMAL (``name`` is the stream), ASSIGNED or AUTO (``name`` is
+            an alias whose stream the MCP assigns, guide 6.3).
+        :param name: with a strategy, the stream or alias; ignored with a stream name.
+        :raises InvalidTypeError: for a strategy without a name, or neither a name nor a strategy.
+        :raises UnknownInterfaceError: when no installed package defines the class's interface.
+        """
         type(self).bind_interface()
         if isinstance(stream, ConnectionStrategy):
             if not name:
@@ -102,13 +111,15 @@ class RobotObject:
 
     # -- configuration (guide 3.2) -------------------------------------------------------------
     def set_queue_mode(self, value: bool) -> None:
-        """Queue every event (True) or keep only the newest (False, the default).
+        """Queue every event or keep only the newest.
 
         Queue mode holds for every channel the object receives (a consumer's data and info, a
         supplier's requests) and deepens the histories of what it sends, so that a burst of up
         to :data:`~wurde_core.qos.QUEUE_CAPACITY` events reaches a queue-mode peer whole.  The
         DDS history depth is fixed when a stream connects, so a change after connection
         reconnects the stream (events already taken in stay available); it always takes effect.
+
+        :param value: True: queue mode; False: latest mode (the default).
         """
         value = bool(value)
         if value == self._queue_mode:
@@ -126,26 +137,39 @@ class RobotObject:
             inbox.set_queue_mode(self._queue_mode)
 
     def get_queue_mode(self) -> bool:
+        """Whether the object is in queue mode."""
         return self._queue_mode
 
     def set_auto_tag(self, value: bool) -> None:
-        """Set ``source`` of published events to the module's name (default on)."""
+        """Set ``source`` of published events to the module's name (default on).
+
+        :param value: True to tag each event sent; False leaves ``source`` as the program set it.
+        """
         self._auto_tag = bool(value)
 
     def get_auto_tag(self) -> bool:
+        """Whether published events are tagged with the module's name."""
         return self._auto_tag
 
     def set_auto_timestamp(self, value: bool) -> None:
-        """Set ``timestamp`` of published events to the current time (default on)."""
+        """Set ``timestamp`` of published events to the module's time (default on).
+
+        :param value: True to stamp each event sent with ``manager.now()``; False leaves the
+            timestamp as the program set it.
+        """
         self._auto_timestamp = bool(value)
 
     def get_auto_timestamp(self) -> bool:
+        """Whether published events are stamped with the module's time."""
         return self._auto_timestamp
 
     def set_mcp_traffic(self, value: bool) -> None:
         """Mark this object as heartbeat and MCP traffic (guide 5.2.1): it keeps flowing in every
         run state, as the manager's own heartbeat does.  For the MCP and controllers, whose job
-        is to command other modules also while they themselves idle or quit."""
+        is to command other modules also while they themselves idle or quit.
+
+        :param value: True for MCP traffic; False for ordinary data (the default).
+        """
         self._system = bool(value)
 
     # -- state ---------------------------------------------------------------------------------
@@ -183,10 +207,12 @@ class RobotObject:
         return self._outboxes.get('data' if self._role == SUPPLIER else 'request')
 
     def peers(self, channel: str | None = None) -> int:
-        """Matched peers right now on ``channel`` (``data``, ``info`` or ``request``; default:
-        the one this object sends on most, a supplier's data or a consumer's requests): the
-        readers of a channel this object sends, the writers of one it receives.  0 before the
-        stream is connected."""
+        """Matched peers right now: the readers of a channel this object sends, the writers of
+        one it receives.  0 before the stream is connected.
+
+        :param channel: ``data``, ``info`` or ``request``; None: the one this object sends on
+            most, a supplier's data or a consumer's requests.
+        """
         if channel is None:
             outbox = self._outgoing()
             return outbox.subscribers() if outbox is not None else 0
@@ -197,9 +223,14 @@ class RobotObject:
         return inbox.subscription.get_publisher_count() if inbox is not None else 0
 
     def wait_for_peers(self, timeout: float, count: int = 1, channel: str | None = None) -> bool:
-        """Wait until at least ``count`` peers are matched on ``channel`` (see :meth:`peers`) or
-        ``timeout`` seconds pass; returns whether they are.  Discovery runs in DDS's own
-        threads, so this needs no ``run_update``."""
+        """Wait until enough peers are matched (see :meth:`peers`).  Discovery runs in DDS's own
+        threads, so this needs no ``run_update``.
+
+        :param timeout: the longest wait, in seconds.
+        :param count: how many peers are enough.
+        :param channel: as for :meth:`peers`; None: the outgoing channel.
+        :returns: whether at least ``count`` peers are matched.
+        """
         deadline = time.monotonic() + timeout
         while self.peers(channel) < count:
             remaining = deadline - time.monotonic()
@@ -209,13 +240,21 @@ class RobotObject:
         return True
 
     def received(self, channel: str = 'data') -> int:
-        """Events taken in on ``channel`` (``data``, ``info`` or ``request``) since connection."""
+        """Events taken in since connection (and kept across a queue-mode reconnection).
+
+        :param channel: ``data``, ``info`` or ``request``; 0 for one the object does not receive.
+        """
         inbox = self._inboxes.get(channel)
         return inbox.received if inbox is not None else 0
 
     def wait_delivered(self, timeout: float, channel: str | None = None) -> bool:
-        """Wait until every matched reader acknowledged what this object sent on ``channel``
-        (default: its outgoing channel, see :meth:`peers`); returns whether they did."""
+        """Wait until every matched reader acknowledged what this object sent.
+
+        :param timeout: the longest wait, in seconds.
+        :param channel: ``data``, ``info`` or ``request``, one the object sends; None: its
+            outgoing channel (see :meth:`peers`).
+        :returns: whether they did (False for a channel the object does not send).
+        """
         outbox = self._outboxes.get(channel) if channel else self._outgoing()
         if outbox is None:
             return False
@@ -316,7 +355,14 @@ class RobotObject:
 
     # -- locks (suppliers hold them, guide 3.2.4) ----------------------------------------------
     def lock(self, mode: LockMode, owner: str = '') -> None:
-        """Lock the whole device: who may change any info member."""
+        """Lock the whole device: who may change any info member (suppliers only).
+
+        :param mode: who may: SUPPLIERS, CONSUMERS, or PROCESS (the process ``owner`` only);
+            NONE removes the lock.
+        :param owner: the module name of the one process a PROCESS lock allows.
+        :raises DirectionError: on a consumer.
+        :raises InvalidValueError: for a PROCESS lock without ``owner``.
+        """
         self.set_lock(DEVICE, mode, owner)
 
     def unlock(self) -> None:
@@ -324,7 +370,15 @@ class RobotObject:
         self.set_lock(DEVICE, LockMode.NONE, '')
 
     def set_lock(self, field: str, mode: LockMode, owner: str = '') -> None:
-        """Set a member's lock (``field`` empty: the whole device) and tell the consumers."""
+        """Set a member's lock and tell the consumers (the info is published again when the
+        object is a connected supplier).
+
+        :param field: the info member's name; empty: the whole device.
+        :param mode: as for :meth:`lock`; NONE removes the member's lock.
+        :param owner: the module name of the one process a PROCESS lock allows.
+        :raises DirectionError: on a consumer.
+        :raises InvalidValueError: for a PROCESS lock without ``owner``.
+        """
         if self._role == CONSUMER:
             raise DirectionError(f'{self._label()}: only the supplier holds locks')
         mode = LockMode(mode)

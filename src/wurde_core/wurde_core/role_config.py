@@ -53,6 +53,11 @@ class RoleConfiguration:
     """Global settings of one robot role.  ``load()`` reads a file; getters follow guide 5.1.4."""
 
     def __init__(self, module_name: str = '') -> None:
+        """The defaults (guide 5.1.4): directories ``.``, no bin directory, level debug, the
+        MCP's files ``mcp-config.xml`` and ``mcp-mapping.xml``, no options.
+
+        :param module_name: the module this configuration is for (:meth:`get_module_name`).
+        """
         self.path: str | None = None
         self.module_name = module_name
         self._values: dict[str, str] = {
@@ -67,8 +72,11 @@ class RoleConfiguration:
 
     # -- loading -------------------------------------------------------------------------------
     def load(self, path: str | os.PathLike[str]) -> 'RoleConfiguration':
-        """Read a role-config file (``<wurde-config>`` or ``<robot>`` holding one).
+        """Read a role-config file (``<wurde-config>`` or ``<robot>`` holding one); what it sets
+        replaces what was set before.
 
+        :param path: the file.
+        :returns: this configuration.
         :raises ConfigError: naming the file, line and reason when it is wrong.
         """
         path = os.fspath(path)
@@ -150,15 +158,19 @@ class RoleConfiguration:
         return override if override else self._values[key]
 
     def get_data_directory(self) -> str:
+        """The data directory (``WURDE_DATA_DIR`` overrides the file; default ``.``)."""
         return self._get('data_directory')
 
     def get_config_directory(self) -> str:
+        """The config directory (``WURDE_CONFIG_DIR`` overrides the file; default ``.``)."""
         return self._get('config_directory')
 
     def get_bin_directory(self) -> str:
+        """The bin directory (``WURDE_BIN_DIR`` overrides the file; default empty)."""
         return self._get('bin_directory')
 
     def get_log_directory(self) -> str:
+        """The log directory (``WURDE_LOG_DIRECTORY`` overrides the file; default ``.``)."""
         return self._get('log_directory')
 
     def explicit_log_directory(self) -> bool:
@@ -181,20 +193,32 @@ class RoleConfiguration:
         return self._in_config(self._get('mcp_mappings'))
 
     def get_module_name(self) -> str:
+        """The module this configuration was made for."""
         return self.module_name
 
     def _in_config(self, name: str) -> str:
         return name if os.path.isabs(name) else str(pathlib.Path(self.get_config_directory()) / name)
 
     def have_option(self, name: str) -> bool:
+        """Whether the global option ``name`` is set (file or command line).
+
+        :param name: the option's name (a user option's letter: ``"c"``).
+        """
         return name in self._options
 
     def get_option(self, name: str) -> str:
-        """The option's value, or ``"empty"`` when unset (as the guide says)."""
+        """The option's value, or ``"empty"`` when unset (as the guide says).
+
+        :param name: the option's name (a user option's letter: ``"c"``).
+        """
         return self._options.get(name, 'empty')
 
     def set_option(self, name: str, value: str) -> None:
-        """Set an option (command-line user options land here)."""
+        """Set an option (command-line user options land here).
+
+        :param name: the option's name.
+        :param value: its value, as text.
+        """
         self._options[name] = value
 
     def options(self) -> dict[str, str]:
@@ -202,14 +226,26 @@ class RoleConfiguration:
         return dict(self._options)
 
     def module_options(self, module: str) -> dict[str, str]:
-        """The options the file gives ``module``, by name."""
+        """The options the file gives ``module``, by name.
+
+        :param module: the module's name, as in ``<module name="...">``.
+        """
         return dict(self._module_options.get(module, {}))
 
     def have_module_option(self, module: str, name: str) -> bool:
+        """Whether the file gives ``module`` the option ``name``.
+
+        :param module: the module's name, as in ``<module name="...">``.
+        :param name: the option's name.
+        """
         return name in self._module_options.get(module, {})
 
     def get_module_option(self, module: str, name: str) -> str:
-        """The module's option value, or ``"empty"`` when unset."""
+        """The module's option value, or ``"empty"`` when unset.
+
+        :param module: the module's name, as in ``<module name="...">``.
+        :param name: the option's name.
+        """
         return self._module_options.get(module, {}).get(name, 'empty')
 
 
@@ -225,6 +261,9 @@ def global_configuration() -> RoleConfiguration:
 
 
 def set_global_configuration(config: RoleConfiguration) -> None:
-    """Replace the process-wide configuration (done by ``CommsManager.parse_options``)."""
+    """Replace the process-wide configuration (done by ``CommsManager.parse_options``).
+
+    :param config: the configuration :func:`global_configuration` returns from now on.
+    """
     global _global
     _global = config

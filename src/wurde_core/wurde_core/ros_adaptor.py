@@ -30,7 +30,13 @@ def polled(_message: Any) -> None:
 def open_node(node_name: str, ros_arguments: Sequence[str],
               node_type: type[Node] = Node) -> tuple[Context, Node]:
     """A fresh context (no rclpy signal handlers: the manager has its own) and a node of
-    ``node_type`` in it, with rclpy's parameter services (served by :class:`NodeEntities`)."""
+    ``node_type`` in it, with rclpy's parameter services (served by :class:`NodeEntities`).
+
+    :param node_name: the node's name (a legal ROS name).
+    :param ros_arguments: the command line's ``--ros-args ...`` part (remappings, parameters).
+    :param node_type: the rclpy node class, made as ``node_type(node_name, context=...)``.
+    :returns: ``(context, node)``.
+    """
     context = Context()
     rclpy.init(args=['wurde', *ros_arguments], context=context,
                signal_handler_options=SignalHandlerOptions.NO)
@@ -42,6 +48,10 @@ class NodeEntities:
     what an executor would serve."""
 
     def __init__(self, node: Any) -> None:
+        """The entities ``node`` has now; make a new one when they change.
+
+        :param node: the manager's rclpy node.
+        """
         self.services = list(node.services)
         self.subscriptions = [s for s in node.subscriptions if s.callback is not polled]
         self._serving = False
@@ -53,7 +63,10 @@ class NodeEntities:
 
         Not re-entered: a callback that steps the manager (a lifecycle transition that
         supervises while it configures) leaves further requests for after it returns, as a
-        single-threaded executor would."""
+        single-threaded executor would.
+
+        :param ready: handle pointers a wait set found ready; entities not in it are skipped.
+        """
         if self._serving:
             return False
         self._serving = True
@@ -84,20 +97,30 @@ class NodeEntities:
 
 
 def publish(publisher: Any, message: Any) -> None:
-    """Publish ``message`` through ``publisher``'s handle (no type check: the hot path)."""
+    """Publish ``message`` through ``publisher``'s handle (no type check: the hot path).
+
+    :param publisher: an rclpy publisher.
+    :param message: a message of the publisher's type (a wrong type is not caught here).
+    """
     handle = publisher.handle
     with handle:
         handle.publish(message)
 
 
 def pointer(subscription: Any) -> int:
-    """The identity a wait set reports ``subscription`` ready by (:meth:`SubscriptionWaiter.ready`)."""
+    """The identity a wait set reports ``subscription`` ready by (:meth:`SubscriptionWaiter.ready`).
+
+    :param subscription: an rclpy subscription.
+    """
     return int(subscription.handle.pointer)
 
 
 def take(subscription: Any, limit: int = -1) -> Iterator[Any]:
-    """Take up to ``limit`` messages (``limit`` < 0: all) that ``subscription`` holds, without an
-    executor."""
+    """Take the messages ``subscription`` holds, without an executor.
+
+    :param subscription: an rclpy subscription.
+    :param limit: the most taken; < 0: all.
+    """
     handle, msg_type = subscription.handle, subscription.msg_type
     with handle:
         while limit:
@@ -110,7 +133,10 @@ def take(subscription: Any, limit: int = -1) -> Iterator[Any]:
 
 def take_stamped(subscription: Any) -> Iterator[tuple[Any, int]]:
     """Take everything a subscription holds, each message with the DDS source timestamp (ns,
-    the writer's clock when it wrote): orders events of one writer process across topics."""
+    the writer's clock when it wrote): orders events of one writer process across topics.
+
+    :param subscription: an rclpy subscription.
+    """
     handle = subscription.handle
     with handle:
         while True:
@@ -121,7 +147,12 @@ def take_stamped(subscription: Any) -> Iterator[tuple[Any, int]]:
 
 
 def wait_acked(publisher: Any, timeout: float) -> bool:
-    """Wait until every matched reader acknowledged what ``publisher`` sent."""
+    """Wait until every matched reader acknowledged what ``publisher`` sent.
+
+    :param publisher: an rclpy publisher.
+    :param timeout: the longest wait, in seconds.
+    :returns: whether they did.
+    """
     return bool(publisher.wait_for_all_acked(Duration(seconds=max(0.0, timeout))))
 
 
@@ -130,6 +161,12 @@ class SubscriptionWaiter:
 
     def __init__(self, context: Context, subscriptions: Sequence[Any],
                  services: Sequence[Any] = ()) -> None:
+        """A wait set over these entities (none: :meth:`wait` just sleeps).
+
+        :param context: the rclpy context the entities belong to.
+        :param subscriptions: rclpy subscriptions.
+        :param services: rclpy services.
+        """
         self._subscriptions = list(subscriptions)
         self._services = list(services)
         self._wait_set = (_rclpy.WaitSet(len(self._subscriptions), 0, 0, 0, len(self._services),
@@ -137,7 +174,11 @@ class SubscriptionWaiter:
                           if self._subscriptions or self._services else None)
 
     def wait(self, seconds: float) -> bool:
-        """Block up to ``seconds``; return whether something arrived."""
+        """Block until something arrives or ``seconds`` pass.
+
+        :param seconds: the longest wait.
+        :returns: whether something arrived.
+        """
         wait_set = self._wait_set
         if wait_set is None:
             time.sleep(max(0.0, seconds))

@@ -4,7 +4,7 @@ Each is a thin view over the ROS message of the current event: a received event 
 is (no copy), and the program's writes go straight into the message that will be published.
 ``data`` members are plain attributes (``foo.data.ranges``); ``info`` and ``requests`` members are
 :class:`~wurde_core.writable.Writable` values (``foo.info.max_range.set_value(8.0)``), as in the
-guide.  Both also have ``timestamp`` (a :class:`~wurde_core.timestamp.Time`) and ``source``.
+guide.  Both also have ``timestamp`` (a :class:`~wurde_core.timestamp.Timestamp`) and ``source``.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from typing import Any
 
 from .errors import MemberError
 from .fields import FieldSpec
-from .timestamp import Time
+from .timestamp import Timestamp
 from .writable import Writable
 
 
@@ -28,12 +28,12 @@ class _Struct:
         object.__setattr__(self, '_msg', message if message is not None else self._message_type())
 
     @property
-    def timestamp(self) -> Time:
+    def timestamp(self) -> Timestamp:
         """When the event was published (auto-timestamp) or set by the program."""
-        return Time.from_msg(self._msg.header.stamp)
+        return Timestamp.from_msg(self._msg.header.stamp)
 
     @timestamp.setter
-    def timestamp(self, value: Time) -> None:
+    def timestamp(self, value: Timestamp) -> None:
         value.to_msg(self._msg.header.stamp)
 
     @property
@@ -85,6 +85,13 @@ class InfoStruct(_Struct):
     """``obj.info`` and ``obj.requests``: members are Writable values with locks."""
 
     def __init__(self, message: Any = None, *, owner: Any = None, channel: str = 'info') -> None:
+        """A structure over ``message``.
+
+        :param message: the Info message; None: a fresh one.
+        :param owner: the RobotObject holding it, whose locks and direction writes obey; None:
+            no checks.
+        :param channel: ``info`` or ``requests``, which the object's checks tell apart.
+        """
         super().__init__(message)
         object.__setattr__(self, '_owner', owner)
         object.__setattr__(self, '_channel', channel)
@@ -126,13 +133,24 @@ def _no_member(struct: _Struct, name: str) -> MemberError:
 
 def struct_class(base: type[_Struct], name: str, message_type: type,
                  fields: dict[str, FieldSpec]) -> type[_Struct]:
-    """A :class:`DataStruct` or :class:`InfoStruct` subclass for one message type."""
+    """A :class:`DataStruct` or :class:`InfoStruct` subclass for one message type.
+
+    :param base: DataStruct or InfoStruct.
+    :param name: the class's name (``FooData``).
+    :param message_type: the ROS message class.
+    :param fields: the members' specs, by name, in interface order.
+    """
     return type(name, (base,), {'_fields': fields, '_message_type': message_type})
 
 
 def write_members(target: Any, values: dict[str, Any]) -> None:
     """Set members of a ``data`` struct (plain attributes) or of ``info``/``requests``
-    (Writable members, whose ``set_value`` checks locks) alike, by name."""
+    (Writable members, whose ``set_value`` checks locks) alike, by name.
+
+    :param target: ``obj.data``, ``obj.info`` or ``obj.requests``.
+    :param values: member name -> new value.
+    :raises MemberError: for a name the interface does not have.
+    """
     for name, item in values.items():
         member = getattr(target, name)
         if hasattr(member, 'set_value'):

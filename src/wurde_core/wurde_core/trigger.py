@@ -20,13 +20,22 @@ class Trigger:
     """A set of objects that must all have new data or info for the trigger to fire."""
 
     def __init__(self, *objects: 'RobotObject') -> None:
+        """A trigger over ``objects``.
+
+        :param objects: RobotObjects (registered as consumers, or suppliers of requests); each
+            counts once.
+        """
         self._objects: list[RobotObject] = []
         self._seen: dict[int, int] = {}
         for obj in objects:
             self.add(obj)
 
     def add(self, obj: 'RobotObject') -> None:
-        """Add an object (the guide's "register an object with the trigger")."""
+        """Add an object (the guide's "register an object with the trigger"); only what it
+        takes in from now on counts.
+
+        :param obj: a RobotObject; one already in the trigger is ignored.
+        """
         if any(o is obj for o in self._objects):
             return
         self._objects.append(obj)
@@ -35,12 +44,16 @@ class Trigger:
     register_object = add
 
     def remove(self, obj: 'RobotObject') -> None:
-        """Take ``obj`` out of the trigger (nothing happens when it is not in it)."""
+        """Take ``obj`` out of the trigger.
+
+        :param obj: a RobotObject (nothing happens when it is not in the trigger).
+        """
         self._objects = [o for o in self._objects if o is not obj]
         self._seen.pop(id(obj), None)
 
     @property
     def objects(self) -> tuple['RobotObject', ...]:
+        """The objects of this trigger, in the order they were added."""
         return tuple(self._objects)
 
     def ready(self) -> bool:

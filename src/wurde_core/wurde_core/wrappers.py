@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 
-from .geometry import Point, PVector
+from .geometry import PlanarPoint, PVector
 from .robot_object import RobotObject
 
 #: ObstacleAvoiderTransport ``mode`` values (see its interface description).
@@ -26,20 +26,35 @@ class ObstacleAvoider(RobotObject, interface='ObstacleAvoiderTransport'):
         self.requests.mode.set_value(MODE_STOP)
         return self.publish_request()
 
-    def move_to_relative_point(self, goal: Point) -> bool:
-        """Drive to ``goal`` (m, robot frame: x forward, y left), avoiding obstacles."""
+    def move_to_relative_point(self, goal: PlanarPoint) -> bool:
+        """Drive to ``goal``, avoiding obstacles.
+
+        :param goal: the point in m, robot frame (x forward, y left).
+        :returns: whether the request was sent (False outside Run or before the stream is
+            connected).
+        """
         self.requests.mode.set_value(MODE_POINT)
         self.requests.goal.set_value(goal)
         return self.publish_request()
 
     def rotate_to_relative_angle(self, angle: float) -> bool:
-        """Turn in place by ``angle`` (rad, counter-clockwise positive)."""
+        """Turn in place by ``angle``.
+
+        :param angle: rad, counter-clockwise positive.
+        :returns: whether the request was sent (False outside Run or before the stream is
+            connected).
+        """
         self.requests.mode.set_value(MODE_ANGLE)
         self.requests.angle.set_value(float(angle))
         return self.publish_request()
 
     def set_brake(self, on: bool) -> bool:
-        """Set or release the brake."""
+        """Set or release the brake.
+
+        :param on: True holds the robot; False releases it.
+        :returns: whether the request was sent (False outside Run or before the stream is
+            connected).
+        """
         self.requests.brake.set_value(bool(on))
         return self.publish_request()
 
@@ -48,13 +63,25 @@ class VectorMover(RobotObject, interface='VectorMoverTransport'):
     """Drive along a vector relative to the robot: ``move(vector)``, ``stop()``."""
 
     def move(self, vector: PVector) -> bool:
-        """Drive ``vector.magnitude()`` metres in direction ``vector.angle()`` (rad)."""
+        """Drive along ``vector``, brake released.
+
+        :param vector: ``magnitude()`` metres in direction ``angle()`` (rad, robot frame,
+            counter-clockwise from forward).
+        :returns: whether the request was sent (False outside Run or before the stream is
+            connected).
+        """
         self.requests.vector.set_value(vector)
         self.requests.brake.set_value(False)
         return self.publish_request()
 
     def move_to(self, x: float, y: float) -> bool:
-        """Drive to the point (x, y) relative to the robot."""
+        """Drive to the point (x, y) relative to the robot (:meth:`move` of its polar vector).
+
+        :param x: m forward.
+        :param y: m to the left.
+        :returns: whether the request was sent (False outside Run or before the stream is
+            connected).
+        """
         return self.move(PVector(math.hypot(x, y), math.atan2(y, x)))
 
     def stop(self) -> bool:
@@ -74,13 +101,23 @@ class Navigator(RobotObject, interface='NavigatorTransport'):
     data is the status (robot pose, goal, ``autonomous``, ``stop_reason``)."""
 
     def set_goal(self, x: float, y: float) -> bool:
-        """The one goal (m, map frame) (carmen_navigator_set_goal)."""
-        self.requests.goal.set_value(Point(float(x), float(y)))
+        """Set the one goal (carmen_navigator_set_goal); :meth:`go` starts the motion.
+
+        :param x: m, map frame.
+        :param y: m, map frame.
+        :returns: whether the request was sent (False outside Run or before the stream is
+            connected).
+        """
+        self.requests.goal.set_value(PlanarPoint(float(x), float(y)))
         return self.publish_request()
 
     def set_goal_place(self, name: str) -> bool:
-        """The goal at the map's place ``name``; no effect if the map has none
-        (carmen_navigator_set_goal_place)."""
+        """Set the goal at a place of the map (carmen_navigator_set_goal_place).
+
+        :param name: the place's name in the map; no effect if the map has none.
+        :returns: whether the request was sent (False outside Run or before the stream is
+            connected).
+        """
         self.requests.goal_place.set_value(str(name))
         return self.publish_request()
 

@@ -22,8 +22,14 @@ DEVICE = ''
 
 def lock_refusal(locks: dict[str, tuple[LockMode, str]], field: str, writer_role: str,
                  writer: str) -> tuple[LockMode, str] | None:
-    """The lock that forbids ``writer`` (a ``'supplier'`` or ``'consumer'`` process) to change
-    ``field``, or ``None`` when the write is allowed.  A field lock is checked before the device's.
+    """The lock that forbids ``writer`` to change ``field``, or ``None`` when the write is
+    allowed.  A field lock is checked before the device's.
+
+    :param locks: the lock table, member name (:data:`DEVICE` for the device) -> (mode, owner).
+    :param field: the member written.
+    :param writer_role: ``'supplier'`` or ``'consumer'``, the writing process's role.
+    :param writer: the writing process's module name (for PROCESS locks).
+    :returns: ``(mode, owner)`` of the forbidding lock, or None.
     """
     for key in (field, DEVICE):
         mode, owner = locks.get(key, (LockMode.NONE, ''))
@@ -37,7 +43,11 @@ def lock_refusal(locks: dict[str, tuple[LockMode, str]], field: str, writer_role
 
 
 def describe_lock(mode: LockMode, owner: str) -> str:
-    """Human wording of a lock, for error messages."""
+    """Human wording of a lock, for error messages (``locked to consumers only``).
+
+    :param mode: the lock's mode.
+    :param owner: the owning process, named for a PROCESS lock.
+    """
     if mode == LockMode.PROCESS:
         return f'locked to process "{owner}"'
     return f'locked to {mode.name.lower()} only'
@@ -50,7 +60,11 @@ class Writable:
     __slots__ = ('_struct', '_spec')
 
     def __init__(self, struct: Any, spec: 'FieldSpec') -> None:
-        # ``struct`` is the InfoStruct holding this member (not imported: structs imports us).
+        """Made by the ``info`` and ``requests`` structures, one per member on first use.
+
+        :param struct: the InfoStruct holding this member (not imported: structs imports us).
+        :param spec: how the member is read from and written to the message.
+        """
         self._struct = struct
         self._spec = spec
 
@@ -66,7 +80,10 @@ class Writable:
     def set_value(self, value: Any) -> None:
         """Change the value (sent by the next ``publish_info`` or ``publish_request``).
 
+        :param value: the new value, coerced to the member's type (``8`` for a Double is 8.0; a
+            geometry view or an enum for those types).
         :raises LockedError: when a lock held by the supplier forbids this process the write.
+        :raises DirectionError: on a consumer's info or a supplier's requests.
         """
         owner = self._struct.__dict__['_owner']
         if owner is not None:
@@ -75,11 +92,20 @@ class Writable:
         self._struct._written().add(self._spec.name)
 
     def lock(self, mode: LockMode, owner: str = '') -> None:
-        """Lock this member (suppliers only): who may change it from now on."""
+        """Lock this member (suppliers only): who may change it from now on.
+
+        :param mode: SUPPLIERS, CONSUMERS, PROCESS (``owner`` only) or NONE (unlock).
+        :param owner: the module name of the one process a PROCESS lock allows.
+        :raises DirectionError: on a consumer.
+        :raises LockedError: on a member of a structure no RobotObject holds.
+        """
         self._lock_owner().set_lock(self._spec.name, mode, owner)
 
     def lock_to_process(self, process: str) -> None:
-        """Lock this member so that only the process named ``process`` may change it."""
+        """Lock this member so that only one process may change it (suppliers only).
+
+        :param process: that process's module name (its CommsManager's name).
+        """
         self.lock(LockMode.PROCESS, process)
 
     def unlock(self) -> None:

@@ -17,7 +17,7 @@ from collections.abc import Callable
 
 from wurde_core import CommsManager, Logger, RunState
 
-from .ports.pty import PtyDevice
+from .ports.pty import PtyEmulator
 
 __all__ = ['run_emulator']
 
@@ -30,7 +30,7 @@ def _link(target: str, link: pathlib.Path) -> None:
     tmp.replace(link)   # atomic: a driver never sees a missing or half-made link
 
 
-def run_emulator(device: str, make: Callable[[dict[str, str]], PtyDevice], *, user_spec: str = '',
+def run_emulator(device: str, make: Callable[[dict[str, str]], PtyEmulator], *, user_spec: str = '',
                  help_text: str = '', argv: list[str] | None = None) -> int:
     """Host the emulator ``make(options)`` returns until Quit; ``device`` names the default link."""
     argv = list(sys.argv if argv is None else argv)

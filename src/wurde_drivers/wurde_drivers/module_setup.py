@@ -20,12 +20,16 @@ def configured_device(manager: CommsManager, argv: list[str], file_name: str,
                       load: Callable[[str], Sequence[Device]]) -> Device:
     """Parse the options and return the ``<device>`` of the config named like the module.
 
-    ``-c FILE`` names the config (default ``file_name`` in the config directory) and ``-n`` the
-    module, which picks its device by name (WURDE 7.5). Without ``-n``, a config whose one
-    ``<device>`` is not named like the program's default names the module after itself: the
-    guide's appendix runs ``rFlexServer`` and ``sickLaser`` with no options on its one-device
-    files (10.1.1, 10.1.4, 10.1.5). A bad config ends the program with status 2 and
-    ``file:line: reason`` on stderr.
+    Without ``-n``, a config whose one ``<device>`` is not named like the program's default names
+    the module after itself: the guide's appendix runs ``rFlexServer`` and ``sickLaser`` with no
+    options on its one-device files (10.1.1, 10.1.4, 10.1.5).
+
+    :param manager: the module's manager, its options not parsed yet; ``-n`` picks the device by
+        name (WURDE 7.5).
+    :param argv: the command line, program name first; ``-c FILE`` names the config.
+    :param file_name: the config's default name in the config directory.
+    :param load: reads the config file into its devices.
+    :raises SystemExit: status 2 with ``file:line: reason`` on stderr for a bad config.
     """
     manager.set_help_string(f'  -c FILE  {file_name} (default: <config dir>/{file_name})\n'
                             '  -n NAME  the module and stream name; picks the <device> by name')

@@ -21,14 +21,22 @@ __all__ = ['braking_speed', 'ramp_step', 'stopping_distance']
 
 
 def braking_speed(distance: float, accel: float, dt: float) -> float:
-    """The fastest speed from which steps of ``dt`` at deceleration ``accel`` stop within
-    ``distance`` (all ≥ 0)."""
+    """The fastest speed from which steps of ``dt`` at deceleration ``accel`` stop within ``distance``.
+
+    :param distance: the distance left, ≥ 0.
+    :param accel: the deceleration, ≥ 0.
+    :param dt: the step, s, ≥ 0.
+    """
     a_dt = accel * dt
     return (-a_dt + math.sqrt(a_dt * a_dt + 8.0 * accel * distance)) / 2.0
 
 
 def stopping_distance(velocity: float, accel: float) -> float:
-    """Signed distance an axis moving at ``velocity`` covers while braking at ``accel`` (> 0)."""
+    """Signed distance an axis moving at ``velocity`` covers while braking at ``accel``.
+
+    :param velocity: signed, units per second.
+    :param accel: the deceleration (> 0; otherwise the distance is 0).
+    """
     return velocity * abs(velocity) / (2.0 * accel) if accel > 0.0 else 0.0
 
 
@@ -36,8 +44,14 @@ def ramp_step(position: float, velocity: float, target: float, speed: float, acc
               dt: float) -> tuple[float, float]:
     """One step of ``dt`` toward ``target``: the new ``(position, velocity)``.
 
-    ``speed`` bounds the velocity's magnitude and ``accel`` its change per second; with either
-    (or ``dt``) not positive the axis stops where it is.
+    With ``speed``, ``accel`` or ``dt`` not positive the axis stops where it is.
+
+    :param position: where the axis is.
+    :param velocity: its signed velocity now.
+    :param target: where it is to stop.
+    :param speed: bound of the velocity's magnitude.
+    :param accel: bound of the velocity's change per second.
+    :param dt: the step, s.
     """
     remaining = target - position
     if accel <= 0.0 or speed <= 0.0 or dt <= 0.0 or (remaining == 0.0 and velocity == 0.0):

@@ -46,6 +46,7 @@ class Mounting:
 def read_mounting(attrs: Attributes, *, z: float = 0.0) -> Mounting:
     """The ``mount-*`` attributes of ``attrs`` (those it does not allow read as their defaults).
 
+    :param attrs: the element's attributes, ``mount-*`` among the allowed ones.
     :param z: the default height (the laser's is 0.4 m).
     :raises ConfigError: a value that is not a finite number, naming file and line.
     """

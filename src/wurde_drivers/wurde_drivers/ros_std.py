@@ -1,39 +1,19 @@
 """Standard ROS 2 messages published alongside the WURDE streams (docs/design.md, "Topics and QoS").
 
-ROS tools (RViz, Nav2, ``ros2 topic echo``) expect standard messages; the device modules give
-them next to their WURDE streams. For a device module ``N`` (a base ``N``, a laser ``N``, ...):
-
-=========================== ========================= ================================================
-topic                       type                      what
-=========================== ========================= ================================================
-``/N/scan``                 sensor_msgs/LaserScan     a laser's scan (frame ``N``, REP-103)
-``/N/odom``                 nav_msgs/Odometry         a base's odometry (frames ``odom`` → ``base_link``,
-                                                      REP-105), covariance from its noise figures
-``/N/cmd_vel``              geometry_msgs/Twist (in)  velocity commands into the same watchdog as the
-                                                      WURDE drive requests
-``/N/imu``                  sensor_msgs/Imu           a DMU's filtered state (frame ``N``), covariances
-                                                      from its noise and filter
-``/N/fix``                  sensor_msgs/NavSatFix     a GPS fix (frame ``N``), covariance APPROXIMATED
-                                                      from HDOP and quality
-``/N/ground_truth/odom``    nav_msgs/Odometry         the simulator's true pose (frame ``map``)
-``/N/ground_truth/people``  visualization_msgs/       the simulator's people, a marker each (frame
-                            MarkerArray               ``map``; :mod:`~wurde_drivers.sim.dummies.people_topic`)
-``/N/sonar``                sensor_msgs/Range         one per sonar, frame ``NSonar_i``
-                                                      (:mod:`~wurde_drivers.ros_std_base`)
-``/N/bumpers``              sensor_msgs/Range         one fixed-distance ranger per bumper, frame
-                                                      ``NBumpers_i`` (:mod:`~wurde_drivers.ros_std_base`)
-``/N/battery``              sensor_msgs/BatteryState  a base's Power stream (:mod:`~wurde_drivers.ros_std_base`)
-``/N/joint_states``         sensor_msgs/JointState    a wrist's or PTU's pan and tilt
-                                                      (:mod:`~wurde_drivers.ros_std_joints`)
-``/tf_static``              tf2_msgs/TFMessage        ``base_link`` → each device's frame at its
-                                                      configured mounting
-                                                      (:mod:`~wurde_drivers.ros_std_frames`)
-=========================== ========================= ================================================
+ROS tools (RViz, Nav2, ``ros2 topic echo``) expect standard messages, so the device modules give
+them next to their WURDE streams: for a device module ``N``, ``/N/scan``, ``/N/odom``,
+``/N/cmd_vel`` (in), ``/N/imu``, ``/N/fix``, ``/N/ground_truth/...``, ``/N/sonar``,
+``/N/bumpers``, ``/N/battery``, ``/N/joint_states`` and ``/tf_static``.  The README's table of
+standard topics ("The simulated robot and the drivers") says what each carries, in which frame
+and with which covariance.  This module holds the scan, odometry, ground truth, cmd_vel, IMU and
+fix; :mod:`~wurde_drivers.ros_std_base`, :mod:`~wurde_drivers.ros_std_joints` and
+:mod:`~wurde_drivers.ros_std_frames` the others.
 
 Only plain stream names get these topics (``N`` is the stream's topic path, see
 :func:`wurde_core.naming.stream_segment_path`); every name comes from :func:`std_topic`. Frames
 follow one rule (:func:`wurde_drivers.ros_std_frames.frame_of`); covariances and their sources are
-in :mod:`wurde_drivers.ros_std_covariance`.
+in :mod:`wurde_drivers.ros_std_covariance`.  A mirror is built and sent only while something
+subscribes to it (:func:`watched`).
 """
 
 from __future__ import annotations

@@ -23,7 +23,12 @@ __all__ = ['Attributes', 'children', 'device_named', 'local_name', 'read_devices
 
 
 def read_root(path: str | os.PathLike[str], root_tag: str | tuple[str, ...]) -> etree._Element:
-    """Parse ``path`` with the hardened parser; :raises ConfigError: with file, line and reason."""
+    """Parse ``path`` with the hardened parser.
+
+    :param path: the XML file.
+    :param root_tag: the root element's name, or the names it may have.
+    :raises ConfigError: with file, line and reason.
+    """
     return parse_file(path, root_tag=root_tag)
 
 
@@ -47,8 +52,12 @@ def read_devices(path: str | os.PathLike[str], root_tag: str,
     """The ``<device>`` elements of a device config (``<laser-config>``, ``<rflex-config>``, ...).
 
     Every device file of WURDE's drivers has this shape (guide 7.5): a root holding one or more
-    ``<device name=...>``; ``parse(path, node)`` reads one. Duplicate names and an empty file are
-    refused, naming the file and the line.
+    ``<device name=...>``.
+
+    :param path: the config file.
+    :param root_tag: its root element's name.
+    :param parse: ``parse(path, node)`` reads one ``<device>``.
+    :raises ConfigError: duplicate names or no device, naming the file and the line.
     """
     path = os.fspath(path)
     root = read_root(path, root_tag)
@@ -68,6 +77,9 @@ def read_devices(path: str | os.PathLike[str], root_tag: str,
 def device_named(devices: Sequence[Device], name: str, *, path: str | os.PathLike[str] = '') -> Device:
     """The device called ``name`` — a module picks its device by its ``-n`` name (WURDE 7.5).
 
+    :param devices: the file's devices.
+    :param name: the module's name.
+    :param path: the file, named in the error when ``devices`` is empty.
     :raises ConfigError: no device has that name; names the file and the names it does have.
     """
     for device in devices:

@@ -2,26 +2,11 @@
 
 Programming with CARMEN 5.1-5.3 (the map server serves a grid, a place list and off-limits
 regions) keeps them in one ``.map`` file, plain or gzip (CARMEN opens both alike), as its map_io
-writes it:
-
-* a comment header of ``#`` lines, then ``CARMENMAPFILEv020``;
-* chunks, each a type byte (bit 7: the chunk is named), a little-endian int32 size that counts
-  what follows it, a 10-character description, for a named chunk its name and a NUL, and the
-  data.  ``GRIDMAP`` (1): int32 ``size_x``, ``size_y``, the resolution and ``size_x * size_y``
-  cells, column after column (``map[x][y]``, x east, y north from the map's corner at 0, 0), each
-  the probability that the cell is occupied or -1 for unknown; CARMEN writes them as 4-byte floats
-  (a fork writes 8-byte doubles, recognised by its resolution).  ``OFFLIMITS`` (2): counts and
-  int32 cell coordinates of points, lines and rectangles.  ``PLACES`` (4): a count, then per place
-  its type (0 a position, 1 a pose, 2 a localization start with its deviations), a 20-character
-  name and its numbers.  ``CREATOR`` (32, or 0 in CARMEN's old maps) and the others
-  (``EXPECTED``, ``LASERSCANS``, ``OFFSET`` of the global map, ``HMAP``) are skipped by their
-  size.  Only the first chunk of each kind is read, as CARMEN's readers do.
-
-The older format CARMEN's tools converted from, BeeSoft's (Rhino's) text map, is read too:
-``robot_specifications->...`` lines (resolution in cm), ``global_map[0]: SIZE_Y SIZE_X`` and the
-cells, x after x, each the probability that the cell is *free* (CARMEN's converters store
-``1 - value``), or -1 for unknown; its ``autoshifted`` offsets are ignored, as the readers of its
-day did.
+writes it: a ``#`` comment header, ``CARMENMAPFILEv020``, then typed chunks (``GRIDMAP``,
+``OFFLIMITS``, ``PLACES``; the others skipped by their size, only the first of each kind read, as
+CARMEN's readers do).  The older BeeSoft (Rhino) text map CARMEN's tools converted from is read
+too.  docs/wurde-core.md ("wurde_idl.carmen_map") lays out both formats byte by byte; a test
+writes files as map_io does (:mod:`wurde_testing.carmen_maps`), so change the two together.
 
 What is read becomes a :class:`~wurde_idl.gridmap.GridMap` (nav_msgs/OccupancyGrid's cells:
 occupied above :data:`OCCUPIED_PROBABILITY`, free at or below it, -1 unknown), the places and the
@@ -73,7 +58,11 @@ class CarmenMap:
 
 
 def read_bytes(path: str) -> bytes:
-    """The file's bytes, gunzipped if it is gzip (CARMEN's carmen_fopen reads both alike)."""
+    """The file's bytes, gunzipped if it is gzip (CARMEN's carmen_fopen reads both alike).
+
+    :param path: the file.
+    :raises MapError: when it cannot be read or its gzip stream is damaged.
+    """
     try:
         with open(path, 'rb') as file:
             data = file.read()
@@ -88,13 +77,17 @@ def read_bytes(path: str) -> bytes:
 
 
 def is_carmen_map(data: bytes) -> bool:
-    """Whether ``data`` (gunzipped) is a CARMEN binary map or a BeeSoft text map."""
+    """Whether ``data`` is a CARMEN binary map or a BeeSoft text map (by its header).
+
+    :param data: a file's bytes, gunzipped (:func:`read_bytes`).
+    """
     return _label_offset(data) is not None or _BEESOFT.search(data[:4096]) is not None
 
 
 def load_carmen_map(path: str | os.PathLike[str]) -> CarmenMap:
     """Read a CARMEN map file (either format, plain or gzip).
 
+    :param path: the ``.map`` file.
     :raises MapError: naming the file, where and why.
     """
     path = os.fspath(path)
@@ -102,8 +95,10 @@ def load_carmen_map(path: str | os.PathLike[str]) -> CarmenMap:
 
 
 def carmen_map_from_bytes(data: bytes, path: str = '<bytes>') -> CarmenMap:
-    """Read a CARMEN map from a file's (gunzipped) bytes; ``path`` only names it in errors.
+    """Read a CARMEN map from a file's bytes.
 
+    :param data: the bytes, gunzipped (:func:`read_bytes`).
+    :param path: names the source in errors only.
     :raises MapError: naming the file, where and why.
     """
     offset = _label_offset(data)

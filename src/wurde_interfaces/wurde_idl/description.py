@@ -24,7 +24,11 @@ FORMAT_VERSION = 1
 
 
 def to_json(interface: Interface, package: str) -> dict[str, Any]:
-    """The description of ``interface`` as a JSON-ready dict."""
+    """The description of ``interface`` as a JSON-ready dict (what :func:`load` returns).
+
+    :param interface: a validated interface.
+    :param package: the ROS package its messages belong to.
+    """
     def section(members: tuple[Member, ...] | None) -> list[dict[str, Any]] | None:
         if members is None:
             return None
@@ -79,6 +83,7 @@ def _load_all(_prefix_path: str) -> dict[str, dict[str, Any]]:
 def load(name: str) -> dict[str, Any]:
     """The description of interface ``name``.
 
+    :param name: the interface's name (``Foo``).
     :raises UnknownInterfaceError: when no installed package defines it; the message lists the
         interfaces that are installed.
     """

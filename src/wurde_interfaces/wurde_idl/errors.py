@@ -18,6 +18,12 @@ class ConfigError(WurdeError):
     """A file written by a user is wrong: names the file, the line (when known) and the reason."""
 
     def __init__(self, path: str | os.PathLike[str], line: int | None, reason: str) -> None:
+        """The error ``path:line: reason`` (``path: reason`` without a line).
+
+        :param path: the file that is wrong (or a label such as ``<environment>``).
+        :param line: its line, 1-based; None (or 0) when unknown.
+        :param reason: what is wrong, for the user to fix.
+        """
         self.path = os.fspath(path)
         self.line = line
         self.reason = reason

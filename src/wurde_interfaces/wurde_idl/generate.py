@@ -33,14 +33,18 @@ def _write(path: pathlib.Path, text: str) -> None:
 def generate(package: str, xml_files: Sequence[str], output: pathlib.Path,
              *, with_builtins: bool = False, installed: dict[str, str] | None = None,
              depends_digest: str = '') -> list[str]:
-    """Generate everything for ``package``; return the relative ``.msg`` paths.
+    """Generate everything for ``package``.
 
-    ``with_builtins`` adds the built-in types (only ``wurde_interfaces`` defines them).
-    ``installed`` maps interface names other packages already define to where; by default they
-    are looked up in the ament index, so that a name is never defined twice.
-    ``depends_digest`` (from the CMake macro) is written into every interface message, so that a
-    change in a dependency's messages changes this package's and rosidl rebuilds it.
-
+    :param package: the ROS package the messages belong to.
+    :param xml_files: the package's interface files (read in sorted order).
+    :param output: the directory written (``msg/``, ``wurde/interfaces/``,
+        ``interface_names.txt``); files of interfaces no longer given are removed.
+    :param with_builtins: also write the built-in types (only ``wurde_interfaces`` defines them).
+    :param installed: names other packages already define, mapped to where; None: looked up in
+        the ament index, so that a name is never defined twice.
+    :param depends_digest: from the CMake macro, written into every interface message, so that
+        a change in a dependency's messages changes this package's and rosidl rebuilds it.
+    :returns: the written ``.msg`` paths, relative to ``output``.
     :raises WurdeError: when an interface file is refused.
     """
     if installed is None:
@@ -72,6 +76,11 @@ def generate(package: str, xml_files: Sequence[str], output: pathlib.Path,
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """``python -m wurde_idl generate|check``: see the module docstring and ``--help``.
+
+    :param argv: the arguments after the program name; None: ``sys.argv[1:]``.
+    :returns: the exit status: 0, or 1 after printing ``error: file:line: reason`` on stderr.
+    """
     parser = argparse.ArgumentParser(prog='python -m wurde_idl', description=__doc__.split('\n')[0])
     sub = parser.add_subparsers(dest='command', required=True)
     gen = sub.add_parser('generate', help='generate .msg files and descriptions')

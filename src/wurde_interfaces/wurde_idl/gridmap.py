@@ -49,9 +49,16 @@ class GridMap:
 
 def save_grid_map(path: str | os.PathLike[str], cells: ArrayLike, *, origin: tuple[float, ...],
                   resolution: float, occupied_thresh: float = 0.65, free_thresh: float = 0.196) -> None:
-    """Write ``path`` (the YAML) and the PGM beside it (same name, ``.pgm``), each atomically.
+    """Write ``path`` (the YAML) and the PGM beside it (same name, ``.pgm``), each atomically,
+    as a trinary map: 0 free, 50 and above occupied, anything else unknown.
 
+    :param path: the YAML file.
+    :param cells: ``cells[row, col]`` as nav_msgs/OccupancyGrid's (row 0 at the origin's y).
     :param origin: ``(x, y)`` or ``(x, y, yaw)`` of cell (0, 0)'s lower-left corner.
+    :param resolution: m per cell.
+    :param occupied_thresh: written into the YAML for the readers.
+    :param free_thresh: written into the YAML for the readers.
+    :raises ValueError: for cells that are not a non-empty 2-D array.
     """
     grid = np.asarray(cells)
     if grid.ndim != 2 or grid.size == 0:
@@ -85,6 +92,7 @@ def _write(path: pathlib.Path, data: bytes) -> None:
 def load_grid_map(path: str | os.PathLike[str]) -> GridMap:
     """Read a map_server YAML and its image.
 
+    :param path: the YAML file (its ``image`` is relative to its directory).
     :raises MapError: naming the file, the line (where there is one) and the reason.
     """
     path = os.fspath(path)

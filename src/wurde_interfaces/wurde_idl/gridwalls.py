@@ -32,8 +32,12 @@ OCCUPIED = 100
 
 
 def simplify(polyline: NDArray, tolerance: float) -> NDArray:
-    """Ramer-Douglas-Peucker: the corners of ``polyline`` (``(N, 2)``) that keep every point
-    within ``tolerance`` of the simplified line."""
+    """Ramer-Douglas-Peucker: the corners of ``polyline`` that keep every point within
+    ``tolerance`` of the simplified line.
+
+    :param polyline: ``(N, 2)`` points, N >= 1; the first and last are always kept.
+    :param tolerance: the largest distance allowed, in the points' units.
+    """
     keep = np.zeros(len(polyline), dtype=bool)
     keep[0] = keep[-1] = True
     stack = [(0, len(polyline) - 1)]
@@ -59,11 +63,17 @@ def simplify(polyline: NDArray, tolerance: float) -> NDArray:
 
 def grid_walls(cells: ArrayLike, origin: tuple[float, float], resolution: float, *,
                tolerance: float | None = None, min_length: float | None = None) -> NDArray:
-    """``(N, 4)`` wall segments along the outlines of the occupied regions (see the module's
-    description) of ``cells[row, col]`` (row 0 at ``origin``'s y, columns along +x; occupied
-    is :data:`OCCUPIED`), ``origin`` the lower-left corner of cell (0, 0); ``tolerance`` defaults
-    to one cell, ``min_length`` (shorter segments of an outline are dropped when they are the
-    whole outline) to two cells."""
+    """``(N, 4)`` wall segments (m) along the outlines of the occupied regions (see the module's
+    description).
+
+    :param cells: ``cells[row, col]``, row 0 at ``origin``'s y, columns along +x; occupied is
+        :data:`OCCUPIED`, anything else free.
+    :param origin: ``(x, y)`` of cell (0, 0)'s lower-left corner, m.
+    :param resolution: m per cell.
+    :param tolerance: how far the simplified outline may stray, m; None: one cell.
+    :param min_length: an outline whose extent (its bounding box's diagonal) is shorter is
+        dropped, m; None: two cells.
+    """
     tolerance = resolution if tolerance is None else tolerance
     min_length = 2 * resolution if min_length is None else min_length
     # A wall seen through gaps (glass, a dotted line of hits) is one wall, not many specks too

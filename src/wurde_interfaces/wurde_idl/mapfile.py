@@ -4,7 +4,7 @@ One home for the format that the simulator (``wurde_drivers.sim``), Pluto's pose
 maps) and slamModule (saved maps) and a CARMEN map-server bridge all read, so none of them imports
 another (docs/design.md, "Who may import whom").  The model is CARMEN's (programming-with-carmen.txt,
 section 5): walls, a place list (5.2) and off-limits regions (5.3).  Units are metres and radians,
-angles counter-clockwise from +x (REP-103).  ``config/maps/README.md`` documents the format::
+angles counter-clockwise from +x (REP-103); config/maps/README.md documents the format::
 
     <?xml version="1.0"?>
     <map name="office" version="1.0">
@@ -15,18 +15,12 @@ angles counter-clockwise from +x (REP-103).  ``config/maps/README.md`` documents
       <offlimits points="16,1 19,1 19,3 16,3"/>              <!-- a polygon -->
     </map>
 
-:func:`load_map_data` gives a :class:`MapData` (every ``<polyline>`` already split into walls) and
-refuses, naming the file, the line and the reason (:class:`MapError`): unknown elements or
-attributes, missing attributes, numbers that do not parse or are not finite, zero-length walls,
-repeated points, duplicate or badly named places, polygons with too few points or no area, a
-second or empty ``<bounds>``, anything outside ``<bounds>``, malformed XML and a DOCTYPE with an
-internal subset (the suite's hardened parser, :mod:`wurde_idl.safe_xml`).
+docs/wurde-core.md lists everything the reader refuses.
 
-:func:`save_map_data` writes ``<bounds>`` (when known), one ``<wall>`` per wall, the places and
-the off-limits regions, every number with ``repr``, and reads its own text back before it
-touches the file: what it writes always loads, and loads equal.
-
-No numpy here: the pure-Python consumers of the format (a bridge, a test) need only lxml.
+:func:`load_map_data` gives a :class:`MapData` (polylines split into walls) and refuses anything
+else with the file, the line and the reason (:class:`MapError`; the hardened parser,
+:mod:`wurde_idl.safe_xml`); :func:`save_map_data` reads its own text back before it touches the
+file, so what it writes always loads equal.  No numpy here: a bridge or a test needs only lxml.
 """
 
 from __future__ import annotations
@@ -77,14 +71,19 @@ class Bounds(NamedTuple):
     ymax: float
 
     def contains(self, x: float, y: float) -> bool:
-        """Whether ``(x, y)`` lies inside the rectangle or on its edge."""
+        """Whether ``(x, y)`` lies inside the rectangle or on its edge.
+
+        :param x: m.
+        :param y: m.
+        """
         return self.xmin <= x <= self.xmax and self.ymin <= y <= self.ymax
 
 
 def polygon_area(polygon: Iterable[Sequence[float]]) -> float:
     """Signed area of a simple polygon given as ``(x, y)`` corners (shoelace; positive when CCW).
 
-    Takes any iterable of pairs, a ``(K, 2)`` numpy array included.
+    :param polygon: the corners, not closed explicitly: any iterable of pairs, a ``(K, 2)``
+        numpy array included.
     """
     points = [(float(x), float(y)) for x, y in polygon]
     twice = sum(x1 * y2 - x2 * y1 for (x1, y1), (x2, y2) in zip(points, points[1:] + points[:1]))
@@ -137,6 +136,7 @@ def _floats(values: Iterable[float], count: int, what: str) -> tuple[float, ...]
 def load_map_data(path: str | os.PathLike[str]) -> MapData:
     """Read the map file at ``path``.
 
+    :param path: an XML map file of the suite's format.
     :raises MapError: naming the file, the line and the reason for anything the format refuses
         (and for a file that cannot be read).
     """
@@ -145,8 +145,10 @@ def load_map_data(path: str | os.PathLike[str]) -> MapData:
 
 
 def map_data_from_bytes(data: bytes, path: str | os.PathLike[str] = '<bytes>') -> MapData:
-    """Read a map from the bytes of a file (``path`` only names it in errors).
+    """Read a map from the bytes of a file.
 
+    :param data: the file's bytes.
+    :param path: names the source in errors only.
     :raises MapError: as :func:`load_map_data`.
     """
     path = os.fspath(path)
@@ -293,6 +295,8 @@ def map_data_to_bytes(data: MapData) -> bytes:
 
     A map without a name is written as ``unnamed`` (the format needs one).  No checks: see
     :func:`save_map_data`.
+
+    :param data: the map.
     """
     root = etree.Element('map', name=data.name or 'unnamed', version=FORMAT_VERSION)
     root.text = '\n  '
@@ -322,6 +326,8 @@ def save_map_data(data: MapData, path: str | os.PathLike[str]) -> None:
     name with a space, a place outside the bounds, ...) is never written, and what is written
     loads equal to ``data`` (a nameless map loads as ``unnamed``).
 
+    :param data: the map.
+    :param path: the file written.
     :raises ValueError: ``data`` cannot be written so that it reads back equal; says why.
     :raises OSError: the file cannot be written.
     """

@@ -47,6 +47,7 @@ class AnyMap:
 def load_map(path: str | os.PathLike[str]) -> MapData:
     """The walls, places, off-limits regions and bounds of the map at ``path`` (any format).
 
+    :param path: an XML map, a map_server YAML, or a CARMEN or BeeSoft map (plain or gzip).
     :raises MapError: naming the file, where and why.
     """
     return load_any_map(path).data
@@ -55,6 +56,7 @@ def load_map(path: str | os.PathLike[str]) -> MapData:
 def load_any_map(path: str | os.PathLike[str]) -> AnyMap:
     """Read the map at ``path``, its format told by its content (see the module's description).
 
+    :param path: an XML map, a map_server YAML, or a CARMEN or BeeSoft map (plain or gzip).
     :raises MapError: naming the file, where and why.
     """
     path = os.fspath(path)

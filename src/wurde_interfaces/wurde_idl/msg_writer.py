@@ -25,7 +25,11 @@ _INFO_HEADER = _DATA_HEADER + (
 
 
 def ros_type(member: Member, package: str) -> str:
-    """The ``.msg`` type of ``member`` in a message of ``package``."""
+    """The ``.msg`` type of ``member`` in a message of ``package``.
+
+    :param member: a validated member.
+    :param package: the ROS package the message belongs to (for a ``<type>`` of the same file).
+    """
     if member.type in SCALARS:
         base = SCALARS[member.type].ros_type
     elif member.type in BUILTIN_MESSAGES or member.type in BUILTIN_ENUMS:
@@ -55,7 +59,13 @@ def _banner(interface: Interface, what: str, depends_digest: str) -> str:
 
 
 def messages(interface: Interface, package: str, depends_digest: str = '') -> dict[str, str]:
-    """Return ``{message name: .msg text}`` for every message of ``interface``."""
+    """Return ``{message name: .msg text}`` for every message of ``interface``.
+
+    :param interface: a validated interface.
+    :param package: the ROS package the messages belong to.
+    :param depends_digest: a digest of the dependencies' interfaces, written (its first 16
+        characters) into every message's banner; empty: none.
+    """
     result = {
         interface.data_message: _banner(interface, 'Data (publish section)', depends_digest)
         + _DATA_HEADER + _fields(interface.publish, package),

@@ -26,12 +26,19 @@ RESERVED_FIELDS = frozenset({'header', 'set_fields', 'locks', 'source', 'timesta
 
 
 def field_name(name: str) -> str:
-    """Map a WURDE member name to its ROS 2 field name (see the module docstring)."""
+    """Map a WURDE member name to its ROS 2 field name (see the module docstring).
+
+    :param name: the member's name as the interface file writes it (``maxRange``).
+    """
     return _CAMEL_2.sub(r'_\1', _CAMEL_1.sub(r'_\1', name)).lower()
 
 
 def check_member_name(name: str) -> str | None:
-    """Return why ``name`` cannot be a member name, or ``None`` when it can."""
+    """Return why ``name`` cannot be a member name, or ``None`` when it can.
+
+    :param name: the member's name as the interface file writes it; its ROS field name must be
+        valid snake_case, not reserved (:data:`RESERVED_FIELDS`) and not a Python keyword.
+    """
     if not _IDENTIFIER.match(name):
         return 'must start with a letter and contain only letters, digits and underscores'
     ros = field_name(name)
@@ -46,7 +53,10 @@ def check_member_name(name: str) -> str | None:
 
 
 def check_type_name(name: str) -> str | None:
-    """Return why ``name`` cannot name an interface or a type, or ``None`` when it can."""
+    """Return why ``name`` cannot name an interface or a type, or ``None`` when it can.
+
+    :param name: the interface's or ``<type>``'s name; it must be PascalCase.
+    """
     if not _TYPE_NAME.match(name):
         return 'must be PascalCase: a capital letter, then only letters and digits'
     return None

@@ -194,6 +194,7 @@ class _Reader:
 def read_interface(path: str | os.PathLike[str]) -> Interface:
     """Read and validate one interface file.
 
+    :param path: the ``.xml`` file (its root must be ``<interface>``).
     :raises InterfaceError: naming the file, the line and the reason when it is refused.
     """
     path = os.fspath(path)
@@ -205,8 +206,9 @@ def read_interfaces(paths: Iterable[str | os.PathLike[str]],
                     known: dict[str, str] | None = None) -> list[Interface]:
     """Read several files that form one package; refuse duplicate interface and type names.
 
-    ``known`` maps names already taken (for example by installed packages) to where they are.
-
+    :param paths: the interface files, read in this order.
+    :param known: message names already taken (by installed packages, say), mapped to where they
+        are, for the error; None: none.
     :raises InterfaceError: for the first file refused.
     """
     taken: dict[str, str] = dict(known or {})

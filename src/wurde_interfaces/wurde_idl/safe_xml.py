@@ -41,8 +41,10 @@ def parse_bytes(data: bytes, path: str | os.PathLike[str], *, root_tag: str | tu
                 error: type[ConfigError] = ConfigError) -> etree._Element:
     """Parse ``data`` (read from ``path``) and return its root element.
 
-    The root's local name (namespace ignored) must be ``root_tag`` or one of them.
-
+    :param data: the document's bytes (more than :data:`MAX_XML_BYTES` are refused).
+    :param path: the file they were read from, named in errors.
+    :param root_tag: the root element's local name (namespace ignored), or the names allowed.
+    :param error: the ConfigError subclass to raise (InterfaceError, MapError).
     :raises ConfigError: (or ``error``) naming ``path``, the line and the reason when the document
         is too large, not well formed, declares an internal DTD subset or entities, or has another
         root element.
@@ -77,6 +79,9 @@ def parse_file(path: str | os.PathLike[str], *, root_tag: str | tuple[str, ...],
                error: type[ConfigError] = ConfigError) -> etree._Element:
     """Read ``path`` and parse it with :func:`parse_bytes`.
 
+    :param path: the file.
+    :param root_tag: the root element's local name (namespace ignored), or the names allowed.
+    :param error: the ConfigError subclass to raise (InterfaceError, MapError).
     :raises ConfigError: (or ``error``) when the file cannot be read or is refused.
     """
     file = pathlib.Path(path)

@@ -17,8 +17,14 @@ _CHUNK_PAIRS = 1 << 20
 
 
 def point_segment_distance(points: ArrayLike, a: ArrayLike, b: ArrayLike) -> NDArray:
-    """Distance from each of ``points`` to the segment ``a``-``b`` (all ``(..., 2)``, broadcast);
-    a segment of no length is its point."""
+    """Distance from each of ``points`` to the segment ``a``-``b``; a segment of no length is
+    its point.  The three arrays broadcast against each other.
+
+    :param points: ``(..., 2)`` points.
+    :param a: ``(..., 2)`` first ends of the segments.
+    :param b: ``(..., 2)`` second ends.
+    :returns: the distances, in the broadcast shape without the last axis.
+    """
     points, a, b = (np.asarray(v, dtype=np.float64) for v in (points, a, b))
     ex, ey = b[..., 0] - a[..., 0], b[..., 1] - a[..., 1]
     px, py = points[..., 0] - a[..., 0], points[..., 1] - a[..., 1]
@@ -28,8 +34,12 @@ def point_segment_distance(points: ArrayLike, a: ArrayLike, b: ArrayLike) -> NDA
 
 
 def point_clearance(points: ArrayLike, segments: ArrayLike) -> NDArray:
-    """``(N,)``: the distance from each of ``points`` ``(N, 2)`` to the nearest of ``segments``
-    ``(S, 4)`` (``inf`` with none), in chunks that bound the memory."""
+    """The distance from each point to the nearest segment, in chunks that bound the memory.
+
+    :param points: ``(N, 2)`` (any shape with pairs last is flattened to that).
+    :param segments: ``(S, 4)`` rows ``x1, y1, x2, y2``.
+    :returns: ``(N,)`` distances; ``inf`` for each point when there is no segment.
+    """
     xy = np.asarray(points, dtype=np.float64).reshape(-1, 2)
     rows = np.asarray(segments, dtype=np.float64).reshape(-1, 4)
     result = np.full(len(xy), np.inf)

@@ -64,5 +64,9 @@ SUPPORT_MESSAGES = ('Header', 'Lock')
 
 
 def canonical(type_name: str) -> str:
-    """Return the canonical spelling of a WURDE type name (``Boolean`` -> ``Bool``)."""
+    """Return the canonical spelling of a WURDE type name (``Boolean`` -> ``Bool``).
+
+    :param type_name: a type name as an interface file writes it; any other name comes back as
+        it is.
+    """
     return ALIASES.get(type_name, type_name)

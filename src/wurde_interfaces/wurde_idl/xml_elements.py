@@ -25,13 +25,22 @@ _FALSE = {'false', 'no', '0', 'off'}
 
 
 def local_name(node: etree._Element) -> str:
-    """The tag without its namespace (WURDE files carry ``xmlns`` attributes)."""
+    """The tag without its namespace (WURDE files carry ``xmlns`` attributes).
+
+    :param node: an lxml node; ``''`` for a comment or processing instruction.
+    """
     return etree.QName(node).localname if isinstance(node.tag, str) else ''
 
 
 def children(path: str | os.PathLike[str], node: etree._Element,
              allowed: Iterable[str]) -> list[etree._Element]:
-    """The element children of ``node``; any tag not in ``allowed`` is refused."""
+    """The element children of ``node`` (comments and processing instructions passed over).
+
+    :param path: the file, for the error.
+    :param node: the parent element.
+    :param allowed: the local names its children may have.
+    :raises ConfigError: for the first child of another name (file, line, the names allowed).
+    """
     allowed = set(allowed)
     found = []
     for child in node:
@@ -53,7 +62,16 @@ def checked_attributes(path: str | os.PathLike[str], node: etree._Element, *, re
     when one is not among ``required`` and ``optional`` or a required one is missing (or, with
     ``nonempty``, blank).  Namespaced attributes (``xsi:schemaLocation``) are passed over, or
     refused too when ``namespaced`` is False.  The one attribute check of every XML file a user
-    writes (configs, maps, mappings, role configs, interfaces)."""
+    writes (configs, maps, mappings, role configs, interfaces).
+
+    :param path: the file, for the error.
+    :param node: the element.
+    :param required: names that must be there.
+    :param optional: names that may be there.
+    :param nonempty: a required attribute must also hold more than blanks.
+    :param namespaced: pass over namespaced attributes (True) or refuse them (False).
+    :returns: the attributes by name (the namespaced ones left out).
+    """
     required, optional = set(required), set(optional)
     tag = local_name(node)
     values: dict[str, str] = {}
@@ -83,6 +101,14 @@ class Attributes:
 
     def __init__(self, path: str | os.PathLike[str], node: etree._Element, *,
                  required: Iterable[str] = (), optional: Iterable[str] = ()) -> None:
+        """Check the element's attributes (:func:`checked_attributes`) and keep them.
+
+        :param path: the file, for errors.
+        :param node: the element.
+        :param required: names that must be there.
+        :param optional: names that may be there.
+        :raises ConfigError: for an unknown or a missing attribute.
+        """
         self.path = os.fspath(path)
         self.node = node
         self.line = node.sourceline
@@ -91,6 +117,10 @@ class Attributes:
             checked_attributes(path, node, required=required, optional=optional))
 
     def error(self, reason: str) -> ConfigError:
+        """A ConfigError at this element's file and line, to raise.
+
+        :param reason: what is wrong.
+        """
         return ConfigError(self.path, self.line, reason)
 
     def _default(self, name: str, default: Any) -> Any:
@@ -100,9 +130,19 @@ class Attributes:
         return default
 
     def has(self, name: str) -> bool:
+        """Whether the element has the attribute.
+
+        :param name: the attribute's name.
+        """
         return name in self.values
 
     def text(self, name: str, default: str | None = None) -> str:
+        """The attribute's text, stripped.
+
+        :param name: the attribute's name.
+        :param default: the value when it is absent; None: it must be there.
+        :raises ConfigError: when it is absent without a default, or blank.
+        """
         value = self.values.get(name)
         if value is None:
             return self._default(name, default)
@@ -112,6 +152,13 @@ class Attributes:
         return value
 
     def choice(self, name: str, choices: Iterable[str], default: str | None = None) -> str:
+        """The attribute's text, which must be one of ``choices``.
+
+        :param name: the attribute's name.
+        :param choices: the values allowed (the error lists them in this order).
+        :param default: the value when it is absent; None: it must be there.
+        :raises ConfigError: for another value, or as :meth:`text`.
+        """
         value = self.text(name, default)
         options = list(choices)
         if value not in options:
@@ -120,6 +167,12 @@ class Attributes:
         return value
 
     def boolean(self, name: str, default: bool | None = None) -> bool:
+        """The attribute as a bool: true/yes/1/on or false/no/0/off, in any case.
+
+        :param name: the attribute's name.
+        :param default: the value when it is absent; None: it must be there.
+        :raises ConfigError: for another word, or when it is absent without a default.
+        """
         raw = self.values.get(name)
         if raw is None:
             return self._default(name, default)
@@ -132,6 +185,16 @@ class Attributes:
 
     def number(self, name: str, default: float | None = None, *, minimum: float | None = None,
                maximum: float | None = None, integer: bool = False) -> Any:
+        """The attribute as a finite number.
+
+        :param name: the attribute's name.
+        :param default: the value when it is absent (returned unchecked); None: it must be there.
+        :param minimum: the smallest value allowed; None: no bound.
+        :param maximum: the largest value allowed; None: no bound.
+        :param integer: read an int (Python's literal syntax: ``0x10`` too) rather than a float.
+        :raises ConfigError: for text that is not such a number, a value that is not finite or
+            out of bounds, or when it is absent without a default.
+        """
         raw = self.values.get(name)
         if raw is None:
             return self._default(name, default)

@@ -21,7 +21,13 @@ PlaceSpec = tuple[int, str, Sequence[float]]
 
 
 def chunk(kind: int, description: str, data: bytes, name: str | None = None) -> bytes:
-    """One chunk: type byte (bit 7 when named), int32 size, 10-character description, name, data."""
+    """One chunk: type byte (bit 7 when named), int32 size, 10-character description, name, data.
+
+    :param kind: the chunk type (1 GRIDMAP, 2 OFFLIMITS, 4 PLACES, 32 CREATOR, ...).
+    :param description: padded or cut to 10 ASCII characters.
+    :param data: the chunk's data.
+    :param name: the chunk's name (written with a NUL, bit 7 set); None: an unnamed chunk.
+    """
     body = description.ljust(10).encode('ascii')[:10]
     if name is not None:
         body += name.encode('ascii') + b'\0'
@@ -34,10 +40,19 @@ def carmen_map_bytes(probability: np.ndarray, resolution: float, *, places: Sequ
                      points: Sequence[tuple[int, int]] = (), lines: Sequence[tuple[int, int, int, int]] = (),
                      rectangles: Sequence[tuple[int, int, int, int]] = (), cell_bytes: int = 4,
                      grid_name: str | None = None, creator_type: int = 32, extra: bytes = b'') -> bytes:
-    """A CARMEN map of ``probability[x, y]`` (occupied probability, -1 unknown).
+    """The bytes of a CARMEN map file.
 
-    ``cell_bytes`` 8 writes the resolution and cells as doubles (as a fork of CARMEN does);
-    ``creator_type`` 0 is CARMEN's old maps' creator id; ``extra`` chunks go after the grid.
+    :param probability: ``probability[x, y]``, the occupied probability of each cell, -1 unknown.
+    :param resolution: m per cell.
+    :param places: the place list; empty: no PLACES chunk.
+    :param points: off-limits cells ``(x, y)``.
+    :param lines: off-limits lines ``(x1, y1, x2, y2)`` in cells.
+    :param rectangles: off-limits rectangles ``(x1, y1, x2, y2)`` in cells.
+    :param cell_bytes: 4 (CARMEN's floats) or 8 (the resolution and cells as doubles, as a fork of
+        CARMEN writes them).
+    :param grid_name: the GRIDMAP chunk's name; None: unnamed.
+    :param creator_type: the CREATOR chunk's type; 0 is CARMEN's old maps' id.
+    :param extra: chunks written after the grid, as they are.
     """
     size_x, size_y = probability.shape
     out = (b'#####################################################\n#\n'
@@ -67,8 +82,12 @@ def carmen_map_bytes(probability: np.ndarray, resolution: float, *, places: Sequ
 
 
 def beesoft_map_text(probability: np.ndarray, resolution_cm: float) -> str:
-    """A BeeSoft (Rhino) text map of ``probability[x, y]``: each cell as the probability that it is
-    free (``1 - p``), -1 unknown."""
+    """A BeeSoft (Rhino) text map: each cell as the probability that it is free (``1 - p``), -1
+    unknown.
+
+    :param probability: ``probability[x, y]``, the occupied probability of each cell, -1 unknown.
+    :param resolution_cm: cm per cell.
+    """
     size_x, size_y = probability.shape
     lines = [f'robot_specifications->global_mapsize_x  {size_y * resolution_cm:g}',
              f'robot_specifications->global_mapsize_y  {size_x * resolution_cm:g}',

@@ -22,6 +22,11 @@ class DomainClaim:
     """A held domain id; :meth:`release` (or garbage collection) frees it."""
 
     def __init__(self, domain_id: int, fd: int) -> None:
+        """Made by :func:`claim_domain_id`.
+
+        :param domain_id: the id held.
+        :param fd: the open lock file whose ``flock`` holds it; closed on release.
+        """
         self.domain_id = domain_id
         self._fd: int | None = fd
 

@@ -21,7 +21,10 @@ os.environ.pop('ROS_STATIC_PEERS', None)
 
 @pytest.fixture
 def ros_domain(monkeypatch: pytest.MonkeyPatch) -> Iterator[int]:
-    """A ``ROS_DOMAIN_ID`` of this test's own, set in the environment for it and its children."""
+    """A ``ROS_DOMAIN_ID`` of this test's own, set in the environment for it and its children.
+
+    :param monkeypatch: pytest's, which restores the environment after the test.
+    """
     claim = claim_domain_id()
     monkeypatch.setenv('ROS_DOMAIN_ID', str(claim.domain_id))
     monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
@@ -33,7 +36,10 @@ def ros_domain(monkeypatch: pytest.MonkeyPatch) -> Iterator[int]:
 
 @pytest.fixture
 def rclpy_context(ros_domain: int) -> Iterator[object]:
-    """A fresh, initialised rclpy context in the test's own domain; shut down afterwards."""
+    """A fresh, initialised rclpy context in the test's own domain; shut down afterwards.
+
+    :param ros_domain: the test's domain id (the fixture above).
+    """
     import rclpy
     from rclpy.context import Context
 
@@ -47,16 +53,29 @@ def rclpy_context(ros_domain: int) -> Iterator[object]:
 
 # -- the fast lane (`make test-fast`) ---------------------------------------------------------------
 def pytest_addoption(parser: pytest.Parser) -> None:
+    """Add ``--fast``, the fast lane.
+
+    :param parser: pytest's option parser.
+    """
     parser.addoption('--fast', action='store_true',
                      help='the fast lane: only the tests that need neither DDS (the ros_domain fixture) nor '
                           'other processes (pytest.mark.process); starting a process fails the test')
 
 
 def pytest_configure(config: pytest.Config) -> None:
+    """Declare the ``process`` marker.
+
+    :param config: pytest's configuration.
+    """
     config.addinivalue_line('markers', 'process: the test starts other processes (not in the fast lane)')
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """With ``--fast``, deselect the tests that use ``ros_domain`` or are marked ``process``.
+
+    :param config: pytest's configuration.
+    :param items: the collected tests, changed in place.
+    """
     if not config.getoption('--fast'):
         return
     slow = [item for item in items
@@ -68,12 +87,20 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
 
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_setup(item: pytest.Item) -> Iterator[None]:
+    """With ``--fast``, a fixture that starts a process fails the test.
+
+    :param item: the test being set up.
+    """
     with _processes_refused(item.config.getoption('--fast')):
         yield
 
 
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_call(item: pytest.Item) -> Iterator[None]:
+    """With ``--fast``, a test that starts a process fails.
+
+    :param item: the test being run.
+    """
     with _processes_refused(item.config.getoption('--fast')):
         yield
 

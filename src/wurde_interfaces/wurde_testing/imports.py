@@ -29,7 +29,10 @@ ALLOWED = {
 
 
 def imported_modules(path: pathlib.Path) -> set[str]:
-    """Top-level module names imported by one Python file."""
+    """Top-level module names imported by one Python file (relative imports left out).
+
+    :param path: the file.
+    """
     tree = ast.parse(path.read_text(), filename=str(path))
     found: set[str] = set()
     for node in ast.walk(tree):
@@ -41,7 +44,11 @@ def imported_modules(path: pathlib.Path) -> set[str]:
 
 
 def violations(package: str, source_dir: pathlib.Path) -> list[str]:
-    """``file: imports X`` for every import of a suite package that ``package`` may not use."""
+    """``file: imports X`` for every import of a suite package that ``package`` may not use.
+
+    :param package: a key of :data:`ALLOWED` (``wurde_core``).
+    :param source_dir: the directory whose ``*.py`` files are checked, recursively.
+    """
     allowed = ALLOWED[package] | {package}
     problems = []
     for path in sorted(source_dir.rglob('*.py')):

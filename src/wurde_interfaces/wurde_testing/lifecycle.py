@@ -42,8 +42,14 @@ def _spin_until(spin: Spin, done: Callable[[], bool], until: float) -> bool:
 
 
 def get_state(spin: Spin, get: Any, timeout: float = 30.0) -> str:
-    """The node's lifecycle state's label, through its GetState client ``get``; the request is
-    sent again every :data:`RESEND_S` while no copy is answered."""
+    """The node's lifecycle state's label (``'active'``); the request is sent again every
+    :data:`RESEND_S` while no copy is answered.
+
+    :param spin: runs the client node's callbacks for at most the seconds given.
+    :param get: the node's GetState client.
+    :param timeout: the longest wait for the service and an answer, in seconds.
+    :raises AssertionError: when there is no service or no answer in time.
+    """
     deadline = time.monotonic() + timeout
     _ready(spin, get, deadline)
     sent: list[Any] = []
@@ -66,6 +72,13 @@ def change_state(spin: Spin, change: Any, get: Any, transition_id: int, goal: st
 
     A refused transition (an answer saying so, with the node not at ``goal``) is False; a node
     that neither answers nor reaches ``goal`` within ``timeout`` is an AssertionError.
+
+    :param spin: runs the client node's callbacks for at most the seconds given.
+    :param change: the node's ChangeState client.
+    :param get: the node's GetState client.
+    :param transition_id: a ``lifecycle_msgs/Transition`` id (``Transition.TRANSITION_CONFIGURE``).
+    :param goal: the label of the state the transition leads to.
+    :param timeout: the longest wait in all, in seconds.
     """
     deadline = time.monotonic() + timeout
     _ready(spin, change, deadline)

@@ -33,6 +33,12 @@ class ParameterTool:
     """A parameter client of one remote node, in a context of its own."""
 
     def __init__(self, node_name: str) -> None:
+        """A client of ``node_name``'s parameter services, waiting (at most
+        :data:`SERVICE_WAIT_S`) until they are there.
+
+        :param node_name: the remote node's full name; a leading ``/`` is added when missing.
+        :raises AssertionError: when the services do not come in time.
+        """
         self.node_name = node_name if node_name.startswith('/') else '/' + node_name
         self.context = Context()
         rclpy.init(context=self.context)
@@ -73,11 +79,18 @@ class ParameterTool:
                 for v in self._call(lambda: self.client.get_parameters(list(names))).values]
 
     def describe(self, name: str) -> Any:
-        """``ros2 param describe``: the ParameterDescriptor."""
+        """``ros2 param describe``: the ParameterDescriptor.
+
+        :param name: the parameter's name.
+        """
         return self._call(lambda: self.client.describe_parameters([name])).descriptors[0]
 
     def set(self, name: str, value: Any) -> tuple[bool, str]:
-        """``ros2 param set``: (whether it was taken, the node's reason if not)."""
+        """``ros2 param set``: (whether it was taken, the node's reason if not).
+
+        :param name: the parameter's name.
+        :param value: the new value, a Python value of the parameter's type.
+        """
         result = self._call(
             lambda: self.client.set_parameters([Parameter(name, value=value)])).results[0]
         return result.successful, result.reason

@@ -25,6 +25,14 @@ class ChildProcess:
 
     def __init__(self, argv: Sequence[str], *, env: dict[str, str] | None = None,
                  python: bool = True, cwd: str | os.PathLike[str] | None = None) -> None:
+        """Start the child now, its stdin, stdout and stderr piped (text, line-buffered).
+
+        :param argv: the command (after ``python``, e.g. ``['-m', 'module', ...]``).
+        :param env: the child's whole environment; None: this process's.
+        :param python: run ``argv`` with the current Python interpreter; False: ``argv`` is the
+            whole command line.
+        :param cwd: the child's working directory; None: this process's.
+        """
         command = [sys.executable, *argv] if python else list(argv)
         self.process = subprocess.Popen(
             command, env=dict(env if env is not None else os.environ), cwd=cwd,
@@ -60,14 +68,20 @@ class ChildProcess:
             return '\n'.join(self._errors) + ('\n' if self._errors else '')
 
     def send(self, line: str) -> None:
-        """Write one line to the child's stdin."""
+        """Write one line to the child's stdin.
+
+        :param line: the text; a newline is added.
+        """
         assert self.process.stdin is not None
         self.process.stdin.write(line + '\n')
         self.process.stdin.flush()
 
     def expect(self, text: str, timeout: float = 20.0) -> str:
-        """The first not yet consumed output line containing ``text``; waits up to ``timeout``.
+        """The first not yet consumed stdout line containing ``text``; the lines before it are
+        consumed too.
 
+        :param text: a substring of the line wanted.
+        :param timeout: the longest wait, in seconds (shorter when the child has ended).
         :raises AssertionError: with the child's output when no such line comes in time.
         """
         deadline = time.monotonic() + timeout
@@ -92,6 +106,8 @@ class ChildProcess:
         """Ask the child to finish (SIGINT, stdin closed), kill it after ``timeout``; return its code.
 
         Idempotent; the child's output stays in :attr:`stdout` and :attr:`stderr`.
+
+        :param timeout: seconds to wait after SIGINT before SIGKILL.
         """
         if self._stopped:
             return self.process.returncode
@@ -122,6 +138,8 @@ class ChildProcess:
 def find_executable(package: str, name: str) -> str:
     """``lib/<package>/<name>`` under the first ament prefix that has it (where `ros2 run` looks).
 
+    :param package: the ROS package.
+    :param name: the executable's name.
     :raises AssertionError: when it is not installed (the test should fail, not skip).
     """
     import pathlib

@@ -12,7 +12,10 @@ LOOPBACK = '0100007F'
 
 
 def listening_addresses(port: int) -> list[str]:
-    """Local addresses (hex, as /proc/net/tcp and tcp6 write them) listening on ``port``."""
+    """Local addresses (hex, as /proc/net/tcp and tcp6 write them) listening on ``port``.
+
+    :param port: the TCP port.
+    """
     found = []
     for table in ('/proc/net/tcp', '/proc/net/tcp6'):
         for line in pathlib.Path(table).read_text().splitlines()[1:]:

@@ -16,7 +16,12 @@ __all__ = ['latched']
 
 def latched(topic: str, message_type: type, timeout: float = 30.0) -> Any:
     """The message a transient-local subscriber to ``topic`` gets first (the publisher's last,
-    kept for late readers); fails the test after ``timeout`` seconds."""
+    kept for late readers).
+
+    :param topic: the topic's full name.
+    :param message_type: its message class.
+    :param timeout: fail the test (AssertionError) after this many seconds.
+    """
     context = Context()
     rclpy.init(context=context)
     try:

@@ -17,7 +17,13 @@ def _executable(path: pathlib.Path) -> bool:
 
 
 def find_binary(binary: str, bin_directory: str = '') -> str | None:
-    """The absolute path of ``binary``, or ``None`` when it is nowhere to be found."""
+    """The absolute path of ``binary``, or ``None`` when it is nowhere to be found.
+
+    :param binary: an absolute path, ``package/executable`` (looked up as
+        ``lib/package/executable`` under the ament prefixes), or an executable's name (under
+        ``bin_directory``, then any package's ``lib/*/``, then ``PATH``).
+    :param bin_directory: a directory searched first for a relative ``binary`` ('': none).
+    """
     if not binary:
         return None
     candidate = pathlib.Path(binary)

@@ -36,6 +36,11 @@ class SupervisionClock:
     """Watched time: monotonic time minus the MCP's own stalls."""
 
     def __init__(self, max_gap_s: float = MAX_GAP_S, *, start: float | None = None) -> None:
+        """Start counting.
+
+        :param max_gap_s: the longest gap between two looks that counts fully as watched time (s).
+        :param start: the monotonic time of the first look (None: now).
+        """
         self.max_gap_s = max_gap_s
         self._last = time.monotonic() if start is None else start
         self._watched = 0.0
@@ -46,7 +51,11 @@ class SupervisionClock:
         self._steady_since = self._last
 
     def tick(self, now: float | None = None) -> float:
-        """Take a look at monotonic time ``now``; return the watched time."""
+        """Take a look at monotonic time ``now``; return the watched time.
+
+        :param now: monotonic time (s); None: now.
+        :returns: the watched time so far (s).
+        """
         now = time.monotonic() if now is None else now
         gap = max(0.0, now - self._last)
         self._last = now
@@ -64,5 +73,8 @@ class SupervisionClock:
         return self._watched
 
     def steady_for(self, now: float) -> float:
-        """Seconds the MCP has been looking without a stall, at monotonic time ``now``."""
+        """Seconds the MCP has been looking without a stall, at monotonic time ``now``.
+
+        :param now: monotonic time (s).
+        """
         return now - self._steady_since

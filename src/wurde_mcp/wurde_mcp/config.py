@@ -70,6 +70,10 @@ class McpConfig:
     warnings: list[str] = field(default_factory=list)
 
     def mappings_for(self, module: str) -> list[Mapping]:
+        """The mappings of one module, in the order they were read.
+
+        :param module: the module's name, as the configuration or the mappings name it.
+        """
         return [m for m in self.mappings if m.module == module]
 
 
@@ -121,6 +125,10 @@ def _split(path: str, node: etree._Element, text: str) -> list[str]:
 def read_mcp_config(path: str | os.PathLike[str], config: McpConfig | None = None) -> McpConfig:
     """Read an MCP configuration file (either seed form).
 
+    :param path: the file: an ``<mcp-config>``, or a ``<robot>`` file holding exactly one.
+    :param config: the configuration to add the modules and their ``<connect>`` mappings to
+        (None: a new one); a module it already has is refused as defined twice.
+    :returns: ``config``, or the new configuration.
     :raises ConfigError: naming the file, the line and the reason.
     """
     path = os.fspath(path)
@@ -187,6 +195,10 @@ def _read_module(path: str, node: etree._Element, config: McpConfig) -> None:
 def read_mcp_mappings(path: str | os.PathLike[str], config: McpConfig) -> McpConfig:
     """Read a mappings file into ``config``.
 
+    :param path: the ``<mcp-mappings>`` file.
+    :param config: the configuration whose mappings it adds to; the modules they name are not
+        checked here (:func:`validate` does).
+    :returns: ``config``.
     :raises ConfigError: naming the file, the line and the reason.
     """
     path = os.fspath(path)
@@ -216,6 +228,10 @@ def validate(config: McpConfig, interfaces: Iterable[str]) -> list[str]:
     file and line.  Refused with file and line: a mapping naming an unknown interface, and two
     mappings that use one stream as two different interfaces (:func:`static_conflict`).
 
+    :param config: the configuration read; a module only the mappings name is added to its
+        modules as external, and the warnings are appended to its ``warnings``.
+    :param interfaces: the names of the installed interfaces.
+    :returns: the warnings of this call, each starting with ``file:line:``.
     :raises ConfigError: naming the file, the line and the reason.
     """
     known = set(interfaces)
@@ -240,13 +256,19 @@ def validate(config: McpConfig, interfaces: Iterable[str]) -> list[str]:
 
 
 def where(mapping: Mapping) -> str:
-    """``file:line`` of a mapping."""
+    """``file:line`` of a mapping.
+
+    :param mapping: a mapping as read from its file.
+    """
     return f'{mapping.path}:{mapping.line}'
 
 
 def static_conflict(mappings: Iterable[Mapping]) -> tuple[Mapping, str] | None:
     """The first mapping that uses a stream as another interface than an earlier mapping does,
-    with the reason; ``None`` when they agree."""
+    with the reason; ``None`` when they agree.
+
+    :param mappings: the mappings in the order they were read (the earlier one is kept as right).
+    """
     first: dict[str, Mapping] = {}
     for mapping in mappings:
         earlier = first.setdefault(mapping.source, mapping)

@@ -33,10 +33,16 @@ WAIT_S = 10.0
 
 def connect(name: str, wait_s: float = WAIT_S, ros_arguments: list[str] | None = None,
             mcp: str | None = None) -> tuple[CommsManager, Any]:
-    """A manager named ``name`` with a consumer of the control stream of the MCP named ``mcp``
-    (default: ``WURDE_MCP_NAME``, else the seed's ``MCP``); waits up to ``wait_s`` for it and
-    exits with a message when ``wait_s`` is positive and none answers.  ``ros_arguments``
-    (``--ros-args -r __ns:=/robot1``) reach the MCP of that namespace."""
+    """A manager with a consumer of an MCP's control stream, once the MCP answers.
+
+    :param name: the manager's (node's) name.
+    :param wait_s: how long to wait for the MCP (s); 0 or less: do not wait.
+    :param ros_arguments: ROS arguments for the manager (``--ros-args -r __ns:=/robot1`` reaches
+        the MCP of that namespace); None: none.
+    :param mcp: the MCP's name (None: ``WURDE_MCP_NAME``, else the seed's ``MCP``).
+    :returns: the manager and its SimpleControl consumer.
+    :raises SystemExit: with a message, when ``wait_s`` is positive and no MCP answers in time.
+    """
     manager = CommsManager(name)
     manager.parse_options([name, *(ros_arguments or [])])
     manager.set_no_heartbeat()
@@ -55,7 +61,14 @@ def connect(name: str, wait_s: float = WAIT_S, ros_arguments: list[str] | None =
 
 
 def send(control: Any, command: int, module: str = '', state: RunState = RunState.RUN) -> None:
-    """Send one command to the MCP."""
+    """Send one command to the MCP.
+
+    :param control: the SimpleControl consumer from :func:`connect`.
+    :param command: ``CMD_START``, ``CMD_STOP``, ``CMD_RESTART`` or ``CMD_STATE`` of
+        :mod:`wurde_mcp.supervisor`.
+    :param module: the module it is about ('' for none).
+    :param state: the run state to set, for ``CMD_STATE``.
+    """
     requests = control.requests
     requests.command.set_value(command)
     requests.module.set_value(module)
@@ -66,7 +79,14 @@ def send(control: Any, command: int, module: str = '', state: RunState = RunStat
 def read_table(manager: CommsManager, control: Any,
                wait_s: float = WAIT_S) -> list[dict[str, Any]] | None:
     """The MCP's next module table (it is published at least every half second), or ``None``
-    when none arrives within ``wait_s``."""
+    when none arrives within ``wait_s``.
+
+    :param manager: the manager from :func:`connect`, stepped while waiting.
+    :param control: its SimpleControl consumer.
+    :param wait_s: how long to wait for a table (s).
+    :returns: one dict per module: name, status, managed, locale, state (enum names), pid, host,
+        age (heartbeat age in s, negative for none) and restarts.
+    """
     deadline = time.monotonic() + wait_s
     while time.monotonic() < deadline:
         manager.step()
@@ -84,7 +104,12 @@ def read_table(manager: CommsManager, control: Any,
 
 
 def mcp_controller(argv: list[str] | None = None) -> int:
-    """``mcp_controller list | status | start M | stop M | restart M | state M STATE``."""
+    """``mcp_controller list | status | start M | stop M | restart M | state M STATE``.
+
+    :param argv: the arguments without the program's name, optionally ``--mcp NAME`` first and
+        ``--ros-args ...`` last (None: ``sys.argv[1:]``).
+    :returns: the exit status: 0, or 2 for a usage error.
+    """
     args, ros_arguments = split_ros_arguments(list(sys.argv[1:] if argv is None else argv))
     mcp = None
     if args[:1] == ['--mcp'] and len(args) >= 2:

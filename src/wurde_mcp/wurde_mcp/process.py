@@ -61,7 +61,15 @@ class ModuleProcess:
     def __init__(self, name: str, argv: list[str], log_directory: str,
                  environment: dict[str, str] | None = None) -> None:
         """Start ``argv``, logging to ``<log_directory>/<name>.log``, with ``environment`` added
-        to this process's environment."""
+        to this process's environment.
+
+        :param name: the module's name: the log file's and the owner thread's.
+        :param argv: the command, the binary first (a Python script runs with this interpreter);
+            no shell.
+        :param log_directory: the directory of the log (made if missing); output is appended.
+        :param environment: variables added to this process's environment (None: none).
+        :raises OSError: the binary is not an executable file, or the process cannot be started.
+        """
         self.name = name
         self.argv = argv
         log_dir = pathlib.Path(log_directory)
@@ -123,7 +131,10 @@ class ModuleProcess:
 
     def signal(self, signum: int) -> None:
         """Send ``signum`` now (through the pidfd: a reaped process's pid is never hit); to a
-        process still in its launcher, as soon as the module is exec'd."""
+        process still in its launcher, as soon as the module is exec'd.
+
+        :param signum: the signal's number; nothing is sent to a process already reaped.
+        """
         with self._fd_lock:
             if self._pidfd is None:
                 return
@@ -138,7 +149,11 @@ class ModuleProcess:
     def stop(self, step_s: float = STOP_STEP_S, grace_s: float = 0.0) -> None:
         """Ask the owner to stop the process: after ``grace_s`` (for a Quit already sent) SIGINT,
         then SIGTERM and SIGKILL ``step_s`` apart.  Returns at once; a second call can only
-        bring the steps forward."""
+        bring the steps forward.
+
+        :param step_s: the wait between two signals (s).
+        :param grace_s: the wait before SIGINT (s), for a module already told to Quit.
+        """
         now = time.monotonic()
         steps = [(now + grace_s + i * step_s, sig) for i, sig in enumerate(_ESCALATION)]
         with self._request_lock:
@@ -148,12 +163,22 @@ class ModuleProcess:
         self._wake()
 
     def wait(self, timeout: float | None = None) -> int | None:
-        """Wait up to ``timeout`` s for the owner to reap the process; its exit code or ``None``."""
+        """Wait up to ``timeout`` s for the owner to reap the process; its exit code or ``None``.
+
+        :param timeout: the longest wait (s); None: until it is reaped.
+        :returns: the exit code (negative: killed by that signal), or None if it still runs.
+        """
         self._exited.wait(timeout)
         return self.exit_code
 
     def stop_and_wait(self, step_s: float = STOP_STEP_S, grace_s: float = 0.0) -> int:
-        """:meth:`stop`, then wait for the end (bounded by the escalation itself)."""
+        """:meth:`stop`, then wait for the end (bounded by the escalation itself).
+
+        :param step_s: the wait between two signals (s).
+        :param grace_s: the wait before SIGINT (s).
+        :returns: the exit code.
+        :raises subprocess.TimeoutExpired: not even SIGKILL ended it within seconds.
+        """
         self.stop(step_s, grace_s)
         code = self.wait(grace_s + len(_ESCALATION) * step_s + 5.0)
         if code is None:  # SIGKILL did not end it within seconds: uninterruptible sleep

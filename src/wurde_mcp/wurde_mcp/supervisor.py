@@ -41,10 +41,10 @@ RECOMMAND_S = 1.0
 MAX_RESTARTS = 5
 RESTART_WINDOW_S = 60.0
 #: TTLs outside this range are not trusted (a module announcing 0 or a day is clamped).  The floor
-#: keeps a busy machine from turning every briefly descheduled module into a "zombie": on two
-#: loaded cores a healthy module with the guide's 0.2 s TTL (set_sleep(0.1)) was seen silent
-#: for over 0.3 s; a beat still comes at least every 0.1 s, so the floor only delays the verdict
-#: on a module that really hangs.
+#: keeps a busy machine from turning every briefly descheduled module into a "zombie": a loaded
+#: machine can keep a healthy module with the guide's 0.2 s TTL (set_sleep(0.1)) silent for over
+#: 0.3 s; a beat still comes at least every 0.1 s, so the floor only delays the verdict on a
+#: module that really hangs.
 TTL_RANGE_S = (1.0, 10.0)
 #: The ceiling for a module that asks to be trusted (its heartbeat info's ``trust_ttl``,
 #: ``CommsManager.set_heartbeat_only(ttl, trust=True)``): guide 6.1's TTL is how long the MCP
@@ -127,7 +127,10 @@ class Module:
 
     def quit_grace(self, default_s: float = STOP_GRACE_S) -> float:
         """The wait between a Quit and the first signal: the module's quit time, within
-        :data:`QUIT_TIME_MAX_S`, or ``default_s``."""
+        :data:`QUIT_TIME_MAX_S`, or ``default_s``.
+
+        :param default_s: the least wait (s), and the wait of a module that asked for none.
+        """
         asked = self.quit_time if math.isfinite(self.quit_time) else 0.0
         return max(default_s, min(asked, QUIT_TIME_MAX_S))
 
@@ -145,6 +148,17 @@ class Supervisor:
 
     def __init__(self, manager: CommsManager, config: McpConfig, *, log_directory: str,
                  bin_directory: str = '', max_restarts: int = MAX_RESTARTS) -> None:
+        """Watch every module of ``config`` and supply the MCP's request and control streams.
+
+        :param manager: the MCP's manager; its name is this MCP's name.
+        :param config: the modules and mappings (read and validated).
+        :param log_directory: where each started module's output log goes; also holds its
+            ``NAME.resume`` state file.
+        :param bin_directory: a directory searched for the modules' binaries before the ament
+            index and ``PATH`` ('': none).
+        :param max_restarts: restarts of one module within :data:`RESTART_WINDOW_S` before the MCP
+            gives up on it.
+        """
         self.manager = manager
         self.config = config
         self.log_directory = log_directory
@@ -198,14 +212,20 @@ class Supervisor:
     def _start_on_demand(self, name: str) -> bool:
         """Start a supplier a consumer asked for (an assignment or a start request).  During the
         registration pass the answer is yes without a start: a second process of a module whose
-        -r run is under way kept the pass waiting its whole timeout (15 s) for that module to
-        exit, and was then stopped anyway (a CI log of test_guide_avoider)."""
+        -r run is under way would keep the pass waiting its whole timeout for that module to
+        exit."""
         if self.registering:
             return self.modules[name].internal
         return self.start(name)
 
     def start(self, name: str, *, argv_extra: tuple[str, ...] = ()) -> bool:
-        """Start an internal module (if it is not running); False when it cannot start."""
+        """Start an internal module (if it is not running); False when it cannot start.
+
+        :param name: the module's name in the configuration.
+        :param argv_extra: arguments added after the configured ones (before the ROS arguments).
+        :returns: whether the module runs or is started (also True while a stop is under way:
+            it starts again once the stop has ended it).
+        """
         module = self.modules[name]
         if not module.internal:
             g_warn(f'MCP: {name} is external; the MCP watches it but cannot start it')
@@ -266,7 +286,10 @@ class Supervisor:
 
     def stop(self, name: str) -> None:
         """Quit a module and keep it down; an internal one that does not obey is escalated to
-        SIGINT, SIGTERM and SIGKILL by its owner thread (this returns at once)."""
+        SIGINT, SIGTERM and SIGKILL by its owner thread (this returns at once).
+
+        :param name: the module's name in the configuration.
+        """
         module = self.modules[name]
         module.wanted = False
         module.start_on_exit = False
@@ -281,7 +304,10 @@ class Supervisor:
 
     def restart(self, name: str) -> None:
         """Stop a module and start it again once it has ended (internal modules; returns at
-        once — the loop starts the new process when it sees the old one gone)."""
+        once — the loop starts the new process when it sees the old one gone).
+
+        :param name: the module's name in the configuration.
+        """
         module = self.modules[name]
         running = module.process is not None and module.process.running()
         self.stop(name)
@@ -297,13 +323,20 @@ class Supervisor:
         that belong to no other MCP.  An external module another MCP started (several MCPs in
         one domain, one per host) is only watched: its own MCP idles, stops and quits it.  Which MCP
         a module belongs to is known from its heartbeat info: until that is heard, an external
-        module is commanded as the seed's single MCP commands it."""
+        module is commanded as the seed's single MCP commands it.
+
+        :param module: one of this supervisor's modules.
+        """
         return module.internal or module.owner in ('', self.name)
 
     def command_state(self, name: str, state: RunState) -> None:
         """Send a run-state command to a module (through its heartbeat channel).  Run and Idle
         are held: a module that reports another state later is told again.  A module another
-        MCP owns is not commanded (see :meth:`owns`)."""
+        MCP owns is not commanded (see :meth:`owns`).
+
+        :param name: the module's name in the configuration.
+        :param state: the run state to command.
+        """
         module = self.modules[name]
         module.commanded_state = RunState(state)
         module.commanded_at = time.monotonic()
@@ -337,7 +370,11 @@ class Supervisor:
     def set_all(self, state: RunState, *, except_: str | None = None) -> None:
         """Command every module but ``except_`` into ``state``.  Idling everyone (the lifecycle
         deactivated) ends a critical module's idling of the others: nobody is to come back to
-        Run when it does."""
+        Run when it does.
+
+        :param state: the run state to command.
+        :param except_: a module left out (None: none).
+        """
         if state == RunState.IDLE and except_ is None:
             self.idled_for = None
         for name in self.modules:
@@ -348,10 +385,13 @@ class Supervisor:
         """Quit every module and reap the internal ones: all are escalated at once, and this
         waits (at shutdown, never in the loop) up to ``wait_s`` for them to end.  A module told to
         Quit ends within about a second (it does not wait for its goodbye's acknowledgement), so
-        the MCP and its modules are gone within 3 s (issue 17); the escalation stays the normal
-        one, since a loaded machine's clean exit can take longer than a shorter one allowed (a
-        SIGKILL at 2 s cut the dummies' clean exits in a fresh-clone run).  A module that asked for
-        a longer quit time (a slamModule saving its map) gets it, and the wait grows to cover it."""
+        the MCP and its modules are gone within 3 s; the escalation keeps its normal steps, since
+        on a loaded machine a clean exit can take longer than 2 s.  A module that asked for a
+        longer quit time (a slamModule saving its map) gets it, and the wait grows to cover it.
+
+        :param wait_s: how long to wait for the internal modules to end (s); the escalation's
+            steps are at most a fifth of it.
+        """
         step_s = min(STOP_STEP_S, wait_s / 5)
         grace_s = min(STOP_GRACE_S, wait_s / 5)
         quit_at = time.monotonic()

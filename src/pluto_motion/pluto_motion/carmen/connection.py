@@ -43,7 +43,15 @@ def carmen_ipc_initialize(argv: Sequence[str], *, manager: CommsManager | None =
     """Connect this program: a CommsManager named after ``argv[0]`` that parses ``argv`` (WURDE's
     options: ``-n NAME``, ``-h`` ...), unless ``manager`` is given.  ``streams`` overrides
     :data:`STREAMS` (``base='PlutoBase'``, ``frontlaser=...``, ``rearlaser``, ``navigator``,
-    ``map_server``)."""
+    ``map_server``).
+
+    :param argv: the program's command line, its name first (``sys.argv``); ignored when
+        ``manager`` is given.
+    :param manager: a WURDE module's own manager, which keeps its loop settings (None: a new one).
+    :param streams: stream names that differ from :data:`STREAMS`, by key.
+    :returns: the connection; a connection made before is closed.
+    :raises TypeError: a stream key :data:`STREAMS` does not have.
+    """
     unknown = set(streams) - set(STREAMS)
     if unknown:
         raise TypeError(f'carmen_ipc_initialize: unknown stream {", ".join(sorted(unknown))}; known: '
@@ -63,7 +71,11 @@ def carmen_ipc_initialize(argv: Sequence[str], *, manager: CommsManager | None =
 
 def carmen_ipc_sleep(timeout: float) -> int:
     """Handle messages and timers for ``timeout`` seconds; 0, or -1 when the program is to quit
-    (a signal, the MCP's Quit)."""
+    (a signal, the MCP's Quit).
+
+    :param timeout: how long (s), at least 0.
+    :raises InvalidValueError: a negative or non-finite time.
+    """
     return 0 if connection().sleep(timeout) else -1
 
 
@@ -75,7 +87,13 @@ def carmen_ipc_dispatch() -> None:
 
 def carmen_ipc_addPeriodicTimer(interval: float, handler: TimerHandler, client_data: Any = None) -> Timer:  # noqa: N802
     """Call ``handler(client_data, now_ms, scheduled_ms)`` every ``interval`` seconds while
-    messages are handled (IPC's TIMER_HANDLER_TYPE)."""
+    messages are handled (IPC's TIMER_HANDLER_TYPE).
+
+    :param interval: the period (s), above 0.
+    :param handler: called with ``client_data`` and the times now and scheduled (monotonic ms).
+    :param client_data: passed to the handler as it is.
+    :returns: the timer (CARMEN returns nothing; ours can be kept and ignored).
+    """
     return connection().add_timer(interval, handler, client_data)
 
 

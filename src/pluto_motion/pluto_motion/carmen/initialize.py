@@ -30,6 +30,10 @@ class Initializer:
     """Pending initializations of ``manager``'s program; :meth:`update` every turn."""
 
     def __init__(self, manager: CommsManager) -> None:
+        """Read the localization's pose and the poseModule's status.
+
+        :param manager: the program's manager.
+        """
         self.loc = LocProxy(manager, 1 << POSE)
         self.status: Any = FVectorState(POSE_STATUS)
         manager.register_consumer(self.status)
@@ -39,7 +43,11 @@ class Initializer:
 
     def start(self, pose: tuple[float, float, float], covariance: np.ndarray) -> None:
         """Set ``pose`` (x, y, theta) with ``covariance`` (3x3) as soon as the rules allow (once
-        the localModule's setter is known)."""
+        the localModule's setter is known).
+
+        :param pose: the robot pose (x, y in m, theta in rad, map frame).
+        :param covariance: its 3x3 covariance (m², rad²); replaces a pose still pending.
+        """
         self.pending, self.stage = (pose, covariance), 'ask'
         self.update()
 

@@ -46,6 +46,12 @@ class Feed:
     """One stream this program reads: a consumer, the events taken in and not yet handed out."""
 
     def __init__(self, manager: CommsManager, obj: RobotObject, every: bool) -> None:
+        """Register ``obj`` as a consumer of ``manager``.
+
+        :param manager: the program's manager.
+        :param obj: the consumer of the stream, not registered yet.
+        :param every: whether its first reader wants every message (queue mode) or the newest.
+        """
         self.manager, self.obj = manager, obj
         obj.set_queue_mode(every)           # before connecting: a switch later reconnects
         manager.register_consumer(obj)
@@ -57,12 +63,20 @@ class Feed:
         self.watchers: list[Callable[[list[Any]], None]] = []
 
     def want(self, user: str, every: bool) -> None:
-        """``user`` reads this stream (``every``: each message, queue mode)."""
+        """``user`` reads this stream (``every``: each message, queue mode).
+
+        :param user: the reader: a CARMEN message name, or an internal name starting with ``_``.
+        :param every: whether it wants every message; the stream is in queue mode while any
+            reader does.
+        """
         self.users[user] = every
         self.obj.set_queue_mode(any(self.users.values()))
 
     def release(self, user: str) -> bool:
-        """``user`` no longer reads; whether nobody does."""
+        """``user`` no longer reads; whether nobody does.
+
+        :param user: the reader named to :meth:`want`.
+        """
         self.users.pop(user, None)
         self.obj.set_queue_mode(any(self.users.values()))
         return not self.users
@@ -96,7 +110,11 @@ class Subscription:
     how: carmen_subscribe_t
 
     def deliver(self, events: list[Any]) -> int:
-        """Fill the memory from ``events`` (only the newest, or each) and call the handler."""
+        """Fill the memory from ``events`` (only the newest, or each) and call the handler.
+
+        :param events: the events taken in since the last hand-out, oldest first.
+        :returns: how many messages were filled (an event that gives no message is skipped).
+        """
         handled = 0
         for event in (events if self.how == CARMEN_SUBSCRIBE_ALL else events[-1:]):
             if self.fill(self.msg, event) is False:
@@ -122,6 +140,13 @@ class CarmenIpc:
     the robot (keys ``base``, ``frontlaser``, ``rearlaser``, ``navigator``, ``map_server``)."""
 
     def __init__(self, manager: CommsManager, streams: dict[str, str]) -> None:
+        """Connect nothing yet: feeds are made by the first subscription that reads them.
+
+        :param manager: the program's manager (its loop is run by :meth:`sleep` and
+            :meth:`dispatch`).
+        :param streams: the robot's stream names by key (``base``, ``frontlaser``, ``rearlaser``,
+            ``navigator``, ``map_server``).
+        """
         self.manager = manager
         self.streams = dict(streams)
         self.feeds: dict[str, Feed] = {}
@@ -141,7 +166,13 @@ class CarmenIpc:
 
     # -- feeds and subscriptions ------------------------------------------------------------------
     def feed(self, key: str, make: Callable[[], RobotObject], user: str, every: bool) -> Feed:
-        """The feed ``key`` (made by ``make`` on first use), read by ``user``."""
+        """The feed ``key`` (made by ``make`` on first use), read by ``user``.
+
+        :param key: the feed's name (its stream's, as a rule).
+        :param make: makes the consumer, called only when the feed is new.
+        :param user: the reader (:meth:`Feed.want`).
+        :param every: whether ``user`` wants every message.
+        """
         feed = self.feeds.get(key)
         if feed is None:
             feed = self.feeds[key] = Feed(self.manager, make(), every)
@@ -165,7 +196,19 @@ class CarmenIpc:
     def subscribe(self, name: str, message_type: type, source: str, fill: Fill, msg: Any,
                   handler: Handler | None, how: int) -> Any:
         """CARMEN's subscribe (3.0.1) for message ``name``; returns the memory used (None when
-        unsubscribing).  ``source`` is a feed key or a derived source."""
+        unsubscribing).
+
+        :param name: the CARMEN message name; one subscription per name, a new one replaces it.
+        :param message_type: the message class, for the library's static memory.
+        :param source: a feed key or a derived source (:attr:`derived`).
+        :param fill: fills the memory from one event; False when the event gives no message.
+        :param msg: the memory to fill, a ``message_type``; None: the static one of ``name``.
+        :param handler: called with the memory after each fill (None: the memory is only
+            updated).
+        :param how: CARMEN_SUBSCRIBE_LATEST, CARMEN_SUBSCRIBE_ALL or CARMEN_UNSUBSCRIBE.
+        :raises InvalidTypeError: a handler that is not callable, or a memory of another type.
+        :raises InvalidValueError: another ``how``.
+        """
         how = mode(how)
         if handler is not None and not callable(handler):
             raise InvalidTypeError(f'{name}: the handler must be callable or None, not {handler!r}')
@@ -233,7 +276,11 @@ class CarmenIpc:
         return True
 
     def sleep(self, seconds: float) -> bool:
-        """carmen_ipc_sleep: handle messages and timers for ``seconds``; False on Quit."""
+        """carmen_ipc_sleep: handle messages and timers for ``seconds``; False on Quit.
+
+        :param seconds: how long (s), at least 0.
+        :raises InvalidValueError: a negative or non-finite time.
+        """
         if not math.isfinite(seconds) or seconds < 0:
             raise InvalidValueError(f'carmen_ipc_sleep({seconds}): a time >= 0 in seconds')
         deadline = time.monotonic() + seconds
@@ -251,7 +298,11 @@ class CarmenIpc:
             self.manager.wait(self._next_timer())
 
     def wait_for(self, ready: Callable[[], bool], timeout: float) -> bool:
-        """Run the loop (taking in, not handing out) until ``ready()``; False after ``timeout``."""
+        """Run the loop (taking in, not handing out) until ``ready()``; False after ``timeout``.
+
+        :param ready: asked after each turn.
+        :param timeout: the longest wait (s); also False at once when the program is to quit.
+        """
         deadline = time.monotonic() + timeout
         while not ready():
             left = deadline - time.monotonic()
@@ -264,6 +315,14 @@ class CarmenIpc:
 
     # -- timers ------------------------------------------------------------------------------------
     def add_timer(self, interval: float, handler: TimerHandler, client_data: Any) -> Timer:
+        """carmen_ipc_addPeriodicTimer: call ``handler`` every ``interval`` s from the loop.
+
+        :param interval: the period (s), above 0; a timer that falls a period behind skips ahead.
+        :param handler: called ``handler(client_data, now_ms, due_ms)`` (monotonic ms).
+        :param client_data: passed to the handler as it is.
+        :raises InvalidValueError: an interval that is not above 0.
+        :raises InvalidTypeError: a handler that is not callable.
+        """
         if not (math.isfinite(interval) and interval > 0):
             raise InvalidValueError(f'carmen_ipc_addPeriodicTimer: interval {interval}: seconds > 0')
         if not callable(handler):
@@ -295,6 +354,7 @@ class CarmenIpc:
 def mode(how: int) -> carmen_subscribe_t:
     """``subscribe_how`` as CARMEN's enum.
 
+    :param how: CARMEN_UNSUBSCRIBE, CARMEN_SUBSCRIBE_LATEST or CARMEN_SUBSCRIBE_ALL (or its value).
     :raises InvalidValueError: for any other value.
     """
     try:
@@ -305,5 +365,8 @@ def mode(how: int) -> carmen_subscribe_t:
 
 
 def warn(text: str) -> None:
-    """A CARMEN-style warning on stderr (CARMEN's interface libraries print theirs there)."""
+    """A CARMEN-style warning on stderr (CARMEN's interface libraries print theirs there).
+
+    :param text: the warning, printed after ``carmen:``.
+    """
     print(f'carmen: {text}', file=sys.stderr, flush=True)

@@ -249,6 +249,10 @@ class carmen_navigator_map_message:
 
 
 def copy_into(target: object, source: object) -> None:
-    """Fill ``target`` with ``source``'s fields in place (a program's own message memory, 3.0.1)."""
+    """Fill ``target`` with ``source``'s fields in place (a program's own message memory, 3.0.1).
+
+    :param target: the program's message, of ``source``'s type.
+    :param source: a message (a dataclass) whose fields are copied, not deep-copied.
+    """
     for field in dataclasses.fields(source):  # type: ignore[arg-type]
         setattr(target, field.name, getattr(source, field.name))

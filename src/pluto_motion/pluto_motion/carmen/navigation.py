@@ -62,7 +62,13 @@ def _pose_feed(ipc: CarmenIpc, user: str, every: bool = False) -> Feed:
 
 def carmen_localize_subscribe_globalpos_message(globalpos: carmen_localize_globalpos_message | None,
                                                 handler: Handler | None, subscribe_how: int) -> Any:
-    """The localized pose (map frame), its deviations and the odometry pose of the same moment."""
+    """The localized pose (map frame), its deviations and the odometry pose of the same moment.
+
+    :param globalpos: the message to fill on each pose (None: the library's own).
+    :param handler: called with the message after each fill (None: the message is only updated).
+    :param subscribe_how: CARMEN_SUBSCRIBE_LATEST, CARMEN_SUBSCRIBE_ALL or CARMEN_UNSUBSCRIBE.
+    :returns: the message filled (None when unsubscribing).
+    """
     ipc = connection()
     how = mode(subscribe_how)
     name = 'carmen_localize_globalpos'
@@ -92,7 +98,12 @@ def carmen_localize_query_particles() -> None:
 
 def carmen_localize_initialize_gaussian_command(mean: carmen_point_t, std: carmen_point_t) -> int:
     """4.2: put the robot at ``mean`` (m, rad, map frame) with deviations ``std``; 0 (sent, or held
-    until the localModule is heard)."""
+    until the localModule is heard).
+
+    :param mean: the pose (x, y in m, theta in rad, map frame).
+    :param std: its standard deviations (m, m, rad), each at least 0.
+    :raises InvalidValueError: a value that is not finite, or a negative deviation.
+    """
     values = [mean.x, mean.y, mean.theta, std.x, std.y, std.theta]
     if not all(math.isfinite(v) for v in values) or min(values[3:]) < 0:
         raise InvalidValueError(f'carmen_localize_initialize_gaussian_command: mean {mean}, std {std}: '
@@ -118,6 +129,10 @@ class NavigatorLink:
     """The navigator's stream: requests held until it is heard, stops read from its status."""
 
     def __init__(self, ipc: CarmenIpc) -> None:
+        """Read the navigator's stream (its name: ``ipc.streams['navigator']``).
+
+        :param ipc: the program's CARMEN connection.
+        """
         self.ipc = ipc
         stream = self.stream = ipc.streams['navigator']
         self.feed = ipc.feed(stream, lambda: Navigator(stream), '_stops', True)
@@ -129,7 +144,10 @@ class NavigatorLink:
         ipc.collectors.append(self.update)
 
     def send(self) -> int:
-        """Send the request members set, now or once the navigator's reader is matched."""
+        """Send the request members set, now or once the navigator's reader is matched.
+
+    :returns: 0, as CARMEN's navigator calls do.
+    """
         self.held = True
         self.update()
         return 0
@@ -151,7 +169,13 @@ def _link() -> NavigatorLink:
 
 
 def carmen_navigator_set_goal(x: float, y: float) -> int:
-    """4.2.1: the one goal (m, map frame)."""
+    """4.2.1: the one goal (m, map frame).
+
+    :param x: the goal's x (m, map frame).
+    :param y: the goal's y (m, map frame).
+    :returns: 0 (sent, or held until the navigator is heard).
+    :raises InvalidValueError: a value that is not finite.
+    """
     if not (math.isfinite(x) and math.isfinite(y)):
         raise InvalidValueError(f'carmen_navigator_set_goal({x}, {y}): finite metres')
     link = _link()
@@ -160,7 +184,11 @@ def carmen_navigator_set_goal(x: float, y: float) -> int:
 
 
 def carmen_navigator_set_goal_place(name: str) -> int:
-    """4.2.1: the goal at the map's place ``name`` (no effect if the map has none)."""
+    """4.2.1: the goal at the map's place ``name`` (no effect if the map has none).
+
+    :param name: a place of the navigator's map.
+    :returns: 0 (sent, or held until the navigator is heard).
+    """
     link = _link()
     link.nav.requests.goal_place.set_value(str(name))
     return link.send()
@@ -190,7 +218,13 @@ def _status_subscribe(name: str, message_type: type, fill: Any, msg: Any, handle
 
 def carmen_navigator_subscribe_status_message(status: carmen_navigator_status_message | None,
                                               handler: Handler | None, subscribe_how: int) -> Any:
-    """The navigator's status: autonomous, goal_set, goal, robot (with the base's velocities)."""
+    """The navigator's status: autonomous, goal_set, goal, robot (with the base's velocities).
+
+    :param status: the message to fill on each status (None: the library's own).
+    :param handler: called with the message after each fill (None: the message is only updated).
+    :param subscribe_how: CARMEN_SUBSCRIBE_LATEST, CARMEN_SUBSCRIBE_ALL or CARMEN_UNSUBSCRIBE.
+    :returns: the message filled (None when unsubscribing).
+    """
     ipc = connection()
     ipc.odometry_feed()
     return _status_subscribe('carmen_navigator_status', carmen_navigator_status_message,
@@ -200,7 +234,13 @@ def carmen_navigator_subscribe_status_message(status: carmen_navigator_status_me
 
 def carmen_navigator_subscribe_plan_message(plan: carmen_navigator_plan_message | None,
                                             handler: Handler | None, subscribe_how: int) -> Any:
-    """The navigator's plan (ours is empty: the motionModule's plan is not on its interface)."""
+    """The navigator's plan (ours is empty: the motionModule's plan is not on its interface).
+
+    :param plan: the message to fill on each status (None: the library's own).
+    :param handler: called with the message after each fill (None: the message is only updated).
+    :param subscribe_how: CARMEN_SUBSCRIBE_LATEST, CARMEN_SUBSCRIBE_ALL or CARMEN_UNSUBSCRIBE.
+    :returns: the message filled (None when unsubscribing).
+    """
     return _status_subscribe('carmen_navigator_plan', carmen_navigator_plan_message, convert.navigator_plan,
                              plan, handler, subscribe_how)
 
@@ -213,7 +253,13 @@ def _stopped(msg: Any, d: Any) -> None:
 def carmen_navigator_subscribe_autonomous_stopped_message(
         autonomous_stopped: carmen_navigator_autonomous_stopped_message | None, handler: Handler | None,
         subscribe_how: int) -> Any:
-    """4.3: each end of autonomous motion, with its reason."""
+    """4.3: each end of autonomous motion, with its reason.
+
+    :param autonomous_stopped: the message to fill on each stop (None: the library's own).
+    :param handler: called with the message after each fill (None: the message is only updated).
+    :param subscribe_how: CARMEN_SUBSCRIBE_LATEST, CARMEN_SUBSCRIBE_ALL or CARMEN_UNSUBSCRIBE.
+    :returns: the message filled (None when unsubscribing).
+    """
     link = _link()
     return link.ipc.subscribe(STOPPED, carmen_navigator_autonomous_stopped_message, STOPPED, _stopped,
                               autonomous_stopped, handler, subscribe_how)
@@ -243,7 +289,11 @@ def carmen_navigator_query_plan() -> carmen_navigator_plan_message | None:
 
 def carmen_navigator_get_map(map_type: int) -> carmen_navigator_map_message | None:
     """5.4: the navigator's map of ``map_type`` as a new message; only CARMEN_NAVIGATOR_MAP_v (the
-    map server's grid) exists here: None, with a warning, for the others or without an answer."""
+    map server's grid) exists here: None, with a warning, for the others or without an answer.
+
+    :param map_type: a carmen_navigator_map_t.
+    :raises InvalidValueError: a value that is not a carmen_navigator_map_t.
+    """
     try:
         kind = carmen_navigator_map_t(map_type)
     except ValueError:

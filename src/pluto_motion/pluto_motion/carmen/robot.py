@@ -48,19 +48,36 @@ def _robot_laser(name: str, key: str, laser: Any, handler: Handler | None, how: 
 
 def carmen_robot_subscribe_frontlaser_message(laser: carmen_robot_laser_message | None,
                                               handler: Handler | None, subscribe_how: int) -> Any:
-    """The front laser's scans with the laser's and the robot's odometry pose at scan time."""
+    """The front laser's scans with the laser's and the robot's odometry pose at scan time.
+
+    :param laser: the message to fill on each scan the odometry covers (None: the library's own).
+    :param handler: called with the message after each fill (None: the message is only updated).
+    :param subscribe_how: CARMEN_SUBSCRIBE_LATEST, CARMEN_SUBSCRIBE_ALL or CARMEN_UNSUBSCRIBE.
+    :returns: the message filled (None when unsubscribing).
+    """
     return _robot_laser('carmen_robot_frontlaser', 'frontlaser', laser, handler, subscribe_how)
 
 
 def carmen_robot_subscribe_rearlaser_message(laser: carmen_robot_laser_message | None,
                                              handler: Handler | None, subscribe_how: int) -> Any:
-    """The rear laser's scans with the laser's and the robot's odometry pose at scan time."""
+    """The rear laser's scans with the laser's and the robot's odometry pose at scan time.
+
+    :param laser: the message to fill on each scan the odometry covers (None: the library's own).
+    :param handler: called with the message after each fill (None: the message is only updated).
+    :param subscribe_how: CARMEN_SUBSCRIBE_LATEST, CARMEN_SUBSCRIBE_ALL or CARMEN_UNSUBSCRIBE.
+    :returns: the message filled (None when unsubscribing).
+    """
     return _robot_laser('carmen_robot_rearlaser', 'rearlaser', laser, handler, subscribe_how)
 
 
 def carmen_robot_velocity_command(tv: float, rv: float) -> int:
     """Drive at ``tv`` m/s and ``rv`` rad/s through the driveModule's guard; 0 (sent, or held
-    until the driveModule is heard)."""
+    until the driveModule is heard).
+
+    :param tv: the linear velocity (m/s), finite; the driveModule limits it.
+    :param rv: the angular velocity (rad/s), finite; the driveModule limits it.
+    :raises InvalidValueError: a value that is not finite.
+    """
     if not (math.isfinite(tv) and math.isfinite(rv)):
         raise InvalidValueError(f'carmen_robot_velocity_command({tv}, {rv}): finite m/s and rad/s')
     ipc = connection()

@@ -55,28 +55,52 @@ def _base(suffix: str) -> str:
 
 def carmen_base_subscribe_odometry_message(odometry: carmen_base_odometry_message | None,
                                            handler: Handler | None, subscribe_how: int) -> Any:
-    """3.1.1: the raw odometry (x, y, theta since the base started), tv, rv, acceleration."""
+    """3.1.1: the raw odometry (x, y, theta since the base started), tv, rv, acceleration.
+
+    :param odometry: the message to fill on each odometry sample (None: the library's own).
+    :param handler: called with the message after each fill (None: the message is only updated).
+    :param subscribe_how: CARMEN_SUBSCRIBE_LATEST, CARMEN_SUBSCRIBE_ALL or CARMEN_UNSUBSCRIBE.
+    :returns: the message filled (None when unsubscribing).
+    """
     return _subscribe('carmen_base_odometry', carmen_base_odometry_message, Egomotion, _base('Motion'),
                       convert.odometry, odometry, handler, subscribe_how)
 
 
 def carmen_base_subscribe_sonar_message(sonar: carmen_base_sonar_message | None,
                                         handler: Handler | None, subscribe_how: int) -> Any:
-    """3.1.2: one range per transducer and each transducer's pose on the robot."""
+    """3.1.2: one range per transducer and each transducer's pose on the robot.
+
+    :param sonar: the message to fill on each sonar reading (None: the library's own).
+    :param handler: called with the message after each fill (None: the message is only updated).
+    :param subscribe_how: CARMEN_SUBSCRIBE_LATEST, CARMEN_SUBSCRIBE_ALL or CARMEN_UNSUBSCRIBE.
+    :returns: the message filled (None when unsubscribing).
+    """
     return _subscribe('carmen_base_sonar', carmen_base_sonar_message, RangeFinder, _base('Sonar'),
                       convert.sonar, sonar, handler, subscribe_how, with_info=True)
 
 
 def carmen_base_subscribe_bumper_message(bumper: carmen_base_bumper_message | None,
                                          handler: Handler | None, subscribe_how: int) -> Any:
-    """3.1.3: range[i] 1.0 while bumper i is pressed, 0.0 while it is free."""
+    """3.1.3: range[i] 1.0 while bumper i is pressed, 0.0 while it is free.
+
+    :param bumper: the message to fill on each bumper reading (None: the library's own).
+    :param handler: called with the message after each fill (None: the message is only updated).
+    :param subscribe_how: CARMEN_SUBSCRIBE_LATEST, CARMEN_SUBSCRIBE_ALL or CARMEN_UNSUBSCRIBE.
+    :returns: the message filled (None when unsubscribing).
+    """
     return _subscribe('carmen_base_bumper', carmen_base_bumper_message, Bumper, _base('Bumpers'),
                       convert.bumper, bumper, handler, subscribe_how)
 
 
 def carmen_base_subscribe_ir_message(ir: carmen_base_ir_message | None, handler: Handler | None,
                                      subscribe_how: int) -> Any:
-    """3.1.3: one range per infra-red sensor (a RangeFinder ``<base>IR``; our bases have none)."""
+    """3.1.3: one range per infra-red sensor (a RangeFinder ``<base>IR``; our bases have none).
+
+    :param ir: the message to fill on each reading (None: the library's own).
+    :param handler: called with the message after each fill (None: the message is only updated).
+    :param subscribe_how: CARMEN_SUBSCRIBE_LATEST, CARMEN_SUBSCRIBE_ALL or CARMEN_UNSUBSCRIBE.
+    :returns: the message filled (None when unsubscribing).
+    """
     return _subscribe('carmen_base_ir', carmen_base_ir_message, RangeFinder, _base('IR'),
                       lambda m, d: convert.ranges(m, d, 'num_irs'), ir, handler, subscribe_how)
 
@@ -89,11 +113,23 @@ def _laser(name: str, key: str, laser: Any, handler: Handler | None, how: int) -
 
 def carmen_laser_subscribe_frontlaser_message(laser: carmen_laser_laser_message | None,
                                               handler: Handler | None, subscribe_how: int) -> Any:
-    """3.1.4: the front laser's ranges (m), -90° to +90° counter-clockwise."""
+    """3.1.4: the front laser's ranges (m), -90° to +90° counter-clockwise.
+
+    :param laser: the message to fill on each scan (None: the library's own).
+    :param handler: called with the message after each fill (None: the message is only updated).
+    :param subscribe_how: CARMEN_SUBSCRIBE_LATEST, CARMEN_SUBSCRIBE_ALL or CARMEN_UNSUBSCRIBE.
+    :returns: the message filled (None when unsubscribing).
+    """
     return _laser('carmen_laser_frontlaser', 'frontlaser', laser, handler, subscribe_how)
 
 
 def carmen_laser_subscribe_rearlaser_message(laser: carmen_laser_laser_message | None,
                                              handler: Handler | None, subscribe_how: int) -> Any:
-    """3.1.4: the rear laser's ranges (m), +90° through 180° to -90° of the robot."""
+    """3.1.4: the rear laser's ranges (m), +90° through 180° to -90° of the robot.
+
+    :param laser: the message to fill on each scan (None: the library's own).
+    :param handler: called with the message after each fill (None: the message is only updated).
+    :param subscribe_how: CARMEN_SUBSCRIBE_LATEST, CARMEN_SUBSCRIBE_ALL or CARMEN_UNSUBSCRIBE.
+    :returns: the message filled (None when unsubscribing).
+    """
     return _laser('carmen_laser_rearlaser', 'rearlaser', laser, handler, subscribe_how)

@@ -25,11 +25,18 @@ class StopWatch:
         self._stop_sent: float | None = None
 
     def stop_sent(self, stamp: float) -> None:
-        """This program sent a stop at ``stamp`` (s, the module's clock)."""
+        """This program sent a stop at ``stamp`` (s, the module's clock).
+
+        :param stamp: when the stop was sent (s, the module's clock); the first status stamped
+            at or after it with reason 2 is that stop's answer.
+        """
         self._stop_sent = stamp
 
     def take(self, statuses: list[Any]) -> list[Any]:
-        """The stops among ``statuses`` (data views, oldest first)."""
+        """The stops among ``statuses`` (data views, oldest first).
+
+        :param statuses: the navigator's statuses in order (NavigatorTransport data views).
+        """
         stops = []
         for d in statuses:
             state = (bool(d.autonomous), int(d.stop_reason))

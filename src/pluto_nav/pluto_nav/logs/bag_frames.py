@@ -30,14 +30,22 @@ TILT_NOTICE = math.radians(5.0)
 
 
 def frame_name(frame_id: str) -> str:
-    """A frame id as TF2 compares it: ROS 1's leading ``/`` dropped."""
+    """A frame id as TF2 compares it: ROS 1's leading ``/`` dropped.
+
+    :param frame_id: a message's frame id.
+    """
     return frame_id.lstrip('/')
 
 
 def transform_matrix(translation: tuple[float, float, float],
                      rotation: tuple[float, float, float, float]) -> Matrix | None:
-    """The 4x4 homogeneous transform of a translation and a quaternion (x, y, z, w), normalised;
-    None for a quaternion of zero length (no rotation given)."""
+    """The 4x4 homogeneous transform of a translation and a quaternion, normalised.
+
+    :param translation: (x, y, z) in metres.
+    :param rotation: the quaternion (x, y, z, w), of any length but zero.
+    :returns: the matrix; None for a quaternion of zero length (no rotation given) or a value that
+        is not finite.
+    """
     x, y, z, w = rotation
     norm = x * x + y * y + z * z + w * w
     if not norm > 1e-12 or not math.isfinite(norm) or not all(math.isfinite(v) for v in translation):
@@ -61,7 +69,12 @@ class FrameTree:
         return frame in self._edges or any(parent == frame for parent, _ in self._edges.values())
 
     def set(self, parent: str, child: str, matrix: Matrix) -> None:
-        """The transform of ``child`` in ``parent`` (later ones replace earlier ones)."""
+        """The transform of ``child`` in ``parent`` (later ones replace earlier ones).
+
+        :param parent: the parent frame's name (as :func:`frame_name` gives it).
+        :param child: the child frame's name; a transform of a frame in itself is ignored.
+        :param matrix: 4x4, parent <- child.
+        """
         if parent != child:
             self._edges[child] = (parent, matrix)
 
@@ -81,8 +94,13 @@ class FrameTree:
         return found
 
     def lookup(self, target: str, source: str) -> tuple[Matrix, builtins.set[str]] | None:
-        """``source``'s pose in ``target`` and the child frames of the edges used; None when the
-        two are not connected."""
+        """``source``'s pose in ``target`` and the child frames of the edges used.
+
+        :param target: the frame to express the pose in.
+        :param source: the frame whose pose is wanted.
+        :returns: the 4x4 transform (target <- source) and the set of child frames walked; None when the
+            two are not connected.
+        """
         of_source = self._up(source)
         pose: Matrix = np.eye(4)
         walked: list[str] = []
@@ -114,7 +132,10 @@ class PlanarMount:
 
 
 def planar_mount(matrix: Matrix) -> PlanarMount:
-    """The plane's share of a laser's 3-D pose on the base (4x4, base <- laser)."""
+    """The plane's share of a laser's 3-D pose on the base.
+
+    :param matrix: 4x4, base <- laser.
+    """
     rotation = matrix[:3, :3]
     yaw = math.atan2(rotation[1, 0], rotation[0, 0])
     up = float(np.clip(rotation[2, 2], -1.0, 1.0))
@@ -124,8 +145,17 @@ def planar_mount(matrix: Matrix) -> PlanarMount:
 
 def laser_geometry(angle_min: float, angle_increment: float, count: int, range_min: float,
                    range_max: float, mount: PlanarMount) -> tuple[LaserConfig, bool]:
-    """The :class:`LaserConfig` of a LaserScan's fields on ``mount``, and whether the ranges must
-    be reversed to be in its (counter-clockwise) beam order."""
+    """The :class:`LaserConfig` of a LaserScan's fields on ``mount``.
+
+    :param angle_min: rad, the LaserScan's first beam's angle.
+    :param angle_increment: rad between beams (negative: the beams turn clockwise).
+    :param count: the number of beams.
+    :param range_min: m, the LaserScan's ``range_min``.
+    :param range_max: m, the LaserScan's ``range_max``.
+    :param mount: the laser's pose on the base (:func:`planar_mount`).
+    :returns: the config and whether the ranges must be reversed to be in its (counter-clockwise)
+        beam order.
+    """
     sign = -1.0 if mount.mirrored else 1.0
     start, step = sign * angle_min, sign * angle_increment
     reverse = step < 0.0

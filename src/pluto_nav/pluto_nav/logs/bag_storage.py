@@ -68,9 +68,14 @@ class Bag:
         self._damaged: set[int] = set()
 
     def messages(self, connections: Collection[Connection]) -> Iterator[RawMessage]:
-        """``(connection, bag time ns, CDR bytes)`` of ``connections``, in bag time order.  A file
-        that breaks off or is damaged ends the stream: said once (``problems.error``), what came
-        before is kept."""
+        """The messages of ``connections``, in bag time order.
+
+        A file that breaks off or is damaged ends the stream: said once (``problems.error``), what came
+        before is kept.
+
+        :param connections: which of :attr:`connections` to read.
+        :returns: ``(connection, bag time ns, CDR bytes)`` tuples.
+        """
         streams = []
         for reader in self._readers:
             mine = [c for c in connections if self._owner[id(c)] is reader]
@@ -165,8 +170,10 @@ def _open_storages(path: pathlib.Path, problems: LogProblems, readers: list[Stor
 
 @contextlib.contextmanager
 def open_bag(path: pathlib.Path, problems: LogProblems) -> Iterator[Bag]:
-    """The bag at ``path`` (directory, its metadata.yaml, or one storage file), open until exit.
+    """The bag at ``path``, open until the ``with`` block exits.
 
+    :param path: a bag directory, its metadata.yaml, or one storage file (.mcap, .db3).
+    :param problems: where damage found while reading is reported.
     :raises LogError: missing, not a bag, a serialization other than CDR, or unreadable.
     """
     if path.name == 'metadata.yaml' and path.is_file():
@@ -198,7 +205,10 @@ class SequentialMcap:
         self._by_channel: dict[int, Connection] = {}
 
     def open(self, reason: str) -> None:
-        """Find the channels and count their messages (one pass over the file)."""
+        """Find the channels and count their messages (one pass over the file).
+
+        :param reason: why the file is read without its index, for the notice in ``problems``.
+        """
         schemas: dict[int, Schema] = {}
         counts: dict[int, int] = {}
         error = None
@@ -257,8 +267,12 @@ def _definitions(definition: MessageDefinition, msgtype: str) -> dict:
 
 
 def bag_typestore(connections: Collection[Connection]) -> tuple[Typestore, dict[str, str]]:
-    """The types to decode ``connections``: ROS 2 Jazzy's standard ones, and the bag's own
-    definitions of the others.  Also, for each type that cannot be read, why."""
+    """The types to decode ``connections``.
+
+    :param connections: the bag's connections.
+    :returns: a typestore of ROS 2 Jazzy's standard types and the bag's own definitions of the others,
+        and for each type that cannot be read, why (type name -> reason).
+    """
     store = get_typestore(Stores.ROS2_JAZZY)
     unreadable: dict[str, str] = {}
     for connection in connections:

@@ -6,30 +6,13 @@ are in :mod:`.carmen_messages`).  Read: ``ODOM``, ``FLASER``/``RLASER`` (old for
 ``REMISSION*LASER*`` lines, ``TRUEPOS`` and ``PARAM``; ``SYNC`` lines are ignored (counted, no
 warning); any other message type is skipped, counted and warned once per type.
 
-Conventions, and why:
-
-- **Stamps** are a line's IPC ``timestamp`` (when the reading was taken on the robot), not the
-  logger's time (when the logger received it).
-- **Beam angles.**  The old lines carry no laser configuration; like CARMEN's reader we assume a
-  SICK with its first beam at -90 degrees and CARMEN's field-of-view and resolution guess from the
-  number of readings (``carmen_laser_guess_fov`` / ``carmen_laser_guess_angle_increment`` in
-  ``src/logtools/readlog.c``): 180/181 readings are 1 degree apart, 360/361 half a degree (so a
-  360-reading line spans -90 .. +89.5 degrees: the last beam was dropped), 400/401 a quarter.
-  The new lines carry start angle and resolution and are used as written.
-- **No return.**  A SICK reports "nothing within range" as its maximum code (8191 cm: 81.91 m),
-  and CARMEN logs often write no-return as the maximum range exactly; so a reading at or beyond the
-  laser's maximum range (80 m for the old lines, CARMEN's guess; the line's own for the new ones),
-  NaN or inf becomes ``inf``: the beam saw nothing.  A reading of 0 m or less is the sensor's
-  "no measurement" (dazzle, error) and becomes NaN: no reading at all.
-- **Mount.**  The laser's pose on the robot is what the line's laser pose and robot (odometry)
-  pose imply when they differ (CARMEN's robot module writes the laser pose as the odometry pose
-  moved by the mount offset); when they are the same, the ``robot_frontlaser_offset`` /
-  ``robot_rearlaser_offset`` PARAM lines say it, and the rear laser faces backwards (``theta +
-  pi``), as in CARMEN's ``src/robot/robot_laser.c``.
-- **Time order.**  Records of one kind (odometry, each laser, truth) come out in time order: a
-  record earlier than the latest of its kind by at most :data:`REORDER_WINDOW` seconds is put in
-  its place (counted ``reordered``); one further back is dropped (counted).  Records of different
-  kinds may interleave up to that window out of order; :func:`.robot_log.load_log` sorts them.
+The conventions follow CARMEN's own reader (``src/logtools/readlog.c``) and robot module;
+docs/pluto-nav.md ("CARMEN logs") states each and why: stamps are a line's IPC ``timestamp``; the
+old lines' beam angles are CARMEN's guess from the number of readings; a reading at or beyond the
+laser's maximum range is ``inf`` (the beam saw nothing), one of 0 m or less NaN (no reading); the
+mount comes from the line's laser and robot poses, else the ``robot_*laser_offset`` PARAM lines.
+Records of one kind come out in time order: up to :data:`REORDER_WINDOW` seconds late they are put
+in their place, older ones are dropped; :func:`.robot_log.load_log` sorts the kinds together.
 
 Bad lines are counted per kind with ``file:line`` and warned once per kind; the reading goes on.
 A damaged or cut gzip stream ends the reading with :meth:`LogProblems.error` naming the file and
@@ -135,6 +118,10 @@ def read_carmen(path: pathlib.Path, problems: LogProblems, *,
                 reorder_window: float = REORDER_WINDOW) -> Iterator[LogRecord]:
     """Every record of the CARMEN log at ``path`` (see the module's description).
 
+    :param path: the log, plain or gzip.
+    :param problems: where bad lines, reordered records and a damaged gzip stream are reported.
+    :param reorder_window: seconds a record of one kind may come late and still be put in its place;
+        older ones are dropped.
     :raises LogError: the file cannot be opened, is empty, or holds no scan and no odometry.
     """
     mounts = Mounts()

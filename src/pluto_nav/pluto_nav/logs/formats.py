@@ -17,8 +17,11 @@ _GZIP_MAGIC = b'\x1f\x8b'
 
 
 def sniff(path: pathlib.Path) -> str:
-    """``carmen`` or ``rosbag2`` (a bag directory, its metadata.yaml, an .mcap or .db3 file).
+    """Which reader ``path`` needs: ``carmen`` or ``rosbag2``, by its content.
 
+    :param path: a file, or a bag directory (with metadata.yaml, .mcap or .db3 files).
+    :returns: ``carmen`` (a CARMEN log, plain or gzip) or ``rosbag2`` (a bag directory, its
+        metadata.yaml, an .mcap or .db3 file).
     :raises LogError: missing, unreadable or of neither kind.
     """
     if path.is_dir():
@@ -72,9 +75,15 @@ def _text_head(path: pathlib.Path, compressed: bool) -> str:
 
 
 def open_records(path: pathlib.Path, problems: LogProblems) -> Iterator[LogRecord]:
-    """Every record of the recording at ``path``; problems go to ``problems``.  The readers give
-    each kind of record in time order (a CARMEN log within a reordering window; see
-    :mod:`.carmen`)."""
+    """Every record of the recording at ``path``.
+
+    The readers give each kind of record in time order (a CARMEN log within a reordering window;
+    see :mod:`.carmen`).
+
+    :param path: a CARMEN log or a rosbag2 bag, as :func:`sniff` takes it.
+    :param problems: where the reader reports what it skipped, mended or could not read.
+    :raises LogError: ``path`` is of neither kind (from :func:`sniff`).
+    """
     kind = sniff(path)
     if kind == 'carmen':
         from .carmen import read_carmen

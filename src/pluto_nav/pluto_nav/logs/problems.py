@@ -32,6 +32,10 @@ class LogProblems:
     """Counts of what a reader skipped, reordered or dropped, by kind; one warning per kind."""
 
     def __init__(self, warn: Callable[[str], None] | None = None) -> None:
+        """No problem counted yet.
+
+        :param warn: where the warnings go, one line each; None: standard error.
+        """
         self.warn = warn or _stderr
         self.counts: collections.Counter[str] = collections.Counter()
         self.errors: list[str] = []
@@ -39,8 +43,12 @@ class LogProblems:
         self.ignored: collections.Counter[str] = collections.Counter()
 
     def skip(self, kind: str, where: str, detail: str = '') -> None:
-        """One record of ``kind`` (e.g. ``truncated FLASER line``, ``unknown type XYZ``) was not
-        used; ``where`` is ``file:line`` or ``bag:topic``.  Warned the first time only."""
+        """One record of ``kind`` was not used; warned the first time only.
+
+        :param kind: what went wrong, e.g. ``truncated FLASER line``, ``unknown type XYZ``; the count's key.
+        :param where: ``file:line`` or ``bag:topic``.
+        :param detail: more for the warning (e.g. the offending text); empty: none.
+        """
         self.counts[kind] += 1
         if self.counts[kind] == 1:
             more = f': {detail}' if detail else ''
@@ -48,18 +56,29 @@ class LogProblems:
 
     def note(self, kind: str, where: str, detail: str = '') -> None:
         """Something was mended, not skipped (e.g. a record reordered into time): counted, and
-        warned the first time."""
+        warned the first time.
+
+        :param kind: what was mended; the count's key.
+        :param where: ``file:line`` or ``bag:topic``.
+        :param detail: more for the warning; empty: none.
+        """
         self.counts[kind] += 1
         if self.counts[kind] == 1:
             more = f': {detail}' if detail else ''
             self.warn(f'{where}: {kind}{more} (further ones counted, not shown)')
 
     def ignore(self, kind: str) -> None:
-        """Something a reader passes over on purpose (not a problem): counted, not warned."""
+        """Something a reader passes over on purpose (not a problem): counted, not warned.
+
+        :param kind: what was passed over, e.g. ``SYNC``; the count's key.
+        """
         self.ignored[kind] += 1
 
     def error(self, message: str) -> None:
-        """A problem that ends the reading of the file (or of a part of it) early: said at once."""
+        """A problem that ends the reading of the file (or of a part of it) early: said at once.
+
+        :param message: the whole message, naming the file (and the line or topic).
+        """
         self.errors.append(message)
         self.warn(message)
 

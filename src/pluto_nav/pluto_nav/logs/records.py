@@ -37,7 +37,11 @@ class LaserConfig:
     mount: Pose2D = (0.0, 0.0, 0.0)
 
     def angles(self, count: int) -> NDArray[np.float64]:
-        """The direction of each of ``count`` beams in the laser's frame."""
+        """The direction of each of ``count`` beams in the laser's frame.
+
+        :param count: the number of beams.
+        :returns: ``(count,)`` radians.
+        """
         return self.start_angle + self.angular_resolution * np.arange(count, dtype=float)
 
 

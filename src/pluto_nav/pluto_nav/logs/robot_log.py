@@ -58,8 +58,11 @@ class RobotLog:
         return self.end - self.start
 
     def odometry_at(self, stamp: float) -> Pose2D | None:
-        """The odometry pose at ``stamp``, interpolated between the two samples around it along
-        their increment; None before the first or after the last sample."""
+        """The odometry pose at ``stamp``, interpolated along the increment between the samples around it.
+
+        :param stamp: seconds, on the recording's clock (the records' stamps).
+        :returns: ``(x, y, theta)`` in the odometry frame; None before the first or after the last sample.
+        """
         stamps = self._stamps()
         i = bisect.bisect_left(stamps, stamp)
         if i < len(stamps) and stamps[i] == stamp:
@@ -89,7 +92,14 @@ def _choose_laser(scans: dict[str, list[ScanRecord]], laser: str | None) -> str 
 
 def assemble(path: str, records: Iterable[LogRecord], problems: LogProblems, *,
              laser: str | None = None) -> RobotLog:
-    """Sort ``records`` into a :class:`RobotLog` (see the module's description for the odometry)."""
+    """Sort ``records`` into a :class:`RobotLog` (see the module's description for the odometry).
+
+    :param path: the recording's name, for the log and messages.
+    :param records: the records a reader yields, in any order.
+    :param problems: where problems go; a laser asked for and missing is reported there as an error.
+    :param laser: which laser channel's scans to keep (as :func:`load_log`); None: the front laser,
+        else ``raw1``, else the one with most scans.
+    """
     scans: dict[str, list[ScanRecord]] = {}
     odometry: list[OdometryRecord] = []
     truth: list[TruePoseRecord] = []
@@ -125,6 +135,8 @@ def load_log(path: str | pathlib.Path, *, laser: str | None = None,
              warn: Callable[[str], None] | None = None) -> RobotLog:
     """Read a CARMEN log or a rosbag2 bag (chosen by content) into a :class:`RobotLog`.
 
+    :param path: a CARMEN log (plain or gzip), or a rosbag2 bag: its directory, its
+        ``metadata.yaml`` or one ``.mcap`` / ``.db3`` file.
     :param laser: which laser's scans (a channel name, e.g. ``front``, ``rear``, ``raw1`` or a bag's
         topic); by default the front laser, else the laser with most scans.
     :param warn: where warnings go (one per kind of problem; default: standard error).

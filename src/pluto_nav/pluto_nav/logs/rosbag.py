@@ -55,9 +55,10 @@ ORDER_CAP = 20000
 
 
 def read_rosbag(path: pathlib.Path, problems: LogProblems) -> Iterator[LogRecord]:
-    """Every scan, odometry and IMU record of the bag at ``path`` (a bag directory, its
-    ``metadata.yaml`` or one ``.mcap`` / ``.db3`` file), in stamp order.
+    """Every scan, odometry and IMU record of the bag at ``path``, in stamp order.
 
+    :param path: a bag directory, its ``metadata.yaml`` or one ``.mcap`` / ``.db3`` file.
+    :param problems: where skipped topics and messages are reported.
     :raises LogError: not a readable bag, a serialization other than CDR, no messages, no LaserScan.
     """
     with open_bag(path, problems) as bag:

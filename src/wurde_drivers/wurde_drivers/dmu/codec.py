@@ -2,32 +2,20 @@
 
 Pure functions over bytes (no serial, no ROS); every bad input raises :class:`CodecError` only.
 
-Where the facts come from
--------------------------
-*From a Crossbow DMU-family manual* (Crossbow VG700M User's Manual, Doc. 7430-0280-01 Rev. F,
-"Commands", "Data Packet Format" and "Appendix B. DMU Output Quick Reference"; the DMU-6X/VGX
-manual itself was not found, so these are family facts):
+Where the facts come from (docs/protocols.md 7 and its "Additions", which give them in full):
 
-- commands ``c`` scaled mode (reply ``C``), ``a`` angle (VG) mode (reply ``A``), ``P`` polled
-  mode (no reply), ``C`` continuous mode (packets follow), ``G`` one packet (and back to polled
-  mode), ``v`` version (an ASCII string);
-- packet layout: header 255 (``0xFF``), then 16-bit words MSB first, then the checksum;
-  scaled mode: rate x, y, z, accel x, y, z, temperature, time (18 bytes in all);
-  angle mode: roll, pitch, rate x, y, z, accel x, y, z, temperature, time (22 bytes in all);
-- conversions: angle (deg) = data * 180 / (2**15 - 1); rate (deg/s) = data * RR * 1.5 / (2**15 - 1);
-  accel (g) = data * GR * 1.5 / (2**15 - 1); temperature (degC) = (data * 5 / 4096 - 1.375) * 44.44
-  with the temperature word unsigned and the others signed; RR and GR are the unit's rate range
-  (deg/s) and g range.
+- the commands, the packet layouts of scaled and angle mode and the scale factors are from a
+  Crossbow DMU-family manual (the VG700M's; the DMU-6X/VGX manual itself was not found);
+- ``R`` ping, ``r`` voltage mode, ``S`` serial number, the checksum (the sum of the bytes after
+  the header, modulo 256) and the default 38400 baud are the family's convention (AHRS400
+  sources), not confirmed in a DMU manual;
+- *our assumptions*, to change here if a DMU manual says otherwise: the default ranges of
+  :class:`DmuScale` (+-2 g, +-100 deg/s: Pluto's unit is unknown), the period of the time counter
+  (:data:`TIME_TICK_S`), the serial-number reply (header, 4-byte big-endian number, checksum),
+  and that the version string has no terminator.
 
-*Family convention, not confirmed in a DMU manual* (docs/protocols.md 7, AHRS400 sources): ``R`` ping
-(reply ``H``), ``r`` voltage mode (reply ``R``), ``S`` serial number; checksum = sum of the bytes
-after the header, modulo 256; default baud 38400.
-
-*Our assumptions* (change them here if a DMU manual says otherwise): the default ranges of
-:class:`DmuScale` (+-2 g, +-100 deg/s: Pluto's unit is unknown), the period of the time counter
-(:data:`TIME_TICK_S`), the serial-number reply (header, 4-byte big-endian number, checksum), and
-that the version string has no terminator. Units after scaling are SI: rad, rad/s, m/s^2, degC.
-Values are in the *sensor* frame (z down); the device layer turns them into the robot frame.
+Units after scaling are SI: rad, rad/s, m/s^2, degC.  Values are in the *sensor* frame (z down);
+the device layer turns them into the robot frame.
 """
 
 from __future__ import annotations
@@ -90,12 +78,18 @@ _WORDS = {DmuMode.SCALED: 8, DmuMode.ANGLE: 10}
 
 
 def packet_length(mode: DmuMode) -> int:
-    """Bytes in one data packet of ``mode``: header, the 16-bit words, checksum."""
+    """Bytes in one data packet: header, the 16-bit words, checksum (18 scaled, 22 angle).
+
+    :param mode: the measurement type.
+    """
     return 2 + 2 * _WORDS[mode]
 
 
 def checksum(body: bytes) -> int:
-    """Sum of ``body`` (the bytes after the header, before the checksum) modulo 256."""
+    """Sum of ``body`` modulo 256.
+
+    :param body: the bytes after the header, before the checksum.
+    """
     return sum(body) & 0xFF
 
 
@@ -171,6 +165,8 @@ class DmuPacket(Inertial, _Moded):
 def encode_packet(packet: DmuPacket, scale: DmuScale = DmuScale()) -> bytes:
     """The bytes of ``packet`` (values are quantised and saturated as the sensor does).
 
+    :param packet: SI units, sensor frame; its mode says which words are sent.
+    :param scale: the unit's ranges, which scale the rate and acceleration words.
     :raises CodecError: a value is not finite, or angles are missing in angle mode.
     """
     words: list[int] = []
@@ -188,8 +184,11 @@ def encode_packet(packet: DmuPacket, scale: DmuScale = DmuScale()) -> bytes:
 
 
 def decode_packet(data: bytes, mode: DmuMode, scale: DmuScale = DmuScale()) -> DmuPacket:
-    """The packet in ``data`` (exactly one packet of ``mode``).
+    """The packet in ``data`` in SI units, sensor frame.
 
+    :param data: exactly one packet of ``mode``, header to checksum.
+    :param mode: the mode the unit is in (sets the length and the words).
+    :param scale: the unit's ranges.
     :raises CodecError: wrong length, header or checksum.
     """
     length = packet_length(mode)
@@ -213,7 +212,11 @@ def decode_packet(data: bytes, mode: DmuMode, scale: DmuScale = DmuScale()) -> D
 
 
 def encode_serial_number(number: int) -> bytes:
-    """The reply to ``S`` (ours: header, 32-bit big-endian number, checksum)."""
+    """The reply to ``S`` (ours: header, 32-bit big-endian number, checksum).
+
+    :param number: 0 to 2**32 - 1.
+    :raises CodecError: a number that does not fit 32 bits.
+    """
     if not 0 <= number <= 0xFFFFFFFF:
         raise CodecError(f'serial number {number} does not fit 32 bits')
     body = struct.pack('>I', number)
@@ -223,6 +226,7 @@ def encode_serial_number(number: int) -> bytes:
 def decode_serial_number(data: bytes) -> int:
     """The number in a reply to ``S``.
 
+    :param data: exactly :data:`SERIAL_PACKET_LENGTH` bytes.
     :raises CodecError: wrong length, header or checksum.
     """
     if len(data) != SERIAL_PACKET_LENGTH or data[0] != HEADER:
@@ -243,6 +247,11 @@ class DmuDeframer:
     """
 
     def __init__(self, mode: DmuMode, scale: DmuScale = DmuScale()) -> None:
+        """Start with an empty buffer and zero counters.
+
+        :param mode: the mode of every packet to find (sets their length).
+        :param scale: the unit's ranges, for decoding.
+        """
         self.mode = mode
         self.scale = scale
         self._length = packet_length(mode)
@@ -256,7 +265,10 @@ class DmuDeframer:
         self._buffer.clear()
 
     def feed(self, data: bytes) -> list[DmuPacket]:
-        """Every complete packet that ``data`` completes, in order."""
+        """Every complete packet that ``data`` completes, in order.
+
+        :param data: bytes as read from the line; an unfinished packet is kept for the next call.
+        """
         buffer = self._buffer
         buffer += data
         found: list[DmuPacket] = []

@@ -66,6 +66,7 @@ def _device(path: str, node: etree._Element) -> DmuDevice:
 def load_dmu_config(path: str | os.PathLike[str]) -> list[DmuDevice]:
     """Every device of the file, in order.
 
+    :param path: the dmu-config.xml to read.
     :raises ConfigError: naming the file and line: malformed XML, wrong root, unknown element or
         attribute, a missing required attribute, a bad value, a duplicate name, no device at all.
     """

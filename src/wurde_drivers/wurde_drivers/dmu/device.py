@@ -43,7 +43,11 @@ class RawSample(Inertial):
 
 
 def to_robot_frame(packet: codec.DmuPacket, stamp: float) -> RawSample:
-    """``packet`` (sensor frame, z down) as a :class:`RawSample` (robot frame, z up)."""
+    """``packet`` (sensor frame, z down) as a :class:`RawSample` (robot frame, z up).
+
+    :param packet: a decoded packet.
+    :param stamp: when the unit sent it, on the driver's clock (s).
+    """
     return RawSample(
         stamp=stamp, roll=packet.roll,
         pitch=None if packet.pitch is None else -packet.pitch,
@@ -53,18 +57,19 @@ def to_robot_frame(packet: codec.DmuPacket, stamp: float) -> RawSample:
 
 
 class DmuDriver:
-    """Talks to one DMU on ``link``.
-
-    :param link: the serial port (opened by :meth:`connect`; the link reopens a vanished port).
-    :param mode: angle mode (roll and pitch from the sensor's filter) or scaled mode.
-    :param scale: the unit's ranges.
-    :param rearm_after: seconds of silence after which ``poll`` re-sends mode and continuous.
-    :param clock: the time source for :attr:`RawSample.stamp` and :attr:`silent_for`.
-    """
+    """Talks to one DMU on a serial link; see the module docstring for the life cycle."""
 
     def __init__(self, link: SerialLink, *, mode: codec.DmuMode = codec.DmuMode.ANGLE,
                  scale: codec.DmuScale = codec.DmuScale(), rearm_after: float = 1.0,
                  clock: Callable[[], float] = time.monotonic) -> None:
+        """Keep the settings; no I/O until :meth:`connect`.
+
+        :param link: the serial port (opened by :meth:`connect`; the link reopens a vanished port).
+        :param mode: angle mode (roll and pitch from the sensor's filter) or scaled mode.
+        :param scale: the unit's ranges.
+        :param rearm_after: seconds of silence after which ``poll`` re-sends mode and continuous.
+        :param clock: the time source for :attr:`RawSample.stamp` and :attr:`silent_for`.
+        """
         self.link = link
         self.mode = mode
         self.scale = scale
@@ -94,6 +99,7 @@ class DmuDriver:
     def connect(self, timeout: float = 2.0) -> None:
         """Open the port, stop any stream, ping, set the mode and start continuous mode.
 
+        :param timeout: seconds for the whole handshake.
         :raises DeviceError: the port cannot be opened.
         :raises DeviceTimeout: the unit does not answer the ping or the mode command in time.
         """
@@ -110,7 +116,10 @@ class DmuDriver:
         self._next_rearm = self._last_packet + self.rearm_after
 
     def reconnect(self, timeout: float = 2.0) -> None:
-        """Close the port and :meth:`connect` again (same errors)."""
+        """Close the port and :meth:`connect` again (same errors).
+
+        :param timeout: seconds for the handshake.
+        """
         self.link.close()
         self.connect(timeout)
 
@@ -142,9 +151,12 @@ class DmuDriver:
     def poll(self, timeout: float) -> list[RawSample]:
         """Packets that arrive within ``timeout`` seconds, in the robot frame.
 
-        Returns as soon as at least one packet has been decoded (with everything else already
-        received), or an empty list at the deadline. Bad checksums and skipped bytes are counted
-        in :attr:`stats`; a silent unit is re-armed (see the module docstring).
+        Bad checksums and skipped bytes are counted in :attr:`stats`; a silent unit is re-armed (see
+        the module docstring).
+
+        :param timeout: the longest wait in seconds.
+        :returns: as soon as at least one packet has been decoded, every sample received so far;
+            an empty list at the deadline.
         """
         deadline = time.monotonic() + timeout
         samples: list[RawSample] = []

@@ -27,26 +27,22 @@ import time
 from collections import deque
 from collections.abc import Callable, Sequence
 
-from ..ports.pty import PtyDevice
+from ..ports.pty import PtyEmulator
 from . import codec
 
 MotionSource = Callable[[float], Sequence[float]]
 
 
 def still_and_level(t: float) -> tuple[float, ...]:
-    """The default motion source: not moving, level, gravity along +z (down) as -g."""
+    """The default motion source: not moving, level, gravity along +z (down) as -g.
+
+    :param t: seconds since the emulator's first packet (unused).
+    """
     return (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -codec.G)
 
 
-class DmuEmulator(PtyDevice):
-    """The DMU at the far end of a pty; open :attr:`path` at 38400 baud.
-
-    :param motion_source: see the module docstring.
-    :param rate_hz: packets per second in continuous mode (capped by the baud rate).
-    :param rate_bias: constant bias (rad/s) added to the x, y, z rates, sensor frame.
-    :param scale: the unit's ranges.
-    :param temperature: degC reported in every packet.
-    """
+class DmuEmulator(PtyEmulator):
+    """The DMU at the far end of a pty; open :attr:`path` at 38400 baud."""
 
     def __init__(self, *, motion_source: MotionSource = still_and_level, rate_hz: float = 100.0,
                  baudrate: int = codec.DEFAULT_BAUDRATE,
@@ -54,6 +50,20 @@ class DmuEmulator(PtyDevice):
                  scale: codec.DmuScale = codec.DmuScale(), temperature: float = 25.0,
                  version: str = 'DMU-VGX emulator 1.0', serial_number: int = 9900123,
                  tick_s: float = 0.002) -> None:
+        """Open the pty and power up (angle mode, polled); :meth:`start` runs it.
+
+        :param motion_source: ``t -> (roll, pitch, rate_x, rate_y, rate_z, accel_x, accel_y, accel_z)``
+            in rad, rad/s and m/s², sensor frame, ``t`` in seconds since the first packet.
+        :param rate_hz: packets per second in continuous mode (capped by the baud rate).
+        :param baudrate: the unit's line speed; input at any other speed is ignored.
+        :param rate_bias: constant bias (rad/s) added to the x, y, z rates, sensor frame.
+        :param scale: the unit's ranges.
+        :param temperature: degC reported in every packet.
+        :param version: the reply to ``v``.
+        :param serial_number: the number in the reply to ``S``.
+        :param tick_s: seconds between two turns of the emulator's thread.
+        :raises ValueError: ``rate_hz`` not positive.
+        """
         super().__init__(tick_s=tick_s)
         if not rate_hz > 0:
             raise ValueError(f'rate_hz must be positive, got {rate_hz}')
@@ -94,12 +104,18 @@ class DmuEmulator(PtyDevice):
 
     # -- faults -------------------------------------------------------------------------------
     def inject_bad_checksums(self, count: int = 1) -> None:
-        """Corrupt the checksum of the next ``count`` packets."""
+        """Corrupt the checksum of the next ``count`` packets.
+
+        :param count: how many; added to any still pending.
+        """
         with self._lock:
             self._bad_checksums += count
 
     def inject_garbage(self, data: bytes) -> None:
-        """Send ``data`` before the next packet (or at once when polled)."""
+        """Send ``data`` before the next packet (or at once when polled).
+
+        :param data: the garbage bytes; added to any still pending.
+        """
         with self._lock:
             self._garbage += data
 
@@ -115,7 +131,10 @@ class DmuEmulator(PtyDevice):
 
     # -- protocol -----------------------------------------------------------------------------
     def packet(self, now: float) -> bytes:
-        """The packet the unit would send at monotonic time ``now``."""
+        """The packet the unit would send at monotonic time ``now``.
+
+        :param now: ``time.monotonic()``; the first call sets the motion source's time 0.
+        """
         if self._t0 is None:
             self._t0 = now
         t = now - self._t0
@@ -139,6 +158,10 @@ class DmuEmulator(PtyDevice):
         self.packets_sent += 1
 
     def on_bytes(self, data: bytes) -> None:
+        """Obey each command byte in ``data``; ignored while silent or at the wrong line speed.
+
+        :param data: the bytes read from the pty; unknown bytes are ignored, as a real unit does.
+        """
         if self.silent.is_set() or not self._line_ok():
             return
         now = time.monotonic()
@@ -171,6 +194,10 @@ class DmuEmulator(PtyDevice):
         # anything else: a real unit ignores unknown bytes
 
     def tick(self, now: float) -> None:
+        """Send the next packet in continuous mode when it is due (pending garbage when polled).
+
+        :param now: ``time.monotonic()`` of this turn.
+        """
         if self.silent.is_set() or not self._line_ok():
             return
         if not self.continuous:
@@ -189,8 +216,12 @@ class DmuEmulator(PtyDevice):
 
 
 def constant_rate(rate_z: float, *, roll: float = 0.0, pitch: float = 0.0) -> MotionSource:
-    """A motion source turning at ``rate_z`` rad/s about the sensor's z axis (down), tilted by
-    ``roll`` and ``pitch``; the accelerometers see gravity only."""
+    """A motion source turning about the sensor's z axis (down); the accelerometers see gravity only.
+
+    :param rate_z: rad/s about z down (negative: counter-clockwise seen from above).
+    :param roll: the constant tilt about x, rad.
+    :param pitch: the constant tilt about y, rad.
+    """
     # specific force at rest in the body axes of a z-down frame:
     # f = g * (sin p, -sin r cos p, -cos r cos p)
     gx = codec.G * math.sin(pitch)

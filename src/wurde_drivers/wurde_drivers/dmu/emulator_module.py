@@ -4,7 +4,7 @@ The unit lies level and turns slowly about the vertical at a constant yaw rate (
 counter-clockwise seen from above, i.e. about the robot's z-up axis; default 0.1), so the filtered
 stream's heading theta grows steadily. The emulator speaks in the sensor's own z-down frame
 (:mod:`wurde_drivers.dmu.emulator`); the module turns it into the robot frame. The pty is linked
-at ``-l PATH`` (default ``/tmp/wurde-dmu``), the port that ``config/dmu/dmu-config.xml`` names.
+at ``-p PATH`` (default ``/tmp/wurde-dmu``), the port that ``config/dmu/dmu-config.xml`` names.
 """
 
 from __future__ import annotations
@@ -37,7 +37,11 @@ def _number(options: dict[str, str], letter: str, default: float, *, positive: b
 
 
 def make(options: dict[str, str]) -> DmuEmulator:
-    """The emulator the options describe (exits with status 2 on a bad value)."""
+    """The emulator the options describe (exits with status 2 on a bad value).
+
+    :param options: the program's own options by letter: ``w`` (yaw rate, rad/s about z up),
+        ``f`` (packets per second).
+    """
     yaw_rate = _number(options, 'w', 0.1, positive=False)
     rate_hz = _number(options, 'f', 100.0, positive=True)
     # sensor frame z down: a counter-clockwise turn seen from above is a negative z rate
@@ -45,6 +49,11 @@ def make(options: dict[str, str]) -> DmuEmulator:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The ``dmu_emulator`` program: the emulated unit on a pty linked at ``-p`` until Quit.
+
+    :param argv: the command line, program name first; None: ``sys.argv``.
+    :returns: the exit status (0, or 1 when the emulator's thread failed).
+    """
     return run_emulator('dmu', make, user_spec='w:f:', help_text=HELP, argv=argv)
 
 

@@ -50,13 +50,14 @@ class FilteredState(Inertial):
 
 
 class DmuFilter:
-    """First-order low-pass of rates and accelerations plus the integrated heading.
-
-    :param cutoff_hz: the low-pass cut-off frequency in Hz (> 0).
-    :raises ValueError: ``cutoff_hz`` is not a positive finite number.
-    """
+    """First-order low-pass of rates and accelerations plus the integrated heading."""
 
     def __init__(self, cutoff_hz: float) -> None:
+        """Start empty: the first sample sets the state, with theta 0.
+
+        :param cutoff_hz: the low-pass cut-off frequency in Hz (> 0).
+        :raises ValueError: ``cutoff_hz`` is not a positive finite number.
+        """
         if not (math.isfinite(cutoff_hz) and cutoff_hz > 0):
             raise ValueError(f'cutoff_hz must be positive, got {cutoff_hz!r}')
         self.cutoff_hz = float(cutoff_hz)
@@ -72,7 +73,11 @@ class DmuFilter:
         self.theta = 0.0
 
     def update(self, sample: Inertial, stamp: float) -> FilteredState:
-        """Filter one sample taken at ``stamp`` (seconds) and return the state."""
+        """Filter one sample and return the state.
+
+        :param sample: robot frame (z up), SI units.
+        :param stamp: when it was taken, seconds; the state's stamp is earlier by :attr:`filter_delay`.
+        """
         raw = [float(getattr(sample, name)) for name in MOTION_FIELDS]
         if self._values is None:
             self._values = raw

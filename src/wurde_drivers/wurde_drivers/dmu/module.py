@@ -34,7 +34,7 @@ from ..streams.dmu import DmuStreams
 from .config import DmuDevice, load_dmu_config
 from .device import DmuDriver
 
-__all__ = ['DmuRunner', 'main']
+__all__ = ['DmuModule', 'DmuRunner', 'main']
 
 #: Loop sleep and the longest poll: the DMU streams at up to ~100 Hz.
 SLEEP_S = 0.01
@@ -46,17 +46,18 @@ RETRY_S = 1.0
 SILENT_AFTER_S = 0.5
 
 
-class DmuRunner:
-    """The module's work per loop turn: connect (again), poll, publish, watch for silence.
-
-    :param device: the configured device (for messages).
-    :param driver: the device layer (constructed, not yet connected).
-    :param streams: the module's DMU streams.
-    :param logger: where connection and silence changes are logged (once each).
-    """
+class DmuModule:
+    """The module's work per loop turn: connect (again), poll, publish, watch for silence."""
 
     def __init__(self, device: DmuDevice, driver: DmuDriver, streams: DmuStreams,
                  logger: Logger) -> None:
+        """Nothing is connected yet: the first :meth:`step` tries.
+
+        :param device: the configured device (for messages).
+        :param driver: the device layer (constructed, not yet connected).
+        :param streams: the module's DMU streams.
+        :param logger: where connection and silence changes are logged (once each).
+        """
         self.device = device
         self.driver = driver
         self.streams = streams
@@ -69,7 +70,10 @@ class DmuRunner:
         self._to_wall = time.time() - time.monotonic()
 
     def step(self, timeout: float) -> int:
-        """One turn: connect if needed, else poll up to ``timeout`` s; returns samples published."""
+        """One turn: connect if needed, else poll up to ``timeout`` s; returns samples published.
+
+        :param timeout: the longest poll in seconds.
+        """
         if not self.connected:
             self._try_connect()
             return 0
@@ -115,12 +119,20 @@ class DmuRunner:
 NOISE = ImuNoise(rate=math.radians(0.1), accel=0.01 * 9.80665, angle=math.radians(0.5))
 
 
+DmuRunner = DmuModule  # old name (docs/naming.md)
+
+
 def main(argv: list[str] | None = None) -> int:
+    """The ``dmu_module`` program: one ``<device>`` of dmu-config.xml as raw and filtered streams.
+
+    :param argv: the command line, program name first; None: ``sys.argv``.
+    :returns: the exit status.
+    """
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('PlutoDMU')
     device = configured_device(manager, argv, 'dmu-config.xml', load_dmu_config)
     streams = DmuStreams(manager.name, device.cutoff, noise=NOISE, mount=device.mount)
-    runner = DmuRunner(device, DmuDriver(SerialLink(device.port, device.baud), mode=device.mode),
+    runner = DmuModule(device, DmuDriver(SerialLink(device.port, device.baud), mode=device.mode),
                        streams, Logger(manager.name))
     streams.register(manager)
     manager.register_supplier(runner.logger)

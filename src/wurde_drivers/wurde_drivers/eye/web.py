@@ -1,29 +1,15 @@
-"""The Eye's web page: where there is no X display, the images are shown on a local page.
+"""The Eye's web page: where there is no X display, the images are shown on a local page (guide 7.8).
 
 One page (``/``) with an ``<img>`` that the page's script replaces as soon as the Eye has a
-newer frame (a long poll of ``/frame.png?after=N``: no frame is fetched twice, none waits for a
-timer). The server binds 127.0.0.1 unless told otherwise; nothing here reaches beyond the
-machine by default.
+newer frame: a long poll of ``/frame.png?after=N``, so no frame is fetched twice and none waits
+for a timer.  ``/status.json`` tells the state; ``/click`` and ``/key`` (POST) bring the user's
+clicks and keys back into ImageDisplay's data.  docs/wurde-drivers.md ("eye.web") lists the paths,
+their answers and headers.
 
-===================== ======== ==============================================================
-path                  method   answer
-===================== ======== ==============================================================
-``/``                 GET      the page
-``/frame.png``        GET      the latest frame as PNG (lossless); ``?after=N`` waits up to
-                               :data:`LONG_POLL_S` for a frame newer than N (204 if none, or
-                               while the display is not visible); headers ``X-Frame-Index``
-                               (the Eye's count), ``X-Source-Frame`` (the camera's
-                               ``frame_index``), ``X-Title``
-``/status.json``      GET      the frame indices, size, settings and the display status
-``/click?x=X&y=Y``    POST     a click at pixel (X, Y) of the shown (scaled) frame
-``/key?code=C``       POST     a key press
-===================== ======== ==============================================================
-
-A frame counts as shown (ImageDisplay ``frames_shown``) the first time it is served.
-
-Only the page itself may send clicks and keys: a POST whose ``Origin`` is not the page's own (any
-other web page open in the user's browser) is refused with 403. On a loopback address every
-request must also name a loopback host in ``Host`` (no DNS rebinding of another site's name to
+The server binds 127.0.0.1 unless told otherwise; nothing here reaches beyond the machine by
+default.  Before changing the request handling, keep both guards: only the page itself may send
+clicks and keys (a POST whose ``Origin`` is another site's gets 403), and on a loopback address
+every request must name a loopback host in ``Host`` (no DNS rebinding of another site's name to
 127.0.0.1).
 """
 

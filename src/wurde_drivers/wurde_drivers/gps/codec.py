@@ -91,7 +91,10 @@ Sentence = GGA | RMC | RawSentence
 
 # -- frame ------------------------------------------------------------------------------------
 def checksum(body: bytes | str) -> int:
-    """XOR of every character of ``body`` (the text between ``$`` and ``*``)."""
+    """XOR of every character of ``body``.
+
+    :param body: the text between ``$`` and ``*``.
+    """
     data = body.encode('ascii') if isinstance(body, str) else body
     value = 0
     for byte in data:
@@ -100,8 +103,9 @@ def checksum(body: bytes | str) -> int:
 
 
 def parse_frame(line: bytes) -> RawSentence:
-    """Check the frame and checksum of one line (line end optional) and split its fields.
+    """Check the frame and checksum of one line and split its fields.
 
+    :param line: one sentence from ``$``; a trailing line end is optional.
     :raises MissingChecksumError: no ``*HH``.
     :raises ChecksumError: the checksum does not match.
     :raises CodecError: anything else that is not a sentence.
@@ -260,6 +264,7 @@ def _decode_rmc(raw: RawSentence) -> RMC:
 def decode(line: bytes) -> Sentence:
     """One sentence: :class:`GGA`, :class:`RMC`, or :class:`RawSentence` for other types.
 
+    :param line: one sentence from ``$``; a trailing line end is optional.
     :raises CodecError: bad frame, checksum (:class:`ChecksumError`), missing checksum
         (:class:`MissingChecksumError`) or field.
     """
@@ -274,9 +279,10 @@ def decode(line: bytes) -> Sentence:
 def encode(sentence: Sentence, *, minute_decimals: int = 5) -> bytes:
     """The line for ``sentence``, with checksum and ``\\r\\n``.
 
-    Times get two decimals; latitude and longitude ``minute_decimals`` decimals of a minute
-    (5: 1.9 cm); RMC gets the classic 11 fields plus the mode only if it has one.
+    Times get two decimals; RMC gets the classic 11 fields plus the mode only if it has one.
 
+    :param sentence: a GGA, an RMC or any other sentence's raw fields.
+    :param minute_decimals: decimals of a minute for latitude and longitude (5: 1.9 cm).
     :raises CodecError: a field that cannot be written (bad talker, status, out-of-range value).
     """
     if isinstance(sentence, RawSentence):
@@ -349,7 +355,11 @@ class NmeaDeframer:
         self._discarding = False
 
     def feed(self, data: bytes) -> list[GGA | RMC]:
-        """Every GGA and RMC completed by ``data``, in order."""
+        """Every GGA and RMC completed by ``data``, in order.
+
+        :param data: bytes as read from the line; a partial line is kept, other sentence types and
+            bad lines are only counted.
+        """
         out: list[GGA | RMC] = []
         self._buffer += data
         while True:

@@ -94,6 +94,7 @@ def _device(path: str, node: etree._Element) -> GpsDevice:
 def load_gps_config(path: str | os.PathLike[str]) -> list[GpsDevice]:
     """Every device of the file, in order.
 
+    :param path: the gps-config.xml to read.
     :raises ConfigError: naming the file and line: malformed XML, wrong root, unknown element or
         attribute, a missing required attribute, a bad value, a duplicate name, no device at all.
     """

@@ -1,6 +1,6 @@
 """Device layer of an NMEA 0183 GPS receiver (docs/protocols.md 4; Pluto doc 8.4, the GPS module).
 
-:class:`GpsReceiver` reads GGA and RMC sentences from a
+:class:`GpsDriver` reads GGA and RMC sentences from a
 :class:`~wurde_drivers.ports.serial_link.SerialLink` (4800 Bd unless the receiver is set otherwise)
 and turns each GGA into a :class:`Fix` with x, y in a local metric frame (x east, y north,
 :class:`~wurde_drivers.gps.geo.LocalFrame`), as Pluto's gpsmeter proxy does. The frame's origin is
@@ -10,10 +10,10 @@ quality 2 for sub-meter accuracy", the defaults).  Qualities are ranked by accur
 number (:mod:`~wurde_drivers.gps.quality`): with minimum 2 a good fix is DGPS (2) or RTK (5 float,
 4 fixed), never 6 (dead reckoning), 7 (manual) or 8 (simulation).
 
-:meth:`GpsReceiver.poll` never raises and never blocks longer than asked: bad checksums,
-missing checksums, over-long lines and garbage are counted (:attr:`GpsReceiver.counters`,
+:meth:`GpsDriver.poll` never raises and never blocks longer than asked: bad checksums,
+missing checksums, over-long lines and garbage are counted (:attr:`GpsDriver.counters`,
 and ``bad_crc``/``bytes_skipped``/``telegrams`` in the link's stats) and skipped. The link
-reopens a vanished port by itself; :meth:`GpsReceiver.silent_for` tells how long the receiver
+reopens a vanished port by itself; :meth:`GpsDriver.silent_for` tells how long the receiver
 has said nothing useful.
 """
 
@@ -29,7 +29,7 @@ from .codec import GGA, RMC, NmeaDeframer
 from .geo import LocalFrame
 from .quality import MINIMUMS, meets
 
-__all__ = ['BAUDRATE', 'Fix', 'GpsReceiver']
+__all__ = ['BAUDRATE', 'Fix', 'GpsDriver', 'GpsReceiver']
 
 #: The NMEA 0183 line speed.
 BAUDRATE = 4800
@@ -67,18 +67,20 @@ def _nan(value: float | None) -> float:
     return math.nan if value is None else value
 
 
-class GpsReceiver:
-    """An NMEA receiver on ``link``. Construct (no I/O), :meth:`poll` in a loop, :meth:`close`.
-
-    :param origin: (latitude, longitude[, altitude]) of the local frame; None: the first good fix.
-    :param min_satellites: satellites a good fix needs (Pluto: more than 5, so 6).
-    :param min_quality: GGA quality a good fix needs at least (Pluto: 2, DGPS; ranked by
-        accuracy, :func:`~wurde_drivers.gps.quality.meets`).
-    :raises ValueError: ``min_quality`` is not a quality a fix can be required to have.
-    """
+class GpsDriver:
+    """An NMEA receiver on a serial link. Construct (no I/O), :meth:`poll` in a loop, :meth:`close`."""
 
     def __init__(self, link: SerialLink, *, origin: tuple[float, ...] | None = None,
                  min_satellites: int = 6, min_quality: int = 2) -> None:
+        """Keep the settings; the link opens on the first read.
+
+        :param link: the receiver's port at its line speed.
+        :param origin: (latitude, longitude[, altitude]) of the local frame; None: the first good fix.
+        :param min_satellites: satellites a good fix needs (Pluto: more than 5, so 6).
+        :param min_quality: GGA quality a good fix needs at least (Pluto: 2, DGPS; ranked by
+            accuracy, :func:`~wurde_drivers.gps.quality.meets`).
+        :raises ValueError: ``min_quality`` is not a quality a fix can be required to have.
+        """
         if min_quality not in MINIMUMS:
             raise ValueError(f'min_quality must be one of {MINIMUMS} (a measured fix quality), '
                              f'not {min_quality}')
@@ -111,7 +113,10 @@ class GpsReceiver:
         return self._rmc
 
     def is_good(self, gga: GGA) -> bool:
-        """Pluto 8.4's test, with this receiver's thresholds."""
+        """Pluto 8.4's test, with this receiver's thresholds.
+
+        :param gga: a decoded GGA; without a position it is never good.
+        """
         return (gga.latitude is not None and gga.longitude is not None
                 and gga.satellites >= self.min_satellites
                 and meets(gga.quality, self.min_quality))
@@ -122,7 +127,11 @@ class GpsReceiver:
         return time.monotonic() - last
 
     def poll(self, timeout: float) -> list[Fix]:
-        """The fixes that arrive within ``timeout`` s; returns as soon as there is at least one."""
+        """The fixes that arrive within ``timeout`` s; returns as soon as there is at least one.
+
+        :param timeout: the longest wait in seconds.
+        :returns: the fixes, oldest first, each stamped when its sentence arrived; empty at the deadline.
+        """
         deadline = time.monotonic() + timeout
         fixes: list[Fix] = []
         while not fixes:
@@ -182,3 +191,6 @@ class GpsReceiver:
                    gga.quality, _nan(gga.hdop), _nan(gga.time_of_day), x, y, good,
                    rmc.speed if rmc else None, rmc.course if rmc else None,
                    rmc.date if rmc else None, now)
+
+
+GpsReceiver = GpsDriver  # old name (docs/naming.md)

@@ -8,7 +8,7 @@ would from a real receiver.
 
 Faults: :meth:`corrupt_next` (wrong checksums), :meth:`strip_checksum_next`,
 :meth:`inject_garbage`, :attr:`silent` (the receiver stops talking) and ``unplugged`` (see
-:class:`~wurde_drivers.ports.pty.PtyDevice`).
+:class:`~wurde_drivers.ports.pty.PtyEmulator`).
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ import threading
 from collections.abc import Callable
 from typing import NamedTuple
 
-from ..ports.pty import PtyDevice
+from ..ports.pty import PtyEmulator
 from .codec import GGA, RMC, encode
 
 __all__ = ['GpsEmulator', 'GpsSample', 'fixed_position']
@@ -41,28 +41,37 @@ PositionSource = Callable[[float], 'GpsSample | tuple[float, ...]']
 
 
 def fixed_position(latitude: float, longitude: float, altitude: float = 0.0) -> PositionSource:
-    """A source that stands still at one point."""
+    """A source that stands still at one point.
+
+    :param latitude: degrees.
+    :param longitude: degrees.
+    :param altitude: metres above MSL.
+    """
     sample = GpsSample(latitude, longitude, altitude)
     return lambda elapsed: sample
 
 
-class GpsEmulator(PtyDevice):
-    """A GPS receiver writing GGA + RMC at ``rate_hz``.
-
-    :param source: position source, called on the emulator thread with the elapsed time (s).
-    :param rate_hz: sentences pairs per second (1 Hz is what most receivers do).
-    :param baudrate: the line speed the receiver talks at (4800, 9600 or 38400).
-    :param satellites: satellites in use (settable later, as :attr:`satellites`).
-    :param quality: GGA fix quality (1 GPS, 2 DGPS, ...; settable).
-    :param hdop: horizontal dilution of precision (settable).
-    :param clock: UTC now; the sentences' time and date come from it.
-    :param talker: talker id (``GP``; ``GN`` for a multi-constellation receiver).
-    """
+class GpsEmulator(PtyEmulator):
+    """A GPS receiver writing GGA + RMC at ``rate_hz``."""
 
     def __init__(self, source: PositionSource | None = None, *, rate_hz: float = 1.0,
                  baudrate: int = 4800, satellites: int = 8, quality: int = 1, hdop: float = 0.9,
                  clock: Callable[[], datetime.datetime] | None = None, talker: str = 'GP',
                  tick_s: float = 0.005) -> None:
+        """Open the pty; :meth:`start` runs it.
+
+        :param source: position source, called on the emulator thread with the elapsed time (s);
+            None: a fixed point.
+        :param rate_hz: sentence pairs per second (1 Hz is what most receivers do).
+        :param baudrate: the line speed the receiver talks at (4800, 9600 or 38400).
+        :param satellites: satellites in use (settable later, as :attr:`satellites`).
+        :param quality: GGA fix quality (1 GPS, 2 DGPS, ...; 0 sends no position; settable).
+        :param hdop: horizontal dilution of precision (settable).
+        :param clock: UTC now; the sentences' time and date come from it.  None: the system clock.
+        :param talker: talker id (``GP``; ``GN`` for a multi-constellation receiver).
+        :param tick_s: seconds between two turns of the emulator's thread.
+        :raises ValueError: another line speed, or a rate that is not positive.
+        """
         if baudrate not in (4800, 9600, 38400):
             raise ValueError(f'NMEA receivers talk at 4800, 9600 or 38400 Bd, not {baudrate}')
         if rate_hz <= 0:
@@ -86,20 +95,32 @@ class GpsEmulator(PtyDevice):
 
     # -- faults ---------------------------------------------------------------------------------
     def corrupt_next(self, count: int = 1) -> None:
-        """Give the next ``count`` sentences a wrong checksum."""
+        """Give the next ``count`` sentences a wrong checksum.
+
+        :param count: how many; replaces any count still pending.
+        """
         self._corrupt = count
 
     def strip_checksum_next(self, count: int = 1) -> None:
-        """Send the next ``count`` sentences without ``*HH``."""
+        """Send the next ``count`` sentences without ``*HH``.
+
+        :param count: how many; replaces any count still pending.
+        """
         self._strip = count
 
     def inject_garbage(self, data: bytes | None = None) -> None:
-        """Write ``data`` (default: random bytes, then a line end)."""
+        """Write garbage to the driver now.
+
+        :param data: the bytes; None: 40 random bytes, then a line end.
+        """
         self.write(data if data is not None else os.urandom(40) + b'\r\n')
 
     # -- output ---------------------------------------------------------------------------------
     def sentences(self, elapsed: float) -> list[bytes]:
-        """The GGA and RMC lines for ``elapsed`` seconds after start (also usable without a pty)."""
+        """The GGA and RMC lines (also usable without a pty), faults applied.
+
+        :param elapsed: seconds after start, passed to the position source.
+        """
         sample = GpsSample(*self.source(elapsed))
         now = self.clock()
         time_of_day = (now.hour * 3600 + now.minute * 60 + now.second
@@ -126,6 +147,10 @@ class GpsEmulator(PtyDevice):
         return line
 
     def tick(self, now: float) -> None:
+        """Write the next GGA and RMC when due (garbled while the driver's line speed is wrong).
+
+        :param now: ``time.monotonic()`` of this turn.
+        """
         if self._started is None:
             self._started, self._next = now, now
         if now < self._next:

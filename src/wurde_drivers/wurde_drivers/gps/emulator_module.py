@@ -31,8 +31,15 @@ _HELP = '\n'.join(line[2:] for line in __doc__.splitlines() if line.startswith('
 
 def circle(latitude: float, longitude: float, radius: float, period: float,
            altitude: float = ALTITUDE) -> PositionSource:
-    """Counter-clockwise (seen from above) round ``latitude``, ``longitude``: east of the centre
-    at time 0, north of it a quarter ``period`` later; speed and course follow the motion."""
+    """Counter-clockwise (seen from above) round a centre: east of it at time 0, north of it a quarter
+    ``period`` later; speed and course follow the motion.
+
+    :param latitude: the centre's, degrees.
+    :param longitude: the centre's, degrees.
+    :param radius: m.
+    :param period: seconds a turn takes.
+    :param altitude: metres above MSL reported throughout.
+    """
     frame = LocalFrame(latitude, longitude, altitude)
     omega = 2.0 * math.pi / period
 
@@ -82,6 +89,11 @@ def _make(options: dict[str, str]) -> GpsEmulator:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The ``gps_emulator`` program: the emulated receiver on a pty linked at ``-p`` until Quit.
+
+    :param argv: the command line, program name first; None: ``sys.argv``.
+    :returns: the exit status (0, or 1 when the emulator's thread failed).
+    """
     return run_emulator('gps', _make, user_spec='C:R:T:f:b:s:q:', help_text=_HELP, argv=argv)
 
 

@@ -22,7 +22,12 @@ _EP2 = E2 / (1.0 - E2)        # second eccentricity squared
 
 def geodetic_to_ecef(latitude: float, longitude: float, altitude: float = 0.0
                      ) -> tuple[float, float, float]:
-    """ECEF (m) of a point given in degrees and metres above the ellipsoid."""
+    """ECEF (m) of a point on the WGS-84 ellipsoid.
+
+    :param latitude: degrees.
+    :param longitude: degrees.
+    :param altitude: metres above the ellipsoid.
+    """
     lat, lon = math.radians(latitude), math.radians(longitude)
     sin_lat, cos_lat = math.sin(lat), math.cos(lat)
     n = A / math.sqrt(1.0 - E2 * sin_lat * sin_lat)
@@ -36,6 +41,10 @@ def ecef_to_geodetic(x: float, y: float, z: float) -> tuple[float, float, float]
 
     Bowring's parametric latitude as a start, refined by Newton-like iterations until the
     latitude changes by less than 1e-15 rad (sub-nanometre); three iterations usually suffice.
+
+    :param x: m.
+    :param y: m.
+    :param z: m.
     """
     p = math.hypot(x, y)
     lon = math.atan2(y, x)
@@ -70,6 +79,13 @@ class LocalFrame:
     """
 
     def __init__(self, latitude: float, longitude: float, altitude: float = 0.0) -> None:
+        """The frame with its origin here.
+
+        :param latitude: degrees, -90 to 90.
+        :param longitude: degrees.
+        :param altitude: metres above the ellipsoid.
+        :raises ValueError: a value out of range or not finite.
+        """
         if not (math.isfinite(latitude) and -90.0 <= latitude <= 90.0
                 and math.isfinite(longitude) and math.isfinite(altitude)):
             raise ValueError(f'bad origin: {latitude}, {longitude}, {altitude}')
@@ -86,7 +102,12 @@ class LocalFrame:
 
     def to_enu(self, latitude: float, longitude: float, altitude: float
                ) -> tuple[float, float, float]:
-        """East, north, up (m) of a point from the origin."""
+        """East, north, up (m) of a point from the origin.
+
+        :param latitude: degrees.
+        :param longitude: degrees.
+        :param altitude: metres above the ellipsoid.
+        """
         x, y, z = geodetic_to_ecef(latitude, longitude, altitude)
         dx, dy, dz = x - self._origin[0], y - self._origin[1], z - self._origin[2]
         sl, cl, so, co = self._sin_lat, self._cos_lat, self._sin_lon, self._cos_lon
@@ -96,7 +117,12 @@ class LocalFrame:
         return east, north, up
 
     def from_enu(self, east: float, north: float, up: float) -> tuple[float, float, float]:
-        """Latitude, longitude (degrees) and altitude (m) of an ENU point."""
+        """Latitude, longitude (degrees) and altitude (m) of an ENU point.
+
+        :param east: m from the origin.
+        :param north: m.
+        :param up: m.
+        """
         sl, cl, so, co = self._sin_lat, self._cos_lat, self._sin_lon, self._cos_lon
         dx = -so * east - sl * co * north + cl * co * up
         dy = co * east - sl * so * north + cl * so * up
@@ -105,17 +131,25 @@ class LocalFrame:
 
     def to_xy(self, latitude: float, longitude: float, altitude: float | None = None
               ) -> tuple[float, float]:
-        """x east, y north (m) of a point (at the origin's altitude unless given)."""
+        """x east, y north (m) of a point on the grid.
+
+        :param latitude: degrees.
+        :param longitude: degrees.
+        :param altitude: metres above the ellipsoid; None: the origin's.
+        """
         east, north, _ = self.to_enu(latitude, longitude,
                                      self.altitude if altitude is None else altitude)
         return east, north
 
     def from_xy(self, x: float, y: float, altitude: float | None = None) -> tuple[float, float]:
-        """Latitude, longitude of the point at grid ``x``, ``y`` and ``altitude`` (default: the
-        origin's) -- the inverse of :meth:`to_xy`.
+        """Latitude, longitude of a grid point -- the inverse of :meth:`to_xy`.
 
         The tangent plane leaves the ellipsoid as it goes out (about 8 m at 10 km), so the point
         is found along the frame's up axis; a few Newton steps make its altitude exact.
+
+        :param x: m east of the origin.
+        :param y: m north.
+        :param altitude: metres above the ellipsoid; None: the origin's.
         """
         height = self.altitude if altitude is None else altitude
         up = 0.0

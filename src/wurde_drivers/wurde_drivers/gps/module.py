@@ -26,7 +26,7 @@ from ..module_setup import configured_device, run_loop, set_loop
 from ..ports.serial_link import SerialLink
 from ..streams.gps import GpsStreams
 from .config import GpsDevice, load_gps_config
-from .device import Fix, GpsReceiver
+from .device import Fix, GpsDriver
 
 #: Loop sleep and longest wait for sentences per loop (s).
 LOOP_S = 0.05
@@ -35,10 +35,17 @@ RETRY_S = 1.0
 
 
 class GpsModule:
-    """The module's work between one :class:`GpsStreams` and one :class:`GpsReceiver`."""
+    """The module's work between one :class:`GpsStreams` and one :class:`GpsDriver`."""
 
-    def __init__(self, config: GpsDevice, receiver: GpsReceiver, streams: GpsStreams,
+    def __init__(self, config: GpsDevice, receiver: GpsDriver, streams: GpsStreams,
                  logger: Logger) -> None:
+        """Nothing is opened yet: the first :meth:`step` opens the port.
+
+        :param config: the configured device (port, thresholds, for messages).
+        :param receiver: the device layer.
+        :param streams: the module's GPS streams, registered.
+        :param logger: where the port's and the fixes' changes are logged (once each).
+        """
         self.config = config
         self.receiver = receiver
         self.streams = streams
@@ -113,12 +120,17 @@ class GpsModule:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The ``gps_module`` program: one ``<device>`` of gps-config.xml as a GPS stream.
+
+    :param argv: the command line, program name first; None: ``sys.argv``.
+    :returns: the exit status.
+    """
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('PlutoGPS')
     config = configured_device(manager, argv, 'gps-config.xml', load_gps_config)
-    receiver = GpsReceiver(SerialLink(config.port, config.baud, retry_s=RETRY_S),
-                           origin=config.origin, min_satellites=config.min_satellites,
-                           min_quality=config.min_quality)
+    receiver = GpsDriver(SerialLink(config.port, config.baud, retry_s=RETRY_S),
+                         origin=config.origin, min_satellites=config.min_satellites,
+                         min_quality=config.min_quality)
     streams = GpsStreams(manager.name, mount=config.mount)
     logger = Logger(manager.name)
     streams.register(manager)

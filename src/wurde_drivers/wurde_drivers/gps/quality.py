@@ -33,6 +33,8 @@ MINIMUMS = (0, *ACCURACY_ORDER)
 def meets(quality: int, minimum: int) -> bool:
     """Whether a fix of GGA ``quality`` is at least as accurate as ``minimum`` requires.
 
+    :param quality: the fix's GGA quality; 0 (no fix) and 6 (dead reckoning) never meet any minimum.
+    :param minimum: 0 (any measured fix) or one of :data:`ACCURACY_ORDER`.
     :raises ValueError: ``minimum`` is not one of :data:`MINIMUMS` (e.g. 6: dead reckoning is
         never a requirement).
     """

@@ -55,6 +55,7 @@ class JsEvent:
 def encode_event(event: JsEvent) -> bytes:
     """The 8 bytes the kernel would write for ``event``.
 
+    :param event: a button or axis event.
     :raises CodecError: a kind that is neither button nor axis, or a field out of its C type's range.
     """
     if event.kind not in (JS_EVENT_BUTTON, JS_EVENT_AXIS):
@@ -69,6 +70,7 @@ def encode_event(event: JsEvent) -> bytes:
 def decode_event(record: bytes) -> JsEvent:
     """One 8-byte record.
 
+    :param record: exactly 8 bytes, as read from ``/dev/input/jsN``.
     :raises CodecError: not 8 bytes, or a type that is neither button nor axis.
     """
     if len(record) != EVENT_SIZE:
@@ -100,6 +102,11 @@ class JsDecoder:
         self._pending = b''
 
     def feed(self, data: bytes) -> list[JsEvent]:
+        """The events in ``data``; a partial record is kept for the next call.
+
+        :param data: bytes as read from the device, in any pieces; records of an unknown type are
+            dropped and counted.
+        """
         buffer = self._pending + bytes(data)
         whole = len(buffer) - len(buffer) % EVENT_SIZE
         self._pending = buffer[whole:]

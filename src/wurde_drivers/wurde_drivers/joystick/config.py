@@ -63,6 +63,7 @@ def _controls(path: str, joystick: etree._Element) -> tuple[dict[str, int], dict
 def load_joystick_config(path: str | os.PathLike[str]) -> list[JoystickLayout]:
     """Every joystick of the file, in order.
 
+    :param path: the joystick-config.xml to read.
     :raises ConfigError: naming the file and line (see the module's docstring).
     """
     path = os.fspath(path)
@@ -86,6 +87,8 @@ def load_joystick_config(path: str | os.PathLike[str]) -> list[JoystickLayout]:
 def layout_named(layouts: list[JoystickLayout], name: str | None = None) -> JoystickLayout:
     """The joystick called ``name``, or the first when ``name`` is None.
 
+    :param layouts: the file's joysticks.
+    :param name: the one wanted.
     :raises ConfigError: no joystick has that name (naming the file and the names it has).
     """
     for layout in layouts:

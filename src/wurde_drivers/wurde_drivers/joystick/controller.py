@@ -18,7 +18,7 @@ from collections.abc import Callable
 
 from .codec import JsEvent
 from .config import JoystickLayout, layout_named, load_joystick_config
-from .device import DeviceState, JoystickDevice
+from .device import DeviceState, JoystickDriver
 
 __all__ = ['GameController', 'configure_joystick']
 
@@ -30,7 +30,7 @@ class GameController:
     def __init__(self, *, report: Callable[[str], object] | None = None) -> None:
         self.report = report or (lambda message: None)
         self.layout = JoystickLayout('unconfigured', {}, {})
-        self.device: JoystickDevice | None = None
+        self.device: JoystickDriver | None = None
         self._axes: dict[int, int] = {}
         self._buttons: dict[int, bool] = {}
         self._ready = False
@@ -45,7 +45,7 @@ class GameController:
     def open(self, path: str, *, retry_s: float = 1.0) -> None:
         """Read the joystick at ``path`` (opened, and reopened, by :meth:`update`)."""
         self.close()
-        self.device = JoystickDevice(path, retry_s=retry_s, report=self.report)
+        self.device = JoystickDriver(path, retry_s=retry_s, report=self.report)
 
     def close(self) -> None:
         """Close the device (idempotent) and forget its state."""

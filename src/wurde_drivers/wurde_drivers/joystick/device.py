@@ -1,7 +1,7 @@
 """Reading a Linux joystick device (``/dev/input/js0``) or anything that carries its js_event
 bytes: a FIFO the ``joystick_emulator`` writes, a pseudo-terminal in raw mode.
 
-:class:`JoystickDevice` never blocks and never raises for the device's sake: :meth:`poll` opens
+:class:`JoystickDriver` never blocks and never raises for the device's sake: :meth:`poll` opens
 the path when it is not open (at most every ``retry_s`` seconds), reads whatever is there and
 returns the decoded events.  It tells its states apart (:attr:`state`) and reports each change
 once through ``report``:
@@ -29,10 +29,10 @@ from collections.abc import Callable
 from ..ports.retry import RetryGate
 from .codec import JsDecoder, JsEvent
 
-__all__ = ['DeviceState', 'JoystickDevice']
+__all__ = ['DeviceState', 'JoystickDevice', 'JoystickDriver']
 
 _READ_BYTES = 64 * 8
-#: Reads per :meth:`JoystickDevice.poll` at most: a flood never holds the caller's loop.
+#: Reads per :meth:`JoystickDriver.poll` at most: a flood never holds the caller's loop.
 _MAX_READS = 16
 
 
@@ -42,15 +42,17 @@ class DeviceState(enum.Enum):
     LIVE = 'live'
 
 
-class JoystickDevice:
-    """The joystick at ``path``.  Construct (no I/O), :meth:`poll` each loop, :meth:`close`.
-
-    :param retry_s: least time between two attempts to open an absent device.
-    :param report: called with a one-line message at each change of state.
-    """
+class JoystickDriver:
+    """The joystick at a device path.  Construct (no I/O), :meth:`poll` each loop, :meth:`close`."""
 
     def __init__(self, path: str, *, retry_s: float = 1.0,
                  report: Callable[[str], object] | None = None) -> None:
+        """Keep the settings; the device is opened by :meth:`poll`.
+
+        :param path: the device, e.g. ``/dev/input/js0``.
+        :param retry_s: least time between two attempts to open an absent device.
+        :param report: called with a one-line message at each change of state.
+        """
         self.path = path
         self.retry_s = retry_s
         self.report = report or (lambda message: None)
@@ -69,7 +71,10 @@ class JoystickDevice:
         return self.decoder.dropped
 
     def poll(self, now: float | None = None) -> list[JsEvent]:
-        """Open if due, then read without blocking; the events that came (maybe none)."""
+        """Open if due, then read without blocking; the events that came (maybe none).
+
+        :param now: ``time.monotonic()``; None reads the clock.
+        """
         now = time.monotonic() if now is None else now
         if self._fd < 0 and not self._open(now):
             return []
@@ -142,3 +147,6 @@ class JoystickDevice:
     def _set(self, state: DeviceState, message: str) -> None:
         self.state = state
         self.report(message)
+
+
+JoystickDevice = JoystickDriver  # old name (docs/naming.md)

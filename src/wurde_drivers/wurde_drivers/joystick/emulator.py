@@ -205,8 +205,8 @@ class JoystickEmulator:
     def _flush(self) -> None:
         """Write what is queued, as many events at once as one atomic FIFO write holds: a
         reader gets the init events of its open in one read, as from the kernel (whose read
-        makes them all at once).  Written one by one, a reader on a loaded machine took the
-        first axis's init event as the whole state (r50: axis 1 read 0, not -20000)."""
+        makes them all at once).  Written one by one, a reader on a loaded machine can take the
+        first axis's init event as the whole state (the other axes then read 0)."""
         while True:
             with self._lock:
                 if not self._queue or self._fd < 0:

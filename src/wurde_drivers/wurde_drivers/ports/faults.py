@@ -1,32 +1,15 @@
 """What went wrong on a serial line, told apart so that each kind is counted and handled as it is.
 
-pyserial reports trouble in three shapes: a ``SerialException`` whose context (``__context__``) is
-the ``OSError`` or ``termios.error`` it came from, a bare ``OSError`` (the ``TIOCINQ`` ioctl behind
-``in_waiting``), or a bare ``termios.error`` (``flush``, ``reset_input_buffer``).  :func:`classify`
-finds the errno in any of them and names the kind of fault:
-
-================ ============================================== ==============================
-fault            from                                           what the link does
-================ ============================================== ==============================
-``WOULD_BLOCK``  EAGAIN / EWOULDBLOCK / EINTR; a write timeout   nothing can move now: retry
-                 (the device takes no bytes: flow control or a   later; the port stays open
-                 full buffer)
-``IO_ERROR``     EIO (the line failed: the far end of a pty      disconnect, reopen after
-                 closed, a hung-up terminal)                     ``retry_s``
-``VANISHED``     ENXIO / ENODEV / ENOENT, or a read at end of    disconnect, reopen after
-                 file ("readiness to read but returned no        ``retry_s``
-                 data": how Linux shows an unplugged adapter
-                 or a hung-up pty)
-``REFUSED``      EINVAL / ENOTTY / EOPNOTSUPP, or pyserial's     the setting is neither made
-                 ``ValueError`` for a speed it cannot set        nor recorded; the port stays
-                                                                 open
-``OTHER``        any other errno                                 disconnect, reopen after
-                                                                 ``retry_s``
-================ ============================================== ==============================
+pyserial reports trouble in three shapes (a ``SerialException`` wrapping an ``OSError`` or
+``termios.error``, a bare ``OSError``, a bare ``termios.error``); :func:`classify` finds the errno
+in any of them and names the kind of fault: ``WOULD_BLOCK`` (nothing can move now: retried, the
+port stays open), ``IO_ERROR`` and ``VANISHED`` (the port is closed and reopened after
+``retry_s``), ``REFUSED`` (a setting is neither made nor recorded), ``OTHER``.
+docs/wurde-drivers.md ("ports.faults") gives the errno table.
 
 What is not a port error — a ``TypeError``, pyserial's ``PortNotOpenError`` (our own bug: using a
 port we closed), any other exception — is not classified: :func:`is_port_error` says so, and the
-link lets it propagate.
+link lets it propagate.  Keep it so: a programming error must not be retried as a line fault.
 """
 
 from __future__ import annotations

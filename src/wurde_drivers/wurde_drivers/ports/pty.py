@@ -3,7 +3,7 @@
 The emulator owns the master side; the driver opens the slave path (``device.path``) with pyserial
 exactly as it would open ``/dev/ttyS0``. Baud-rate changes the driver makes on the slave are visible
 on the master (docs/protocols.md 6), so an emulator can follow a device's baud switching through
-:attr:`PtyDevice.baudrate`. The slave fd is kept open here: reads on a master fail with EIO once no
+:attr:`PtyEmulator.baudrate`. The slave fd is kept open here: reads on a master fail with EIO once no
 slave fd is open, which would make the emulator die whenever the driver reconnects.
 
 Subclasses implement :meth:`on_bytes` (called from the reader thread with whatever arrived) and may
@@ -26,13 +26,18 @@ _SPEEDS = {getattr(termios, f'B{rate}'): rate for rate in
            if hasattr(termios, f'B{rate}')}
 
 
-class PtyDevice:
+class PtyEmulator:
     """Base of the serial emulators: a pty pair, one thread, ``on_bytes`` and ``tick`` hooks.
 
     Use as a context manager, or call :meth:`start` and :meth:`stop` (idempotent).
     """
 
     def __init__(self, *, tick_s: float = 0.005) -> None:
+        """Open the pty pair (raw, the master non-blocking); :meth:`start` runs the thread.
+
+        :param tick_s: seconds between two turns of the thread: the longest wait for input, and the
+            period of :meth:`tick`.
+        """
         self._master, self._slave = os.openpty()
         tty.setraw(self._master)
         tty.setraw(self._slave)
@@ -55,7 +60,7 @@ class PtyDevice:
         self._turned = threading.Condition()
 
     # -- life cycle ---------------------------------------------------------------------------
-    def start(self) -> 'PtyDevice':
+    def start(self) -> 'PtyEmulator':
         self._thread.start()
         return self
 
@@ -70,7 +75,7 @@ class PtyDevice:
                 pass
         self._master = self._slave = -1
 
-    def __enter__(self) -> 'PtyDevice':
+    def __enter__(self) -> 'PtyEmulator':
         return self.start()
 
     def __exit__(self, *exc: object) -> None:
@@ -87,7 +92,11 @@ class PtyDevice:
         return _SPEEDS.get(speed, 0)
 
     def write(self, data: bytes) -> None:
-        """Send ``data`` to the driver (dropped while unplugged)."""
+        """Send ``data`` to the driver (dropped while unplugged).
+
+        :param data: the bytes; what the driver's side cannot take now is dropped and counted in
+            ``bytes_dropped``, as on a real line.
+        """
         if self.unplugged.is_set() or self._master < 0:
             return
         with self._write_lock:
@@ -106,8 +115,10 @@ class PtyDevice:
 
         After a change made from another thread (``silent``, ``unplugged``, a fault), whatever
         the turn under way had decided under the old state is then on the line, and nothing
-        more of it is to come: the event tests wait for instead of a guessed time.  False if
-        the thread did not turn within ``timeout`` (it is stopped, or stuck).
+        more of it is to come: the event tests wait for instead of a guessed time.
+
+        :param timeout: the longest wait in seconds.
+        :returns: False if the thread did not turn within ``timeout`` (it is stopped, or stuck).
         """
         with self._turned:
             target = self.turns + 2
@@ -117,10 +128,16 @@ class PtyDevice:
 
     # -- hooks ----------------------------------------------------------------------------------
     def on_bytes(self, data: bytes) -> None:
-        """Handle bytes the driver wrote (override)."""
+        """Handle bytes the driver wrote (override); called on the emulator's thread.
+
+        :param data: what one read of the master returned (up to 4096 bytes).
+        """
 
     def tick(self, now: float) -> None:
-        """Periodic work, e.g. a streaming device's next telegram (override)."""
+        """Periodic work, e.g. a streaming device's next telegram (override); called on the emulator's thread.
+
+        :param now: ``time.monotonic()`` of this turn.
+        """
 
     # -- thread ---------------------------------------------------------------------------------
     def _run(self) -> None:
@@ -143,3 +160,6 @@ class PtyDevice:
         except BaseException as error:  # kept for the test to see; the thread must not die silently
             self.error = error
             raise
+
+
+PtyDevice = PtyEmulator  # old name (docs/naming.md)

@@ -69,19 +69,20 @@ _DISCONNECT_COUNTERS = {Fault.IO_ERROR: 'io_errors', Fault.VANISHED: 'vanished',
 
 
 class SerialLink:
-    """One serial device at ``url``; opened on demand, reopened after it vanishes.
-
-    :param url: a pyserial URL or device path.
-    :param baudrate: the initial line speed.
-    :param parity: ``serial.PARITY_NONE`` or ``serial.PARITY_EVEN`` (SICK PLS); set at construction,
-        because changing parity on an open pty fails (docs/protocols.md 6).
-    :param retry_s: least time between two attempts to reopen a vanished device.
-    :param write_timeout: longest wait for the device to take a write's bytes (then the write
-        fails as ``would_block``; the port stays open).
-    """
+    """One serial device at a URL; opened on demand, reopened after it vanishes."""
 
     def __init__(self, url: str, baudrate: int, *, parity: str = serial.PARITY_NONE,
                  retry_s: float = 0.5, write_timeout: float = 1.0) -> None:
+        """Keep the settings; nothing is opened until :meth:`open` or the first read or write.
+
+        :param url: a pyserial URL or device path.
+        :param baudrate: the initial line speed.
+        :param parity: ``serial.PARITY_NONE`` or ``serial.PARITY_EVEN`` (SICK PLS); set at construction,
+            because changing parity on an open pty fails (docs/protocols.md 6).
+        :param retry_s: least time between two attempts to reopen a vanished device.
+        :param write_timeout: longest wait for the device to take a write's bytes (then the write
+            fails as ``would_block``; the port stays open).
+        """
         self._url = url
         self.baudrate = baudrate
         self.parity = parity
@@ -96,7 +97,14 @@ class SerialLink:
 
     @property
     def url(self) -> str:
-        """The device's URL or path."""
+        """Move to another device path (udev renamed it).
+
+        A port open at the old path is closed, so that the next read opens the new one at once.  While
+        the device was gone, the old path may have been given to another device (a pseudo-terminal
+        number is reused at once): a link that kept that port would read the wrong device for ever.
+
+        :param url: the new pyserial URL or device path.
+        """
         return self._url
 
     @url.setter
@@ -182,6 +190,7 @@ class SerialLink:
         be (a port that takes the request but keeps its old speed has refused it).  While the
         port is closed the speed is recorded for the next open, which applies it or fails.
 
+        :param baudrate: the new speed.
         :raises TypeError: ``baudrate`` is not an int (a bug, not a port fault).
         :raises DeviceError: the port refused the speed (counted in ``refused``; the line keeps
             the old one and so does :attr:`baudrate`), or the port failed while changing it
@@ -238,8 +247,9 @@ class SerialLink:
 
         With the device gone this still waits out ``timeout``, so a poll loop does not spin — but
         it tries to reopen the device every ``retry_s`` meanwhile and reads from it once it is
-        back (a long read that slept out its whole timeout missed a device that came back at
-        once: a GPS test saw no fix in 20 s).
+        back: a read that slept out its whole timeout would miss a device that came back at once.
+
+        :param timeout: the longest wait in seconds.
         """
         deadline = time.monotonic() + timeout
         wait = max(0.0, timeout)
@@ -270,8 +280,12 @@ class SerialLink:
             return data
 
     def write(self, data: bytes) -> bool:
-        """Send ``data``; False if it could not go now (``would_block``: the port stays open) or
-        the device is not there (counted as a disconnect)."""
+        """Send ``data``.
+
+        :param data: the bytes to send; the write waits at most ``write_timeout`` for the device to take them.
+        :returns: False if it could not go now (``would_block``: the port stays open) or the device
+            is not there (counted as a disconnect).
+        """
         if not self._ensure_open():
             return False
         assert self._port is not None

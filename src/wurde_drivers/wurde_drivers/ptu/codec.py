@@ -51,6 +51,7 @@ def encode_command(command: Command | str, value: int | None = None) -> bytes:
     """``pp-500 ``: lower case, the value in plain decimal, a space as delimiter.
 
     :param command: a :class:`Command`, or a mnemonic with ``value`` given separately.
+    :param value: the integer argument of a mnemonic; ignored with a :class:`Command`.
     :raises CodecError: a mnemonic that is not 1-4 letters, or a value that is not an int.
     """
     if isinstance(command, Command):
@@ -68,8 +69,9 @@ def encode_command(command: Command | str, value: int | None = None) -> bytes:
 
 
 def decode_command(token: bytes) -> Command:
-    """One command token without its delimiter (``PP-500``), as the unit reads it.
+    """One command token as the unit reads it.
 
+    :param token: the token without its delimiter, e.g. ``PP-500`` (any case).
     :raises CodecError: the token is not letters followed by an optional integer.
     """
     match = _TOKEN.fullmatch(token)
@@ -85,6 +87,9 @@ def decode_commands(data: bytes) -> tuple[list[bytes], bytes]:
 
     Empty tokens (a bare delimiter, as Player sends first) are dropped; ``\\n`` counts as a
     delimiter too, so a terminal's CR LF does not make an empty command.
+
+    :param data: the bytes held so far (the previous rest included).
+    :returns: the tokens and the bytes after the last delimiter.
     """
     tokens = re.split(rb'[ \r\n\t]', data)
     rest = tokens.pop()
@@ -140,8 +145,9 @@ def _text(raw: bytes, what: str) -> str:
 
 
 def decode_reply(line: bytes) -> Reply:
-    """One reply line, starting at ``*`` or ``!``, without the line end.
+    """One reply line.
 
+    :param line: from ``*`` or ``!``; a trailing line end or blanks are dropped.
     :raises CodecError: anything that is not one of the five reply forms.
     """
     line = line.rstrip(b' \r\n')
@@ -161,6 +167,7 @@ def decode_reply(line: bytes) -> Reply:
 def encode_reply(reply: Reply) -> bytes:
     """The line the unit writes for ``reply``, ending in ``\\r\\n``.
 
+    :param reply: any of the five reply forms.
     :raises CodecError: a text or message that could not be decoded back (not printable ASCII,
         leading or trailing blanks, empty error message).
     """
@@ -208,7 +215,10 @@ class PtuDeframer:
         self._discarding = False
 
     def feed(self, data: bytes) -> list[Reply]:
-        """Every complete reply in ``data`` (with what was buffered before), in order."""
+        """Every complete reply in ``data`` (with what was buffered before), in order.
+
+        :param data: bytes as read from the line; a partial line is kept for the next call.
+        """
         out: list[Reply] = []
         self._buffer += data
         while True:

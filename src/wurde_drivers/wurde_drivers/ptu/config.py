@@ -57,6 +57,7 @@ def _device(path: str, node: etree._Element) -> PtuDevice:
 def load_ptu_config(path: str | os.PathLike[str]) -> list[PtuDevice]:
     """Every device of the file, in order.
 
+    :param path: the ptu-config.xml to read.
     :raises ConfigError: naming the file and line: malformed XML, wrong root, unknown element or
         attribute, a missing required attribute, a bad value, a duplicate name, no device at all.
     """

@@ -1,6 +1,6 @@
 """Device layer of the Directed Perception PTU-46 pan-tilt unit (docs/protocols.md 2; WURDE guide 7.4).
 
-:class:`Ptu46` speaks the unit's ASCII protocol over a :class:`~wurde_drivers.ports.serial_link.SerialLink`
+:class:`PtuDriver` speaks the unit's ASCII protocol over a :class:`~wurde_drivers.ports.serial_link.SerialLink`
 (9600 8N1) and works in SI units: angles in rad (pan counter-clockwise positive, tilt up
 positive, as the PTUnit interface says), speeds in rad/s, accelerations in rad/s^2. It converts
 with the resolution the unit reports (``pr``/``tr``, arc-seconds per position).
@@ -28,7 +28,7 @@ from ..ports.serial_link import LinkStats, SerialLink
 from .codec import (Command, Error, LimitHit, Ok, PtuDeframer, Reply, ResetDone,
                           encode_command)
 
-__all__ = ['BAUDRATE', 'Ptu46', 'PtuEvent', 'PtuLimits', 'PtuState']
+__all__ = ['BAUDRATE', 'Ptu46', 'PtuDriver', 'PtuEvent', 'PtuLimits', 'PtuState']
 
 BAUDRATE = 9600
 _ARCSEC = math.pi / (180.0 * 3600.0)
@@ -60,7 +60,7 @@ class PtuLimits:
 
 @dataclasses.dataclass(frozen=True)
 class PtuState:
-    """One :meth:`Ptu46.query`: measured angles (rad), desired speeds (rad/s, signed in velocity
+    """One :meth:`PtuDriver.query`: measured angles (rad), desired speeds (rad/s, signed in velocity
     mode), velocities estimated from this and the previous query (rad/s; 0 on the first one),
     whether an axis moves, and the monotonic time of the query."""
 
@@ -74,18 +74,19 @@ class PtuState:
     stamp: float
 
 
-class Ptu46:
-    """A PTU-46 on ``link``. Construct (no I/O), :meth:`connect`, command, :meth:`close`.
-
-    :param link: the port, at :data:`BAUDRATE`.
-    :param reply_timeout: longest wait for one reply (s).
-    :param reset_timeout: longest wait for the reset string after ``r`` (a real unit needs
-        many seconds to recalibrate).
-    :param connect_timeout: longest :meth:`connect` when a command reconnects by itself.
-    """
+class PtuDriver:
+    """A PTU-46 on a serial link. Construct (no I/O), :meth:`connect`, command, :meth:`close`."""
 
     def __init__(self, link: SerialLink, *, reply_timeout: float = 1.0,
                  reset_timeout: float = 30.0, connect_timeout: float = 5.0) -> None:
+        """Keep the settings; no I/O until :meth:`connect`.
+
+        :param link: the port, at :data:`BAUDRATE`.
+        :param reply_timeout: longest wait for one reply (s).
+        :param reset_timeout: longest wait for the reset string after ``r`` (a real unit needs
+            many seconds to recalibrate).
+        :param connect_timeout: longest :meth:`connect` when a command reconnects by itself.
+        """
         self.link = link
         self.reply_timeout = reply_timeout
         self.reset_timeout = reset_timeout
@@ -128,6 +129,7 @@ class Ptu46:
         then queries ``pr tr pn px tn tx pl pu tl tu`` (and ``pp tp``). If those make no sense (a unit that lost
         its calibration), resets it (``r``, expecting ``!T!T!P!P*``) and asks again.
 
+        :param timeout: the longest the whole initialisation may take, in seconds.
         :raises DeviceTimeout: the unit did not answer within ``timeout`` (or is not there).
         :raises DeviceError: it answered with an error or with values that make no sense.
         """
@@ -191,8 +193,12 @@ class Ptu46:
 
     # -- commands -------------------------------------------------------------------------------
     def set_position(self, pan: float, tilt: float) -> tuple[float, float]:
-        """Move to ``pan``, ``tilt`` (rad), clamped to the limits; returns the angles commanded
-        (clamped and rounded to whole position steps). In velocity mode the unit ignores it."""
+        """Move to a position, clamped to the limits. In velocity mode the unit ignores it.
+
+        :param pan: rad.
+        :param tilt: rad.
+        :returns: the angles commanded (clamped and rounded to whole position steps), rad.
+        """
         self._ensure()
         counts = (self._count('p', pan, 'pn', 'px'), self._count('t', tilt, 'tn', 'tx'))
         deadline = self._deadline(2)
@@ -202,10 +208,14 @@ class Ptu46:
         return counts[0] * self._resolution('p'), counts[1] * self._resolution('t')
 
     def set_speed(self, pan: float, tilt: float) -> tuple[float, float]:
-        """Set the speeds (rad/s) and return those commanded.
+        """Set the speeds and return those commanded.
 
         In position mode the magnitude is used, clamped to the unit's speed bounds; in velocity
         mode the sign gives the direction, 0 stops, other magnitudes are clamped to the bounds.
+
+        :param pan: rad/s.
+        :param tilt: rad/s.
+        :returns: the speeds commanded, rad/s (whole position steps per second).
         """
         self._ensure()
         counts = (self._speed_count('p', pan), self._speed_count('t', tilt))
@@ -215,7 +225,11 @@ class Ptu46:
         return counts[0] * self._resolution('p'), counts[1] * self._resolution('t')
 
     def set_acceleration(self, pan: float, tilt: float) -> tuple[float, float]:
-        """Set the accelerations (rad/s^2, at least one position step/s^2); returns those set."""
+        """Set the accelerations; returns those set (rad/s², whole position steps).
+
+        :param pan: rad/s²; the magnitude is used, at least one position step/s².
+        :param tilt: rad/s², likewise.
+        """
         self._ensure()
         counts = tuple(max(1, round(abs(value) / self._resolution(axis)))
                        for axis, value in (('p', pan), ('t', tilt)))
@@ -225,7 +239,10 @@ class Ptu46:
         return counts[0] * self._resolution('p'), counts[1] * self._resolution('t')
 
     def set_velocity_mode(self, enabled: bool) -> None:
-        """Pure velocity control (``cv``: signed speeds drive the axes) or independent (``ci``)."""
+        """Pure velocity control (``cv``: signed speeds drive the axes) or independent (``ci``).
+
+        :param enabled: True for ``cv``, False for ``ci``.
+        """
         self._ensure()
         self._exchange(Command('cv' if enabled else 'ci'), self._deadline(1))
         self._velocity_mode = enabled
@@ -252,7 +269,7 @@ class Ptu46:
         uncertain, so the interval must also be :data:`TIMING_MARGIN` times the two samples'
         uncertainty: on a loaded machine, where a round trip is late by tens of milliseconds,
         the estimate waits for a longer baseline instead of dividing by a guessed interval (a
-        20 ms interval read 36 % too fast in CI).
+        short interval with a late round trip reads far too fast).
         """
         self._ensure()
         deadline = self._deadline(4)
@@ -283,10 +300,13 @@ class Ptu46:
 
     def command(self, name: str, value: int | None = None, *, timeout: float | None = None
                 ) -> Ok:
-        """Send any command (``'pp'``, ``3200``) and return the unit's ``*`` reply: the way to
-        what this class has no method for (``le``/``ld``, ``s``/``a``, ``fv``, ``v``).
+        """Send any command and return the unit's ``*`` reply: the way to what this class has no
+        method for (``le``/``ld``, ``s``/``a``, ``fv``, ``v``).
 
+        :param name: the mnemonic, e.g. ``'pp'`` (1-4 letters).
+        :param value: its integer argument, e.g. ``3200``; None for a query or a bare command.
         :param timeout: longest wait for the reply (default ``reply_timeout``).
+        :raises DeviceError: the unit answered ``!`` (or DeviceTimeout: it did not answer).
         """
         self._ensure()
         reply = self._exchange(Command(name, value),
@@ -297,9 +317,10 @@ class Ptu46:
     def poll(self, timeout: float) -> list[PtuEvent]:
         """Asynchronous events (:class:`LimitHit`, an unasked :class:`ResetDone`).
 
-        Returns at once with the events already kept, else waits until one arrives or
-        ``timeout`` passes. Never raises; garbage is counted (:attr:`bad_lines`). A limit hit
-        with limits enforced means the unit lost its calibration: call :meth:`reset`.
+        A limit hit with limits enforced means the unit lost its calibration: call :meth:`reset`.
+
+        :param timeout: the longest wait in seconds when no event is kept already.
+        :returns: the events, oldest first; never raises, garbage is counted (:attr:`bad_lines`).
         """
         deadline = time.monotonic() + timeout
         while not self._events:
@@ -405,3 +426,6 @@ class Ptu46:
             self._events.append(reply)
         else:
             self.unsolicited += 1
+
+
+Ptu46 = PtuDriver  # old name (docs/naming.md)

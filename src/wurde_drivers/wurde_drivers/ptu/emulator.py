@@ -28,10 +28,10 @@ import time
 
 from ..errors import CodecError
 from ..motion import ramp_step
-from ..ports.pty import PtyDevice
+from ..ports.pty import PtyEmulator
 from .codec import Error, LimitHit, Ok, Reply, ResetDone, decode_command, encode_reply
 
-__all__ = ['Ptu46Emulator', 'VERSION']
+__all__ = ['Ptu46Emulator', 'PtuEmulator', 'VERSION']
 
 VERSION = 'Pan-Tilt Controller v2.14.0, (C)2006 Directed Perception, Inc., All Rights Reserved'
 #: The unit's lowest allowed lower speed bound (manual 4.4.6: ``PL20 ! Motor speed cannot be ...``).
@@ -83,13 +83,15 @@ class _Axis:
             self.velocity = 0.0
 
 
-class Ptu46Emulator(PtyDevice):
-    """A PTU-46 that a driver opens at ``path`` (9600 8N1).
-
-    :param reset_s: how long ``R`` takes before ``!T!T!P!P*`` is printed.
-    """
+class PtuEmulator(PtyEmulator):
+    """A PTU-46 that a driver opens at ``path`` (9600 8N1)."""
 
     def __init__(self, *, reset_s: float = 0.0, tick_s: float = 0.005) -> None:
+        """Open the pty and power up; :meth:`start` runs it.
+
+        :param reset_s: seconds ``R`` takes before ``!T!T!P!P*`` is printed.
+        :param tick_s: seconds between two turns of the emulator's thread, and the axes' motion step.
+        """
         super().__init__(tick_s=tick_s)
         self.reset_s = reset_s
         #: Set: input is read but never echoed nor answered.
@@ -104,22 +106,34 @@ class Ptu46Emulator(PtyDevice):
 
     # -- faults (called from the test thread) -------------------------------------------------
     def inject_garbage(self, data: bytes | None = None) -> None:
-        """Write ``data`` (default: random bytes and a line end) to the driver."""
+        """Write garbage to the driver.
+
+        :param data: the bytes; None: 24 random bytes (no line end among them) and ``\\r\\n``.
+        """
         self.write(data if data is not None else os.urandom(24).replace(b'\n', b'?') + b'\r\n')
 
     def inject_limit_hit(self, axis: str = 'pan') -> None:
-        """Print an asynchronous ``!P`` (or ``!T``) as when an axis hits its limit."""
+        """Print an asynchronous ``!P`` (or ``!T``) as when an axis hits its limit.
+
+        :param axis: ``'pan'``; anything else means tilt.
+        """
         self.write(encode_reply(LimitHit('pan' if axis == 'pan' else 'tilt')))
 
     def corrupt_next(self, count: int = 1) -> None:
-        """Replace the next ``count`` replies by garbage lines."""
+        """Replace the next ``count`` replies by garbage lines.
+
+        :param count: how many; replaces any count still pending.
+        """
         self._corrupt = count
 
     def unplug(self) -> None:
         self.unplugged.set()
 
     def replug(self, *, power_cycle: bool = True) -> None:
-        """Come back; with ``power_cycle`` the unit has forgotten every setting."""
+        """Come back after :meth:`unplug`.
+
+        :param power_cycle: the unit was powered off and has forgotten every setting.
+        """
         self._power_cycle = power_cycle
         self.unplugged.clear()
 
@@ -166,6 +180,10 @@ class Ptu46Emulator(PtyDevice):
             self._power_on()
 
     def on_bytes(self, data: bytes) -> None:
+        """Echo and answer the commands in ``data`` (held while a command or a reset is under way).
+
+        :param data: the bytes read from the pty, in any pieces.
+        """
         self._check_power()
         if not self._held_replay:
             self.received += data
@@ -176,8 +194,8 @@ class Ptu46Emulator(PtyDevice):
             self._held += data
             return
         # A real unit reads its position when asked: after a stall of this thread on a loaded
-        # machine, the axes are where the time says, not where the last tick left them (a query
-        # answered before the catch-up and the next after it read a speed 34 % too high in CI).
+        # machine, the axes are where the time says, not where the last tick left them (else a
+        # query answered before the catch-up and the next one after it read a speed far too high).
         self._advance(time.monotonic())
         out = bytearray()
         for index in range(len(data)):
@@ -209,6 +227,10 @@ class Ptu46Emulator(PtyDevice):
         return encode_reply(reply)
 
     def tick(self, now: float) -> None:
+        """Move the axes to ``now``; finish a reset, or answer an awaited move (``a``) that has ended.
+
+        :param now: ``time.monotonic()`` of this turn.
+        """
         self._check_power()
         self._advance(now)
         if self._reset_at is not None and now >= self._reset_at:
@@ -418,3 +440,6 @@ _FLAGS = {'ee': ('_echo', True), 'ed': ('_echo', False), 'fv': ('_verbose', True
           'le': ('_enforce', True), 'ld': ('_enforce', False)}
 _UNIT_COMMANDS = frozenset(_FLAGS) | {'e', 'f', 'l', 'c', 'ci', 'cv', 'a', 'h', 'hp', 'ht', 'r', 'v',
                                       'ds', 'dr', 'df'}
+
+
+Ptu46Emulator = PtuEmulator  # old name (docs/naming.md)

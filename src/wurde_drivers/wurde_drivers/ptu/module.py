@@ -42,7 +42,7 @@ from ..ports.serial_link import SerialLink
 from ..ros_std_joints import JointStatePublisher, pan_tilt_standard
 from .codec import LimitHit
 from .config import load_ptu_config
-from .device import Ptu46
+from .device import PtuDriver
 
 #: Loop sleep and longest wait for the unit's asynchronous messages per loop (s).
 LOOP_S = 0.02
@@ -75,15 +75,22 @@ class Commanded:
     halt: bool = False
 
 
-class PtuServer:
-    """The module's work between one PTUnit supplier and one :class:`Ptu46`; one thread.
+class PtuModule:
+    """The module's work between one PTUnit supplier and one :class:`PtuDriver`; one thread.
 
     :meth:`step` is called once per loop: (re)connects, applies requests, reads and publishes.
     """
 
-    def __init__(self, device: Ptu46, stream: PTUnit, logger: Logger, *, period: float,
+    def __init__(self, device: PtuDriver, stream: PTUnit, logger: Logger, *, period: float,
                  joints: JointStatePublisher | None = None) -> None:
-        """:param joints: the standard mirror of each reading, if any."""
+        """Nothing is connected yet: the first :meth:`step` tries.
+
+        :param device: the unit (constructed, not connected).
+        :param stream: the PTUnit supplier, registered, read-only info members locked.
+        :param logger: where connection changes and limit hits are logged (each outage once).
+        :param period: seconds between two readings published.
+        :param joints: the standard mirror of each reading (``/N/joint_states``), if any.
+        """
         self.device = device
         self.joints = joints
         self.stream = stream
@@ -263,15 +270,24 @@ class PtuServer:
                                      '(with limits enforced: the unit may need a reset)')
 
 
+PtuServer = PtuModule  # old name (docs/naming.md)
+
+
 def main(argv: list[str] | None = None) -> int:
+    """The PTU server program (``ptu_server``, or the guide's ``safePTUserver``).
+
+    :param argv: the command line, program name first; None: ``sys.argv``.  Run as
+        ``safePTUserver`` without ``-n``, the stream is the guide's ``SafePTUServer``.
+    :returns: the exit status.
+    """
     argv = list(sys.argv if argv is None else argv)
     guide = bool(argv) and os.path.basename(argv[0]) == GUIDE_PROGRAM
     manager = CommsManager(GUIDE_PROGRAM if guide else 'PTUServer')
     config = configured_device(manager, argv, 'ptu-config.xml', load_ptu_config)
     stream_name = GUIDE_STREAM if guide and manager.options.name is None else manager.name
-    device = Ptu46(SerialLink(config.port, config.baud, retry_s=RETRY_S),
-                   reply_timeout=REPLY_TIMEOUT_S, reset_timeout=CONNECT_TIMEOUT_S,
-                   connect_timeout=CONNECT_TIMEOUT_S)
+    device = PtuDriver(SerialLink(config.port, config.baud, retry_s=RETRY_S),
+                       reply_timeout=REPLY_TIMEOUT_S, reset_timeout=CONNECT_TIMEOUT_S,
+                       connect_timeout=CONNECT_TIMEOUT_S)
     stream = PTUnit(stream_name)
     stream.set_auto_timestamp(False)
     # Every request in order: each sets only some members, so keeping just the latest of two
@@ -283,7 +299,7 @@ def main(argv: list[str] | None = None) -> int:
     manager.register_supplier(stream)
     manager.register_supplier(logger)
     set_loop(manager, LOOP_S)
-    server = PtuServer(device, stream, logger, period=1.0 / config.rate,
+    server = PtuModule(device, stream, logger, period=1.0 / config.rate,
                        joints=pan_tilt_standard(manager.node, manager.name, config.mount))
     return run_loop(manager, server.step, device.close)
 

@@ -92,7 +92,10 @@ class Packet:
 
 
 def crc(body: bytes) -> int:
-    """XOR of ``body`` (PORT..DATA), as ``computeCRC`` in every source."""
+    """XOR of ``body`` (PORT..DATA), as ``computeCRC`` in every source.
+
+    :param body: PORT, ID, OPCODE, DLEN and DATA, un-stuffed.
+    """
     value = 0
     for byte in body:
         value ^= byte
@@ -100,7 +103,12 @@ def crc(body: bytes) -> int:
 
 
 def encode(packet: Packet, *, stuff: bool = False) -> bytes:
-    """The frame of ``packet``; with ``stuff`` every 0x1B of PORT..CRC is sent as ``1B 00``."""
+    """The frame of ``packet``, ``ESC STX`` to ``ESC ETX``.
+
+    :param packet: the packet to send.
+    :param stuff: send every 0x1B of PORT..CRC as ``1B 00`` (DLu's reader); False sends the bytes as
+        they are (Player and CARMEN).
+    """
     body = packet.body()
     body += bytes((crc(body),))
     if stuff:
@@ -124,7 +132,11 @@ class _BadCrc(CodecError):
 
 
 def decode(frame: bytes) -> Packet:
-    """One complete frame (stuffed or not) back to its :class:`Packet`; :raises CodecError:."""
+    """One complete frame (stuffed or not) back to its :class:`Packet`.
+
+    :param frame: exactly one frame, ``ESC STX`` to ``ESC ETX``.
+    :raises CodecError: bad delimiters, a wrong length or CRC, or stray bytes.
+    """
     frame = bytes(frame)
     if len(frame) < 9 or frame[:2] != b'\x1b\x02' or frame[-2:] != b'\x1b\x03':
         raise CodecError('rFLEX frame must start with ESC STX and end with ESC ETX')
@@ -162,7 +174,11 @@ class Deframer:
         self._raw = 0
 
     def feed(self, data: bytes) -> list[Packet]:
-        """The packets completed by ``data`` (any chunking); partial frames are kept."""
+        """The packets completed by ``data`` (any chunking); partial frames are kept.
+
+        :param data: bytes as read from the line.
+        :returns: the good packets, in order; bad frames and garbage are only counted.
+        """
         return list(self._feed(data))
 
     def _refuse(self, reason: str) -> None:
@@ -256,7 +272,10 @@ def esc_free(value: int, width: int = 4) -> int:
     Player's "hardware bug" workaround (``rflex_set_velocity``, docs/protocols.md 3) rounds a
     rotational velocity whose second or fourth byte is 0x1B to the nearest 0x1C00.. or 0x1AFF..;
     this applies the same rule to every byte, highest first (for the lowest byte, down to 0x1A).
-    ``value`` may be negative (two's complement); the result has the same sign.
+
+    :param value: the field's value; may be negative (two's complement), and the result has the
+        same sign.
+    :param width: the field's size in bytes.
     """
     mask = (1 << (8 * width)) - 1
     raw = value & mask
@@ -276,8 +295,14 @@ def esc_free_set_dir(axis: int, velocity: int, acceleration: int, torque: int,
                      direction: int) -> Packet:
     """A SET_DIR packet whose data and CRC hold no 0x1B (what the driver sends).
 
-    ``velocity`` and ``acceleration`` go through :func:`esc_free`; should the CRC still come out
-    as 0x1B, the acceleration is moved by one count (harmless) rather than the velocity.
+    Should the CRC still come out as 0x1B, the acceleration is moved by one count (harmless)
+    rather than the velocity.
+
+    :param axis: 0 translation, 1 rotation.
+    :param velocity: |velocity| in counts/s, moved off 0x1B bytes by :func:`esc_free`.
+    :param acceleration: counts/s², moved off 0x1B bytes likewise.
+    :param torque: the axis' torque (Player: 30000 translation, 35000 rotation).
+    :param direction: 1 forward (v >= 0), 0 backward.
     """
     velocity = esc_free(velocity)
     base = esc_free(acceleration)
@@ -306,19 +331,39 @@ def _u8(value: int) -> bytes:
 
 
 def set_dir(axis: int, velocity: int, acceleration: int, torque: int, direction: int) -> Packet:
-    """MOT_AXIS_SET_DIR: |velocity| in counts/s, direction 1 forward (v >= 0) or 0 backward."""
+    """MOT_AXIS_SET_DIR: a velocity magnitude and a direction bit for one axis.
+
+    :param axis: 0 translation, 1 rotation.
+    :param velocity: |velocity| in counts/s.
+    :param acceleration: counts/s².
+    :param torque: the axis' torque (Player: 30000 translation, 35000 rotation).
+    :param direction: 1 forward (v >= 0), 0 backward.
+    :raises CodecError: a field that does not fit its unsigned width.
+    """
     data = _u8(axis) + _u32(velocity, acceleration, torque) + _u8(direction)
     return Packet(Port.MOT, 0, Mot.SET_DIR, data)
 
 
 def set_pos(axis: int, velocity: int, acceleration: int, torque: int, position: int) -> Packet:
-    """MOT_AXIS_SET_POS (CARMEN uses it to reset a counter); ``position`` is signed 32-bit."""
+    """MOT_AXIS_SET_POS (CARMEN uses it to reset a counter).
+
+    :param axis: 0 distance, 1 bearing.
+    :param velocity: counts/s.
+    :param acceleration: counts/s².
+    :param torque: the axis' torque.
+    :param position: the counter's new value, signed 32-bit.
+    """
     data = _u8(axis) + _u32(velocity, acceleration, torque) + _u32(position & 0xFFFFFFFF)
     return Packet(Port.MOT, 0, Mot.SET_POS, data)
 
 
 def system_report_req(period_us: int, mask: int = 3) -> Packet:
-    """MOT_SYSTEM_REPORT_REQ: one report per axis in ``mask`` every ``period_us``; 0, 0 = off."""
+    """MOT_SYSTEM_REPORT_REQ: one MOT_SYSTEM_REPORT per axis in ``mask`` every ``period_us``.
+
+    :param period_us: microseconds between reports (Player and CARMEN: 100000); 0 with mask 0
+        turns them off.
+    :param mask: bit per axis (3: axes 0 and 1).
+    """
     return Packet(Port.MOT, 0, Mot.SYSTEM_REPORT_REQ, _u32(period_us, mask))
 
 
@@ -336,18 +381,30 @@ def brake_release() -> Packet:
 
 def sonar_run(on: bool, echo_delay: int = 30000, ping_delay: int = 0,
               set_delay: int = 0) -> Packet:
-    """SONAR_RUN (ID 4): mode 2 runs the sonars; off sends zeros."""
+    """SONAR_RUN (ID 4): mode 2 runs the sonars; off sends zeros.
+
+    :param on: run the sonars (mode 2) or stop them (13 zero bytes).
+    :param echo_delay: the first 32-bit field, as the sources send it (30000).
+    :param ping_delay: the second field (0).
+    :param set_delay: the third field (0).
+    """
     data = _u32(echo_delay, ping_delay, set_delay) + b'\x02' if on else bytes(13)
     return Packet(Port.SONAR, 4, Sonar.RUN, data)
 
 
 def dio_reports_req(period: int) -> Packet:
-    """DIO_REPORTS_REQ; hosts send ID 0 to turn reports on and ID 4 to turn them off."""
+    """DIO_REPORTS_REQ; hosts send ID 0 to turn reports on and ID 4 to turn them off.
+
+    :param period: the report period as the sources send it; 0 turns the reports off.
+    """
     return Packet(Port.DIO, 0 if period else 4, Dio.REPORTS_REQ, _u32(period))
 
 
 def ir_run(on: bool) -> Packet:
-    """IR_RUN: ``0, 70, 10, 20, 150`` and run 2, or all zeros."""
+    """IR_RUN: ``0, 70, 10, 20, 150`` and run 2, or all zeros.
+
+    :param on: run the infrared sensors, or stop them.
+    """
     data = _u32(0, 70, 10, 20, 150) + b'\x02' if on else bytes(21)
     return Packet(Port.IR, 0, Ir.RUN, data)
 
@@ -390,12 +447,21 @@ class MotorReport:
     _FMT: ClassVar[str] = '>iIBiiii'
 
     def to_packet(self, packet_id: int = 0) -> Packet:
+        """This report as the base sends it (the emulator's side).
+
+        :param packet_id: the packet's ID byte (base reports carry increasing IDs).
+        """
         return Packet(Port.MOT, packet_id, Mot.SYSTEM_REPORT, _pack(
             self._FMT, self.rv, self.timestamp, self.axis, self.position, self.velocity,
             self.acceleration, self.torque))
 
     @classmethod
     def from_packet(cls, packet: Packet) -> 'MotorReport':
+        """The report in a MOT_SYSTEM_REPORT packet.
+
+        :param packet: a packet of port MOT, opcode SYSTEM_REPORT.
+        :raises CodecError: fewer than 25 data bytes.
+        """
         _need(packet, 25, 'MOT_SYSTEM_REPORT')
         rv, stamp, axis, pos, vel, acc, trq = struct.unpack_from(cls._FMT, packet.data)
         return cls(axis, pos, vel, acc, trq, stamp, rv)
@@ -411,11 +477,20 @@ class SystemStatus:
     KEY: ClassVar[tuple[int, int]] = (Port.SYS, Sys.STATUS)
 
     def to_packet(self, packet_id: int = 0) -> Packet:
+        """This reply as the base sends it (the emulator's side).
+
+        :param packet_id: the packet's ID byte.
+        """
         return Packet(Port.SYS, packet_id, Sys.STATUS,
                       _pack('>IIB', self.timestamp, self.voltage_raw, int(self.brake)))
 
     @classmethod
     def from_packet(cls, packet: Packet) -> 'SystemStatus':
+        """The reply in a SYS_STATUS packet.
+
+        :param packet: a packet of port SYS, opcode STATUS.
+        :raises CodecError: fewer than 9 data bytes.
+        """
         _need(packet, 9, 'SYS_STATUS reply')
         stamp, voltage, brake = struct.unpack_from('>IIB', packet.data)
         return cls(voltage, bool(brake), stamp)
@@ -431,11 +506,20 @@ class DioReport:
     KEY: ClassVar[tuple[int, int]] = (Port.DIO, Dio.REPORT)
 
     def to_packet(self, packet_id: int = 0) -> Packet:
+        """This report as the base sends it (the emulator's side).
+
+        :param packet_id: the packet's ID byte.
+        """
         return Packet(Port.DIO, packet_id, Dio.REPORT,
                       _pack('>IBH', self.timestamp, self.address, self.value))
 
     @classmethod
     def from_packet(cls, packet: Packet) -> 'DioReport':
+        """The report in a DIO_REPORT packet.
+
+        :param packet: a packet of port DIO, opcode REPORT.
+        :raises CodecError: fewer than 7 data bytes.
+        """
         _need(packet, 7, 'DIO_REPORT')
         stamp, address, value = struct.unpack_from('>IBH', packet.data)
         return cls(address, value, stamp)
@@ -454,12 +538,21 @@ class SonarReport:
     KEY: ClassVar[tuple[int, int]] = (Port.SONAR, Sonar.REPORT)
 
     def to_packet(self, packet_id: int = 0) -> Packet:
+        """This report as the base sends it (the emulator's side).
+
+        :param packet_id: the packet's ID byte.
+        """
         data = _pack('>II', self.retval, self.timestamp)
         data += b''.join(_pack('>BH', sid, rng) for sid, rng in self.readings)
         return Packet(Port.SONAR, packet_id, Sonar.REPORT, data)
 
     @classmethod
     def from_packet(cls, packet: Packet) -> 'SonarReport':
+        """The readings in a SONAR_REPORT packet.
+
+        :param packet: a packet of port SONAR, opcode REPORT.
+        :raises CodecError: fewer than 8 data bytes, or a tail that is not whole triplets.
+        """
         _need(packet, 8, 'SONAR_REPORT')
         if (len(packet.data) - 8) % 3:
             raise CodecError(f'SONAR_REPORT of {len(packet.data)} bytes is not 8 + 3n')
@@ -479,11 +572,20 @@ class JoystickState:
     KEY: ClassVar[tuple[int, int]] = (Port.JSTK, Jstk.GET_STATE)
 
     def to_packet(self, packet_id: int = 0) -> Packet:
+        """This reply as the base sends it (the emulator's side).
+
+        :param packet_id: the packet's ID byte.
+        """
         return Packet(Port.JSTK, packet_id, Jstk.GET_STATE,
                       _pack('>IiiB', self.timestamp, self.x, self.y, self.buttons))
 
     @classmethod
     def from_packet(cls, packet: Packet) -> 'JoystickState':
+        """The state in a JSTK_GET_STATE reply.
+
+        :param packet: a packet of port JSTK, opcode GET_STATE.
+        :raises CodecError: fewer than 13 data bytes.
+        """
         _need(packet, 13, 'JSTK state')
         stamp, x, y, buttons = struct.unpack_from('>IiiB', packet.data)
         return cls(x, y, buttons, stamp)
@@ -497,6 +599,7 @@ _REPORTS = {cls.KEY: cls for cls in (MotorReport, SystemStatus, DioReport, Sonar
 def decode_report(packet: Packet) -> Report | Packet:
     """The report a base packet carries; a packet of another kind comes back unchanged.
 
+    :param packet: a packet from the base.
     :raises CodecError: a known report whose data is too short or malformed.
     """
     cls = _REPORTS.get((packet.port, packet.opcode))

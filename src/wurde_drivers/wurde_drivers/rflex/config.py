@@ -65,6 +65,7 @@ def _device(path: str, node: etree._Element) -> RFlexDevice:
 def load_rflex_config(path: str | os.PathLike[str]) -> list[RFlexDevice]:
     """The devices of ``path``.
 
+    :param path: the rflex-config.xml to read.
     :raises ConfigError: with file and line for a malformed file, an unknown element or attribute,
         a missing or bad attribute, no device at all, or a name used twice.
     """

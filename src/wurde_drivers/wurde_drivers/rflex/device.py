@@ -68,21 +68,31 @@ class RFlexState:
 
 
 class RFlexDriver:
-    """An rFLEX base on ``link``; see the module docstring for the life cycle.
-
-    :param link: the port (115200 baud); :meth:`from_config` builds it from rflex-config.xml.
-    :param robot: units, sonars and bumpers of the robot.
-    :param brake_reset: may the driver release the brake (connect, :meth:`brake`).
-    :param command_timeout: stop the base when no :meth:`set_velocity` came for this long
-        (seconds; None never).
-    :param silence_s: the base counts as silent after this long without a valid packet; must
-        exceed the report period.
-    """
+    """An rFLEX base on a serial link; see the module docstring for the life cycle."""
 
     def __init__(self, link: SerialLink, robot: RobotParams = B21R, *, brake_reset: bool = False,
                  command_timeout: float | None = 1.0, odometry_period_us: int = 100000,
                  dio_period: int = 100000, sonar: bool = True, status_period_s: float = 1.0,
                  silence_s: float = 1.0, resend_s: float = 1.0, max_step: float = 2.0) -> None:
+        """Keep the settings; no I/O until :meth:`connect`.
+
+        :param link: the port (115200 baud); :meth:`from_config` builds it from rflex-config.xml.
+        :param robot: units, sonars and bumpers of the robot.
+        :param brake_reset: may the driver release the brake (connect, :meth:`brake`).
+        :param command_timeout: stop the base when no :meth:`set_velocity` came for this long
+            (seconds; None never).
+        :param odometry_period_us: the MOT_SYSTEM_REPORT period asked for at start-up (µs, axes 0
+            and 1); 0 asks for no odometry.
+        :param dio_period: the DIO_REPORTS_REQ period asked for at start-up; 0 turns DIO reports off.
+        :param sonar: run the sonars (SONAR_RUN at start-up).
+        :param status_period_s: seconds between two SYS_STATUS polls (voltage, brake).
+        :param silence_s: the base counts as silent after this long without a valid packet; must
+            exceed the report period.
+        :param resend_s: seconds between two re-sends of the start-up sequence while the base is
+            silent or sends no odometry.
+        :param max_step: metres (distance) or radians (bearing) between two counter readings beyond
+            which the counter is taken as reset and re-baselined, not integrated.
+        """
         self.link = link
         self.robot = robot
         self.brake_reset = brake_reset
@@ -114,7 +124,11 @@ class RFlexDriver:
 
     @classmethod
     def from_config(cls, device: RFlexDevice, **options: Any) -> 'RFlexDriver':
-        """A driver for one ``<device>`` of rflex-config.xml (no I/O yet); ``options`` as above."""
+        """A driver for one ``<device>`` of rflex-config.xml (no I/O yet).
+
+        :param device: gives the port, the robot type, ``brake-reset`` and ``command-timeout``.
+        :param options: any other keyword of :meth:`__init__`.
+        """
         return cls(SerialLink(device.port, BAUDRATE), device.robot,
                    brake_reset=device.brake_reset, command_timeout=device.command_timeout,
                    **options)
@@ -128,6 +142,7 @@ class RFlexDriver:
     def connect(self, timeout: float = 2.0) -> None:
         """Open the port, send the start-up sequence and wait up to ``timeout`` for an answer.
 
+        :param timeout: seconds to wait for the first valid packet; 0 does not wait.
         :raises DeviceError: the port cannot be opened.
         :raises DeviceTimeout: nothing valid came back within ``timeout`` (> 0). The port stays
             open: :meth:`poll` keeps re-sending the start-up sequence until the base answers, so a
@@ -166,8 +181,13 @@ class RFlexDriver:
                      rot_accel: float | None = None) -> bool:
         """Command both axes (SET_DIR for axis 0 and 1, magnitude plus direction bit).
 
-        Accelerations default to the robot's (0.7 m/s^2; Player's 100000 counts/s^2). Velocities
-        and accelerations are moved off 0x1B bytes (Player's workaround, :func:`esc_free_set_dir`).
+        Velocities and accelerations are moved off 0x1B bytes (Player's workaround,
+        :func:`esc_free_set_dir`).
+
+        :param trans_mps: translational velocity, m/s (negative backwards).
+        :param rot_radps: rotational velocity, rad/s, in the sense of the odometry's theta.
+        :param trans_accel: m/s²; None: the robot's (0.7 m/s²).
+        :param rot_accel: rad/s²; None: the robot's (Player's 100000 counts/s²).
         :returns: False if the device is not there or the driver is not connected (the command
             is lost).
         :raises ValueError: a value that is not finite, a negative acceleration, or out of range.
@@ -200,6 +220,8 @@ class RFlexDriver:
     def brake(self, on: bool) -> bool:
         """Set or release the brake, then poll SYS_STATUS so :attr:`state` follows.
 
+        :param on: True sets the brake, False releases it.
+        :returns: False if either packet could not be written.
         :raises DeviceError: releasing when the configuration does not allow it (``brake_reset``).
         """
         if not on and not self.brake_reset:
@@ -214,6 +236,8 @@ class RFlexDriver:
 
         Updates :attr:`state` and returns the reports (packets of other kinds unchanged). Bad
         bytes are counted in :attr:`stats` and skipped; never raises on them.
+
+        :param timeout: the longest wait in seconds.
         :raises DeviceError: the driver is not connected (before :meth:`connect`, after
             :meth:`close`).
         """

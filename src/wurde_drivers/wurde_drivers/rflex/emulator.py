@@ -31,7 +31,7 @@ import threading
 import time
 from collections.abc import Callable, Sequence
 
-from ..ports.pty import PtyDevice
+from ..ports.pty import PtyEmulator
 from . import codec
 from .codec import Dio, Ir, Jstk, Mot, Packet, Port, Sonar, Sys
 from .robots import B21R, RobotParams, sonar_range_raw, voltage_raw
@@ -43,13 +43,24 @@ def _wrap32(value: float) -> int:
     return ((int(round(value)) + (1 << 31)) % (1 << 32)) - (1 << 31)
 
 
-class RFlexEmulator(PtyDevice):
+class RFlexEmulator(PtyEmulator):
     """An rFLEX base; :attr:`path` is what the driver opens."""
 
     def __init__(self, robot: RobotParams = B21R, *,
                  sonar_ranges: Callable[[], Sequence[float]] | None = None,
                  voltage: float = 26.0, brake: bool = True, stuff_esc: bool = False,
                  sonar_period_s: float = 0.1, tick_s: float = 0.005) -> None:
+        """Open the pty and power up (counters zero, nothing requested); :meth:`start` runs it.
+
+        :param robot: units, sonars and bumpers of the base.
+        :param sonar_ranges: returns metres in the robot's sonar order for each SONAR_REPORT; None:
+            no echo.
+        :param voltage: volts the SYS_STATUS reply reports.
+        :param brake: whether the brake is set at power-up (as on DLu's driver).
+        :param stuff_esc: send exact values with each ESC as ``1B 00``; False moves fields off 0x1B.
+        :param sonar_period_s: seconds between two SONAR_REPORTs while the sonars run.
+        :param tick_s: seconds between two turns of the emulator's thread.
+        """
         super().__init__(tick_s=tick_s)
         self.robot = robot
         self.sonar_ranges = sonar_ranges
@@ -115,18 +126,29 @@ class RFlexEmulator(PtyDevice):
             return self._vel[0] / self.robot.units_per_m, self._vel[1] / self.robot.units_per_rad
 
     def set_counter(self, axis: int, counts: int) -> None:
-        """Put the distance (0) or bearing (1) counter at ``counts`` (e.g. near the 32-bit wrap)."""
+        """Put a counter at ``counts`` (e.g. near the 32-bit wrap).
+
+        :param axis: 0 the distance counter, 1 the bearing counter.
+        :param counts: the new value, in the robot's units.
+        """
         with self._lock:
             self._pos[axis] = float(counts)
 
     def set_bumper(self, address: int, value: int) -> None:
-        """Press (value != 0) or release a bumper panel; reported while DIO reports are on."""
+        """Press or release a bumper panel; reported while DIO reports are on.
+
+        :param address: the panel's DIO address (B21r: 0x40-0x4D).
+        :param value: the switches pressed (low 4 bits); 0 releases the panel.
+        """
         with self._lock:
             self._bumpers[address] = value
             self._dio_events.append((address, value))
 
     def corrupt_next(self, count: int = 1) -> None:
-        """Send the next ``count`` packets with a wrong CRC."""
+        """Send the next ``count`` packets with a wrong CRC.
+
+        :param count: how many; added to any still pending.
+        """
         with self._lock:
             self._corrupt += count
 
@@ -135,7 +157,11 @@ class RFlexEmulator(PtyDevice):
         self.unplugged.set()
 
     def replug(self, *, power_cycle: bool = True) -> None:
-        """The base comes back; after a power cycle it has forgotten everything it was told."""
+        """The base comes back after :meth:`unplug`.
+
+        :param power_cycle: it was powered off: it has forgotten everything it was told, its counters
+            are zero and its brake is set.
+        """
         with self._lock:
             if power_cycle:
                 self._power_on(brake=True)
@@ -145,6 +171,10 @@ class RFlexEmulator(PtyDevice):
 
     # -- protocol ------------------------------------------------------------------------------
     def on_bytes(self, data: bytes) -> None:
+        """Obey the host's commands in ``data``; a malformed or unknown one is counted in ``bad_commands``.
+
+        :param data: the bytes read from the pty, in any pieces.
+        """
         with self._lock:
             for packet in self._deframer.feed(data):
                 self._received.append(packet)
@@ -189,6 +219,10 @@ class RFlexEmulator(PtyDevice):
             self.bad_commands += 1
 
     def tick(self, now: float) -> None:
+        """Move the axes, then send the DIO, motor, and sonar reports that are due.
+
+        :param now: ``time.monotonic()`` of this turn.
+        """
         with self._lock:
             last, self._last_tick = self._last_tick, now
             if last is not None:

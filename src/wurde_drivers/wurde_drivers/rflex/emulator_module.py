@@ -43,7 +43,11 @@ def _number(options: dict[str, str], key: str, default: float, low: float, high:
 
 
 def make(options: dict[str, str]) -> RFlexEmulator:
-    """The emulator the options describe (exits with status 2 on a bad value)."""
+    """The emulator the options describe (exits with status 2 on a bad value).
+
+    :param options: the program's own options by letter: ``t`` (robot type), ``v`` (volts, 0-60),
+        ``s`` (metres every sonar reads, 0-20; absent: no echo).
+    """
     kind = options.get('t', 'B21r')
     if kind not in ROBOTS:
         _refuse(f'-t {kind!r} is not a robot type ({", ".join(ROBOTS)})')
@@ -55,6 +59,11 @@ def make(options: dict[str, str]) -> RFlexEmulator:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The ``rflex_emulator`` program: the emulated base on a pty linked at ``-p`` until Quit.
+
+    :param argv: the command line, program name first; None: ``sys.argv``.
+    :returns: the exit status (0, or 1 when the emulator's thread failed).
+    """
     return run_emulator('rflex', make, user_spec='t:v:s:', help_text=_HELP, argv=argv)
 
 

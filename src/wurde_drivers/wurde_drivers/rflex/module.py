@@ -1,29 +1,18 @@
 """rflex_server: WURDE's RFlexServer (guide 7.6), an rFLEX base (B21r or ATRV-Jr) as a module.
 
 It reads its ``<device>`` (chosen by the module name, ``-n``, default PlutoBase) from
-``rflex-config.xml`` (:mod:`wurde_drivers.rflex.config`; ``-c`` or the config directory): the
-serial port, the robot type and whether the module may release the brake. It drives the base
-through :class:`~wurde_drivers.rflex.device.RFlexDriver` and supplies exactly the streams of the
-dummy base (:class:`~wurde_drivers.streams.base.BaseStreams`): ``<N>Drive`` (SynchroDrive for the
-B21r, RobotDrive for the ATRV-Jr), ``<N>Command``, ``<N>Motion``, ``<N>Sonar``, ``<N>Bumpers``,
-``<N>Power``, and ROS's ``/N/odom`` and ``/N/cmd_vel``.
+``rflex-config.xml`` (:mod:`wurde_drivers.rflex.config`), drives the base through
+:class:`~wurde_drivers.rflex.device.RFlexDriver` and supplies exactly the streams of the dummy
+base (:class:`~wurde_drivers.streams.base.BaseStreams`).
 
 Commands: whatever :meth:`BaseStreams.take_command` returns goes to the base, the watchdog's stop
-included (a command that stops coming stops the base; the stream frontend owns the watchdog, so
-the driver's own is switched off). A brake request sets the brake; releasing it is sent only when
-the config says ``brake-reset="true"``, otherwise it is refused and logged. With
-``brake-reset="false"`` the drive's info follows the brake the base reports, since only a hand
-on the robot can release it.
+included; the stream frontend owns the watchdog, so the driver's own is switched off.  Releasing
+the brake is sent only when the config says ``brake-reset="true"``; otherwise it is refused and
+logged, and the drive's info follows the brake the base reports.
 
-Data, at the base's report rate (odometry every 100 ms): ``Motion`` when the rotation axis' report
-completes a pair, ``Bumpers`` then and whenever a panel changes, ``Sonar`` with every sonar report
-(no echo reads as the maximum range, as the dummy's), ``Power`` with every status answer (about
-once a second; current and power are not measured: NaN; the charge is estimated from the voltage
-on the dummy battery's linear scale).
-
-Life cycle: a port that cannot be opened is tried again about once a second from inside the loop
-(the module never exits for a missing device). A base silent for :data:`SILENT_AFTER_S` is logged
-once and nothing is published while it is silent (never stale data); its return is logged.
+Data go out at the base's report rate; nothing is published while the base is silent (never stale
+data), and a port that cannot be opened is tried again from inside the loop (the module never
+exits for a missing device).  docs/wurde-drivers.md ("rflex.module") says what is published when.
 """
 
 from __future__ import annotations
@@ -46,7 +35,7 @@ from .config import RFlexDevice, load_rflex_config
 from .device import BAUDRATE, RFlexDriver
 from .robots import BODY_M, ROBOTS, DriveKind, RobotParams
 
-__all__ = ['RFlexRunner', 'limits_for', 'main']
+__all__ = ['RFlexModule', 'RFlexRunner', 'limits_for', 'main']
 
 #: Loop sleep and the longest poll (the base reports every 100 ms).
 SLEEP_S = 0.01
@@ -77,14 +66,21 @@ ODOMETRY_NOISE = {'trans': 0.05, 'rot': 0.05, 'drift': 0.02}
 
 
 def limits_for(robot: RobotParams) -> BaseLimits:
-    """What the drive's info reports as the hardware limits of ``robot``."""
+    """What the drive's info reports as the hardware limits of ``robot``.
+
+    :param robot: the configured robot type (speed limits, accelerations, track width).
+    """
     max_tv, max_rv = SPEED_LIMITS[robot.name]
     return BaseLimits(max_tv, max_rv, robot.trans_accel, robot.rot_accel,
                       wheel_base=WHEEL_BASE_M[robot.name])
 
 
 def publish_sensor_info(streams: BaseStreams, robot: RobotParams) -> None:
-    """Sonar, bumper and power info from the robot's parameters (explicit poses, not uniform)."""
+    """Sonar, bumper and power info from the robot's parameters (explicit poses, not uniform).
+
+    :param streams: the base's streams, registered.
+    :param robot: gives the sonar poses and the bumper panels.
+    """
     sonar = streams.sonar.info
     sonar.max_range.set_value(SONAR_MAX_RANGE_M)
     sonar.uniform.set_value(False)
@@ -102,17 +98,18 @@ def publish_sensor_info(streams: BaseStreams, robot: RobotParams) -> None:
     streams.publish_power_info(NOMINAL_V, LOW_V, CRITICAL_V, CAPACITY_J)
 
 
-class RFlexRunner:
-    """The module's work per loop turn: connect, commands, poll, publish, watch for silence.
-
-    :param device: the configured device.
-    :param driver: the device layer (constructed, not connected, its own watchdog off).
-    :param streams: the base's streams (registered, info published).
-    :param logger: where connection, brake and silence changes are logged (once each).
-    """
+class RFlexModule:
+    """The module's work per loop turn: connect, commands, poll, publish, watch for silence."""
 
     def __init__(self, device: RFlexDevice, driver: RFlexDriver, streams: BaseStreams,
                  logger: Logger) -> None:
+        """Nothing is connected yet: the first :meth:`step` tries.
+
+        :param device: the configured device.
+        :param driver: the device layer (constructed, not connected, its own watchdog off).
+        :param streams: the base's streams (registered, info published).
+        :param logger: where connection, brake and silence changes are logged (once each).
+        """
         self.device = device
         self.driver = driver
         self.streams = streams
@@ -211,7 +208,10 @@ class RFlexRunner:
 
     # -- data ---------------------------------------------------------------------------------
     def step(self, timeout: float) -> None:
-        """One turn: commands, then connect if needed, else a poll of up to ``timeout`` s."""
+        """One turn: commands, then connect if needed, else a poll of up to ``timeout`` s.
+
+        :param timeout: the longest poll in seconds.
+        """
         self.handle_commands()
         if not self.connected:
             self._try_connect()
@@ -236,7 +236,10 @@ class RFlexRunner:
         self.publish(reports)
 
     def publish(self, reports: list[codec.Report | codec.Packet]) -> None:
-        """Publish what ``reports`` (just decoded into the driver's state) brought."""
+        """Publish what ``reports`` (just decoded into the driver's state) brought.
+
+        :param reports: what :meth:`RFlexDriver.poll` returned this turn.
+        """
         state, robot, streams = self.driver.state, self.driver.robot, self.streams
         now, stamp = time.monotonic(), time.time()
         odometry = any(isinstance(r, codec.MotorReport) and r.axis == 1 for r in reports)
@@ -267,7 +270,16 @@ class RFlexRunner:
         self.connected = False
 
 
+RFlexRunner = RFlexModule  # old name (docs/naming.md)
+
+
 def main(argv: list[str] | None = None) -> int:
+    """The ``rflex_server`` program (also ``rFlexServer``, ``rFlexServerII``): one ``<device>`` of
+    rflex-config.xml as a base module.
+
+    :param argv: the command line, program name first; None: ``sys.argv``.
+    :returns: the exit status (2 for a bad config, with ``file:line: reason`` on stderr).
+    """
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('PlutoBase')
     device = configured_device(manager, argv, 'rflex-config.xml', load_rflex_config)
@@ -279,7 +291,7 @@ def main(argv: list[str] | None = None) -> int:
                           odometry=OdometryCovariance(**ODOMETRY_NOISE))
     driver = RFlexDriver(SerialLink(device.port, BAUDRATE), robot, brake_reset=device.brake_reset,
                          command_timeout=None)
-    runner = RFlexRunner(device, driver, streams, logger)
+    runner = RFlexModule(device, driver, streams, logger)
     streams.register(manager)
     manager.register_supplier(logger)
     set_loop(manager, SLEEP_S)

@@ -2,33 +2,19 @@
 conversions.
 
 Pure data and arithmetic; no I/O. WURDE 7.6 names the B21r and the ATRV-Jr; the guide's appendix
-rflex-config (10.1.5) writes ``type="B21ir"``, which is the B21r here (the same rFLEX body, its
-name as the appendix prints it); ``ATRV2`` is Pluto's own robot (Pluto 2: "ATRV2 (baseserver)").
-No public source gives the ATRV2's rFLEX encoder factors or sonar positions: it takes the
-ATRV-Jr's (the same maker's skid-steer family; Pluto's driveModule calibrates the odometry anyway),
-and differs in its body (:data:`BODY_M`).
+rflex-config (10.1.5) writes ``type="B21ir"``, which is the B21r here under the name the appendix
+prints; ``ATRV2`` is Pluto's own robot (Pluto 2: "ATRV2 (baseserver)").  No public source gives
+the ATRV2's rFLEX encoder factors or sonar positions: it takes the ATRV-Jr's and differs in its
+body (:data:`BODY_M`).
 
-**Units per metre / radian** (docs/protocols.md 3 lists two rows per robot):
+Units per metre / radian (docs/protocols.md 3 lists two rows per robot): the B21r's
+103000 / 35000 and the ATRV-Jr's 90810 / 37000 are Player's and DLu's rows; CARMEN's are one
+site's calibration, and Pluto's driveModule calibrates odometry at run time anyway (Pluto doc 2).
+:func:`dataclasses.replace` gives a robot with other factors.
 
-- B21r: **103000 / 35000**, the row of Player's ``b21r_rflex_lms200.cfg`` and DLu's ``b21_config.h``
-  (two sources agree, and the golden SET_DIR vector is built with 103000); CARMEN's 101230 /
-  35343.888 is one site's calibration.
-- ATRV-Jr: **90810 / 37000**, DLu's ``atrvjr_config.h`` (ported from Player's ATRV-Jr setup, the
-  same source family as the B21r row and as the sonar geometry below); CARMEN's 87462.73 /
-  36277.67 is again a calibration. Pluto's drive module calibrates odometry at run time anyway
-  (Pluto doc 2), and :func:`dataclasses.replace` gives a robot with other factors.
-
-**Sonar ids** are ``bank * 16 + index`` (``SONAR_MAX_PER_BANK`` 16). B21r: two rings of 24 (body:
-banks 0-5 of 4, first at 180 deg, -15 deg apart, radius 0.25 m, 0.055 m up; base: banks 6-13 of 3,
-first at 90 deg, radius 0.26 m, 0.06 m down), each ring in its own frame (the B21r body turns with
-the synchro-drive bearing). ATRV-Jr: 26 sonars in banks of 5, 8, 5, 8 (rear, left, front, right)
-at the positions DLu gives in millimetres, 0.36 m up.
-
-**Bumpers** (B21r only): DIO addresses 0x40-0x45 are the 6 body panels, 0x46-0x4D the 8 base
-panels; the low 4 bits of the value name the switches (corners) of a panel. 0x31 is heading-home.
-
-**Voltage**: DLu reports ``raw / 100 + 1.2`` volts for both robots (``POWER_OFFSET``); a raw 0
-means "not measured" and gives 0.0 V, as in DLu.
+Sonar ids are ``bank * 16 + index``; bumpers (B21r only) are DIO panels 0x40-0x4D; voltage is
+``raw / 100 + 1.2`` V, a raw 0 meaning "not measured".  docs/wurde-drivers.md ("rflex.robots")
+gives the sonar rings and the panels.
 """
 
 from __future__ import annotations
@@ -97,19 +83,38 @@ class RobotParams:
 
     # -- conversions ----------------------------------------------------------------------------
     def counts_from_m(self, metres: float) -> int:
+        """Metres to the distance counter's units (rounded).
+
+        :param metres: a distance or speed in m (or m/s).
+        """
         return int(round(metres * self.units_per_m))
 
     def counts_from_rad(self, radians: float) -> int:
+        """Radians to the bearing counter's units (rounded).
+
+        :param radians: an angle or turn rate in rad (or rad/s).
+        """
         return int(round(radians * self.units_per_rad))
 
     def m_from_counts(self, counts: float) -> float:
+        """Distance-counter units to metres.
+
+        :param counts: a count or a count rate.
+        """
         return counts / self.units_per_m
 
     def rad_from_counts(self, counts: float) -> float:
+        """Bearing-counter units to radians.
+
+        :param counts: a count or a count rate.
+        """
         return counts / self.units_per_rad
 
     def sonar_index(self, sonar_id: int) -> int | None:
-        """Position of ``sonar_id`` in :attr:`sonars`, or None for an id this robot lacks."""
+        """Position of ``sonar_id`` in :attr:`sonars`, or None for an id this robot lacks.
+
+        :param sonar_id: the id in SONAR_REPORT, ``bank * 16 + index``.
+        """
         return self._sonar_indices.get(sonar_id)
 
     @functools.cached_property
@@ -117,29 +122,46 @@ class RobotParams:
         return {pose.sonar_id: i for i, pose in enumerate(self.sonars)}
 
     def bumper(self, address: int) -> BumperPanel | None:
-        """The panel at DIO ``address``, or None."""
+        """The panel at DIO ``address``, or None.
+
+        :param address: the DIO address of a DIO_REPORT.
+        """
         return next((panel for panel in self.bumpers if panel.address == address), None)
 
 
 def sonar_range_m(raw: int) -> float:
-    """Raw sonar range to metres; :data:`SONAR_NO_ECHO` (or more) is ``inf``."""
+    """Raw sonar range to metres (1476 units a metre).
+
+    :param raw: the range of a SONAR_REPORT triplet; :data:`SONAR_NO_ECHO` (or more) is ``inf``.
+    """
     return math.inf if raw >= SONAR_NO_ECHO else raw / SONAR_UNITS_PER_M
 
 
 def sonar_range_raw(metres: float) -> int:
-    """Metres to a raw range; ``inf``, NaN or out of range gives :data:`SONAR_NO_ECHO`."""
+    """Metres to a raw range.
+
+    :param metres: the range; ``inf``, NaN, negative or out of range gives :data:`SONAR_NO_ECHO`.
+    """
     if not math.isfinite(metres) or metres < 0:
         return SONAR_NO_ECHO
     return min(int(round(metres * SONAR_UNITS_PER_M)), SONAR_NO_ECHO)
 
 
 def voltage_v(raw: int, offset: float = 1.2) -> float:
-    """SYS_STATUS raw voltage to volts (DLu: ``raw / 100 + 1.2``; raw 0 = not measured = 0 V)."""
+    """SYS_STATUS raw voltage to volts (DLu: ``raw / 100 + 1.2``).
+
+    :param raw: the reply's voltage field; 0 means not measured and gives 0.0 V.
+    :param offset: volts added (the robot's ``voltage_offset``).
+    """
     return 0.0 if raw == 0 else raw / 100.0 + offset
 
 
 def voltage_raw(volts: float, offset: float = 1.2) -> int:
-    """Volts to the raw SYS_STATUS value (for the emulator)."""
+    """Volts to the raw SYS_STATUS value (for the emulator); never below 0.
+
+    :param volts: the battery voltage.
+    :param offset: volts the driver will add back.
+    """
     return max(0, int(round((volts - offset) * 100.0)))
 
 
@@ -210,7 +232,11 @@ BODY_M: dict[str, tuple[float, float, float]] = {'B21r': (0.52, 0.52, 0.5), 'B21
 
 
 def robot_named(name: str) -> RobotParams:
-    """:raises KeyError: for a robot type not in :data:`ROBOTS`."""
+    """The robot of an rflex-config ``type``.
+
+    :param name: ``B21r``, ``B21ir``, ``ATRVJr`` or ``ATRV2``.
+    :raises KeyError: for a robot type not in :data:`ROBOTS`.
+    """
     try:
         return ROBOTS[name]
     except KeyError:

@@ -5,28 +5,14 @@ and ``/tf``, a base that takes a Twist — becomes a base module and a laser mod
 the suite: localModule, poseModule, slamModule and the drive → avoid → motion chain run on it as on
 the simulated Pluto.  One module supplies both sets of streams, through the classes the dummies and
 drivers use (:class:`~wurde_drivers.streams.base.BaseStreams`,
-:class:`~wurde_drivers.streams.laser.LaserStreams`), so no consumer can tell:
+:class:`~wurde_drivers.streams.laser.LaserStreams`), so no consumer can tell.
 
-- ``<BASE>Motion`` (and ``/<BASE>/odom``) from the Odometry (:mod:`.base_input`); the chain's
-  ``<BASE>Drive`` / ``<BASE>Command`` requests to the robot's cmd_vel, watchdog included;
-- ``<LASER>``, ``<LASER>/RWI``, ``<LASER>/Timing`` (and ``/<LASER>/scan``) from the LaserScan, the
-  laser's mount from the transforms (:mod:`.laser_input`, :mod:`.scan`, :mod:`.frames`).
-
-Options, as every module's (the WURDE side): ``-b BASE`` and ``-s LASER`` name the streams
-(default PlutoBase and PlutoLaser, the dummies' names, which the Pluto modules read by default),
-``-n`` the module (default ros_inputs).  The robot's side is ROS 2 parameters
-(:mod:`.settings`: topics, frames, limits), e.g.::
-
-    ros_inputs -b PlutoBase -s PlutoLaser --ros-args -p scan_topic:=/front/scan -p base_frame:=base_footprint
-
-No IMU: the localModule's rotation source besides the odometry is a DMU stream (an integrated
-heading with Pluto's filter delay), and a ROS IMU's orientation is not that; an IMU is left to the
-robot's own odometry fusion.
-
-When the odometry or the scans stop coming, their streams stop too (consumers judge staleness),
-and the module says so once (:mod:`.topic_watch`), as it does when another node publishes on
-the robot's odometry or scan topic too.  The MCP supervises it like a driver: heartbeat,
-restart; Idle stops the robot (one zero Twist), and so does the end.
+``-b BASE`` and ``-s LASER`` name the streams (default PlutoBase and PlutoLaser), ``-n`` the
+module; the robot's side is ROS 2 parameters (:mod:`.settings`).  No IMU is read: the
+localModule's other rotation source is a DMU stream, which a ROS IMU's orientation is not.
+Streams stop when their topics do (consumers judge staleness), and the module says so once
+(:mod:`.topic_watch`).  Idle and the end stop the robot (one zero Twist).  docs/wurde-drivers.md
+("ros_inputs.module") and config/README.md ("ros-robot") have the detail.
 """
 
 from __future__ import annotations
@@ -81,6 +67,13 @@ class RosInputs:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The ``ros_inputs`` program: a ROS 2 robot's topics as a base module and a laser module.
+
+    :param argv: the command line, program name first (ROS arguments after ``--ros-args``); None:
+        ``sys.argv``.
+    :returns: the exit status (2 for a bad parameter, with ``ros_inputs: parameter NAME: reason`` on
+        stderr).
+    """
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('ros_inputs')
     manager.set_help_string(HELP)

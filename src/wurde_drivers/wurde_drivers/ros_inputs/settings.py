@@ -3,30 +3,14 @@
 A ROS user sets them as for any node (``--ros-args -p scan_topic:=/front/scan``, or a
 ``--params-file``); ``ros2 param get`` shows them.  They are read-only: topics and frames are
 chosen once, as a driver's port is.  Topic names may be relative: they resolve in the node's
-namespace (``scan`` is ``/scan`` for a module started plainly, ``/robot1/scan`` in ``/robot1``).
-
-==================== =========== ==========================================================
-parameter            default     meaning
-==================== =========== ==========================================================
-``scan_topic``       ``scan``    the robot's sensor_msgs/LaserScan
-``odom_topic``       ``odom``    its nav_msgs/Odometry
-``cmd_vel_topic``    ``cmd_vel`` where its base takes geometry_msgs/Twist
-``base_frame``       ``''``      the robot's body frame; '' takes each Odometry's child_frame_id
-``laser_frame``      ``''``      the laser's frame; '' takes each scan's header.frame_id
-``max_tv``           1.0         m/s: commands are clamped to it (the drive's info reports it)
-``max_rv``           1.5         rad/s: the same for turning
-``tv_accel``         0.5         m/s²: reported in the drive's info (a Twist carries none)
-``rv_accel``         1.5         rad/s²: the same
-``wheel_base``       0.5         m: the RobotDrive info's wheel base (left/right speeds)
-``command_timeout``  1.0         s: no command for this long stops the robot (BaseStreams)
-``cmd_rate``         10.0        Hz: a moving command is sent again this often (a base
-                                 controller's own watchdog stops a robot whose cmd_vel stops)
-``silent_after``     1.0         s: odometry or scans missing this long are logged as silent
-``max_held_scans``   10          scans kept while the laser's mount is not known yet
-==================== =========== ==========================================================
+namespace.  The parameters are the robot's topics (``scan_topic``, ``odom_topic``,
+``cmd_vel_topic``), its frames (``base_frame``, ``laser_frame``), the limits commands are clamped
+to and the drive info reports, the command watchdog and resend rate, and how long topics may be
+silent; docs/wurde-drivers.md ("ros_inputs.settings") gives each with its default and unit.
 
 A value of the wrong type or out of range ends the program with status 2 and
-``ros_inputs: parameter NAME: reason`` on stderr.
+``ros_inputs: parameter NAME: reason`` on stderr.  A new parameter needs its default here, in the
+docs page's table and in config/README.md's.
 """
 
 from __future__ import annotations

@@ -54,7 +54,11 @@ STATUS_SIZE = 123       #: data bytes we send in a B1 reply (payload 124 with th
 
 
 def sick_crc16(buf: bytes | bytearray | memoryview) -> int:
-    """The SICK CRC-16 (poly 0x8005, init 0, each byte mixed with the previous one; 1.3)."""
+    """The SICK CRC-16 (poly 0x8005, init 0, each byte mixed with the previous one; 1.3).
+
+    :param buf: the frame from STX up to, not including, the two CRC bytes.
+    :returns: the 16-bit CRC, sent low byte first.
+    """
     crc, prev = 0, 0
     for byte in bytes(buf):
         if crc & 0x8000:
@@ -81,7 +85,12 @@ class Telegram:
 
 
 def encode_telegram(telegram: Telegram) -> bytes:
-    """The bytes on the wire for ``telegram``; :raises CodecError: when it cannot be framed."""
+    """The bytes on the wire for ``telegram``: STX, ADR, LEN, CMD, DATA, [STATUS], CRC.
+
+    :param telegram: a device frame (ADR & 0x80) with a STATUS byte, or a host frame without one.
+    :raises CodecError: when it cannot be framed (STATUS missing or extra, payload over
+        :data:`MAX_PAYLOAD`, a field that is not a byte).
+    """
     status = telegram.status
     has_status = status is not None
     if has_status != telegram.from_device:
@@ -102,7 +111,11 @@ def encode_telegram(telegram: Telegram) -> bytes:
 
 
 def decode_telegram(frame: bytes | bytearray | memoryview) -> Telegram:
-    """Parse one whole frame (no leading ACK); :raises CodecError: on a framing or CRC error."""
+    """Parse one whole frame (no leading ACK).
+
+    :param frame: exactly one frame, STX to the CRC's high byte.
+    :raises CodecError: on a framing or CRC error.
+    """
     frame = bytes(frame)
     if len(frame) < 7:
         raise CodecError(f'frame of {len(frame)} bytes is too short')
@@ -135,6 +148,11 @@ class Deframer:
     """
 
     def __init__(self, address: int = DEVICE_ADDRESS) -> None:
+        """Start with an empty buffer and zero counters.
+
+        :param address: the ADR of the frames to find: :data:`DEVICE_ADDRESS` (0x80) for a driver,
+            :data:`HOST_ADDRESS` (0x00) for an emulator.
+        """
         self.address = address
         self._header = bytes((STX, address))
         self._min_length = 2 if address & 0x80 else 1
@@ -180,7 +198,11 @@ class Deframer:
         return None
 
     def feed(self, data: bytes | bytearray) -> list[Telegram]:
-        """Add ``data``; return every telegram completed by it, in order."""
+        """Add ``data``; return every telegram completed by it, in order.
+
+        :param data: bytes as they came off the line, in any pieces.
+        :returns: the whole valid telegrams, possibly none; the rest waits in the buffer or is counted.
+        """
         self._buffer += data
         found: list[Telegram] = []
         buffer = self._buffer
@@ -218,12 +240,21 @@ class Deframer:
 
 # -- requests (host → device) ------------------------------------------------------------------
 def request(command: int, data: bytes = b'') -> bytes:
-    """A host frame (ADR 0x00) for ``command`` + ``data``."""
+    """A host frame (ADR 0x00) for ``command`` + ``data``.
+
+    :param command: the request code (``CMD_*``).
+    :param data: the request's data bytes after the command.
+    :raises CodecError: when the frame would exceed :data:`MAX_PAYLOAD`.
+    """
     return encode_telegram(Telegram(HOST_ADDRESS, command, bytes(data)))
 
 
 def install_mode_request(kind: str = 'LMS') -> bytes:
-    """``20 00 "SICK_LMS"`` (or ``"SICK_PLS"``): installation mode, needed to write the config."""
+    """``20 00 "SICK_LMS"`` (or ``"SICK_PLS"``): installation mode, needed to write the config.
+
+    :param kind: ``'LMS'`` or ``'PLS'``: which password to send.
+    :raises CodecError: an unknown kind.
+    """
     if kind not in PASSWORDS:
         raise CodecError(f'unknown SICK type {kind!r}; expected LMS or PLS')
     return request(CMD_MODE, bytes((MODE_INSTALL,)) + PASSWORDS[kind])
@@ -238,7 +269,11 @@ def stop_continuous_request() -> bytes:
 
 
 def baud_request(baudrate: int) -> bytes:
-    """``20 40/41/42/48``: the device answers at the old rate, then switches."""
+    """``20 40/41/42/48``: the device answers at the old rate, then switches.
+
+    :param baudrate: 9600, 19200, 38400 or 500000.
+    :raises CodecError: any other rate.
+    """
     if baudrate not in BAUD_CODES:
         raise CodecError(f'baud rate {baudrate} not one of {sorted(BAUD_CODES)}')
     return request(CMD_MODE, bytes((BAUD_CODES[baudrate],)))
@@ -261,7 +296,12 @@ def one_scan_request() -> bytes:
 
 
 def variant_request(angle: int, resolution: int) -> bytes:
-    """``3B``: field of view in degrees (100/180), resolution in 1/100 degree (25/50/100)."""
+    """``3B``: set the field of view and the angular resolution (LMS only).
+
+    :param angle: field of view in degrees (100 or 180).
+    :param resolution: angular resolution in 1/100 degree (25, 50 or 100).
+    :raises CodecError: a value that does not fit 16 bits.
+    """
     if not (0 <= angle <= 0xFFFF and 0 <= resolution <= 0xFFFF):
         raise CodecError('variant angle and resolution must fit 16 bits')
     return request(CMD_VARIANT, angle.to_bytes(2, 'little') + resolution.to_bytes(2, 'little'))
@@ -272,17 +312,31 @@ def read_config_request() -> bytes:
 
 
 def write_config_request(config: SickConfig) -> bytes:
+    """``77``: write a config block (installation mode must be on).
+
+    :param config: the whole 34-byte block to write.
+    """
     return request(CMD_WRITE_CONFIG, config.encode())
 
 
 # -- replies (device → host) -------------------------------------------------------------------
 def reply(command: int, data: bytes = b'', status: int = 0x10) -> bytes:
-    """A device frame (ADR 0x80) with STATUS byte, as the emulator sends it."""
+    """A device frame (ADR 0x80) with STATUS byte, as the emulator sends it.
+
+    :param command: the reply code (request + 0x80, ``REPLY_*``).
+    :param data: the reply's data between the command and the STATUS byte.
+    :param status: the STATUS byte (0x10: no error).
+    """
     return encode_telegram(Telegram(DEVICE_ADDRESS, command, bytes(data), status))
 
 
 def decode_mode_reply(data: bytes) -> bool:
-    """``A0 r``: True when the mode change was accepted (r == 0)."""
+    """``A0 r``: whether the mode change was accepted.
+
+    :param data: the A0 reply's data (without command and STATUS).
+    :returns: True when r == 0.
+    :raises CodecError: data without the result byte.
+    """
     if len(data) < 1:
         raise CodecError('A0 reply without its result byte')
     return data[0] == 0
@@ -303,7 +357,12 @@ class ScanValues:
 
 
 def decode_b0(data: bytes) -> ScanValues:
-    """B0 data: count word (bits 0-9 count, 11-12 partial, 14-15 units), LE16 values."""
+    """B0 data: count word (bits 0-9 count, 11-12 partial, 14-15 units), LE16 values.
+
+    :param data: the B0 reply's data (without command and STATUS).
+    :returns: the 13-bit values, their 3-bit flags, the units and the partial-scan index.
+    :raises CodecError: data shorter than its count word announces.
+    """
     if len(data) < 2:
         raise CodecError('B0 reply without its count word')
     word = data[0] | data[1] << 8
@@ -317,7 +376,13 @@ def decode_b0(data: bytes) -> ScanValues:
 
 
 def encode_b0(values: Sequence[int], units: str = 'cm', flags: Sequence[int] = ()) -> bytes:
-    """B0 data (without the command and STATUS) for ``values`` (each 0..8191)."""
+    """B0 data (without the command and STATUS) for ``values``.
+
+    :param values: raw range values, each 0..8191 (8183 and above are error codes).
+    :param units: ``'cm'``, ``'mm'`` or ``'10cm'``, coded in the count word.
+    :param flags: one 3-bit flag per value (field A/B/C-dazzle); empty means all zero.
+    :raises CodecError: unknown units, more than 1023 values, or a value or flag out of range.
+    """
     if units not in _UNIT_BITS:
         raise CodecError(f'unknown units {units!r}')
     if len(values) > 0x3FF:
@@ -332,12 +397,22 @@ def encode_b0(values: Sequence[int], units: str = 'cm', flags: Sequence[int] = (
 
 
 def value_meaning(value: int) -> str | None:
-    """The documented meaning of an error code (8183..8191), or None for a range."""
+    """The documented meaning of an error code.
+
+    :param value: a raw value (flag bits are masked off).
+    :returns: the meaning of 8183..8191, or None for a range.
+    """
     return ERROR_CODES.get(value & RANGE_MASK)
 
 
 def value_to_metres(value: int, units: str) -> float:
-    """Metres; ``math.inf`` for 8183 (value > maximum), ``math.nan`` for the other error codes."""
+    """A raw value in metres.
+
+    :param value: a raw value (flag bits are masked off).
+    :param units: the scan's units, ``'cm'``, ``'mm'`` or ``'10cm'``.
+    :returns: metres; ``math.inf`` for 8183 (value > maximum), ``math.nan`` for the other error codes.
+    :raises CodecError: unknown units.
+    """
     value &= RANGE_MASK
     if value == VALUE_TOO_FAR:
         return math.inf
@@ -363,6 +438,11 @@ class VariantReply:
 
 
 def decode_bb(data: bytes) -> VariantReply:
+    """``BB ok angle resolution``: the answer to a variant request.
+
+    :param data: the BB reply's data (without command and STATUS).
+    :raises CodecError: fewer than 5 data bytes.
+    """
     if len(data) < 5:
         raise CodecError(f'BB reply of {len(data)} data bytes; 5 expected')
     return VariantReply(data[0] == 1, data[1] | data[2] << 8, data[3] | data[4] << 8)
@@ -389,6 +469,11 @@ class SickConfig:
         return _CONFIG_UNITS.get(self.units_code, 'cm')
 
     def with_units(self, units: str) -> SickConfig:
+        """This block with its units byte set.
+
+        :param units: ``'cm'``, ``'mm'`` or ``'10cm'``.
+        :raises CodecError: unknown units.
+        """
         codes = {name: code for code, name in _CONFIG_UNITS.items()}
         if units not in codes:
             raise CodecError(f'unknown units {units!r}')
@@ -401,23 +486,40 @@ class SickConfig:
 
     @classmethod
     def decode(cls, data: bytes) -> SickConfig:
+        """The block in ``data``.
+
+        :param data: at least :data:`CONFIG_SIZE` bytes; more are ignored.
+        :raises CodecError: a shorter block.
+        """
         if len(data) < CONFIG_SIZE:
             raise CodecError(f'config block of {len(data)} bytes; {CONFIG_SIZE} expected')
         return cls(data[0] | data[1] << 8, data[2], data[3], data[4], data[5], data[6],
                    bytes(data[7:CONFIG_SIZE]))
 
     def patched(self, data: bytes) -> SickConfig:
-        """This block with the first ``len(data)`` bytes replaced (a short ``77`` write, 1.5)."""
+        """This block with the first ``len(data)`` bytes replaced (a short ``77`` write, 1.5).
+
+        :param data: the bytes written, from byte 0 (at most :data:`CONFIG_SIZE` are used).
+        """
         merged = bytes(data[:CONFIG_SIZE]) + self.encode()[len(data):]
         return SickConfig.decode(merged)
 
 
 def decode_f4(data: bytes) -> SickConfig:
+    """``F4``: the config block read by a ``74`` request.
+
+    :param data: the F4 reply's data (without command and STATUS).
+    :raises CodecError: a block shorter than :data:`CONFIG_SIZE`.
+    """
     return SickConfig.decode(data)
 
 
 def decode_f7(data: bytes) -> tuple[bool, SickConfig]:
-    """``F7 ok config``: (accepted, the config now in force)."""
+    """``F7 ok config``: (accepted, the config now in force).
+
+    :param data: the F7 reply's data (without command and STATUS).
+    :raises CodecError: fewer than 1 + :data:`CONFIG_SIZE` bytes.
+    """
     if len(data) < 1 + CONFIG_SIZE:
         raise CodecError(f'F7 reply of {len(data)} data bytes; {1 + CONFIG_SIZE} expected')
     return data[0] == 1, SickConfig.decode(data[1:])
@@ -452,6 +554,11 @@ class SickStatus:
 
     @classmethod
     def decode(cls, data: bytes) -> SickStatus:
+        """The fields of a B1 reply.
+
+        :param data: the B1 reply's data (without command and STATUS), at least 122 bytes.
+        :raises CodecError: a shorter reply.
+        """
         if len(data) < 122:
             raise CodecError(f'B1 reply of {len(data)} data bytes; at least 122 expected')
         fields = {name: data[offset - 1] for name, offset in cls._BYTES.items()}
@@ -461,11 +568,20 @@ class SickStatus:
 
 
 def decode_b1(data: bytes) -> SickStatus:
+    """``B1``: the status fields drivers read (:class:`SickStatus`).
+
+    :param data: the B1 reply's data (without command and STATUS), at least 122 bytes.
+    :raises CodecError: a shorter reply.
+    """
     return SickStatus.decode(data)
 
 
 def decode_ba(data: bytes) -> str:
-    """The type string of a BA reply, e.g. ``'LMS200;30106'``."""
+    """The type string of a BA reply, e.g. ``'LMS200;30106'``.
+
+    :param data: the BA reply's data; trailing NULs are dropped.
+    :raises CodecError: data that is not ASCII.
+    """
     try:
         return bytes(data).rstrip(b'\x00').decode('ascii')
     except UnicodeDecodeError as error:
@@ -473,16 +589,26 @@ def decode_ba(data: bytes) -> str:
 
 
 def interlace(resolution: int) -> int:
-    """Mirror sweeps per full scan: 0.5° and 0.25° are interlaced over 2 and 4 sweeps (1.6)."""
+    """Mirror sweeps per full scan: 0.5° and 0.25° are interlaced over 2 and 4 sweeps (1.6).
+
+    :param resolution: angular resolution in 1/100 degree; an unknown one counts as 1 sweep.
+    """
     return {100: 1, 50: 2, 25: 4}.get(resolution, 1)
 
 
 def value_count(angle: int, resolution: int) -> int:
-    """Values in a scan of ``angle`` degrees at ``resolution`` 1/100 degree (181, 361, 101...)."""
+    """Values in a scan (181, 361, 101...).
+
+    :param angle: field of view in degrees.
+    :param resolution: angular resolution in 1/100 degree.
+    """
     return angle * 100 // resolution + 1
 
 
 def telegram_size(count: int) -> int:
-    """Bytes on the wire of a B0 telegram with ``count`` values (372 for 181, 732 for 361)."""
+    """Bytes on the wire of a B0 telegram (372 for 181 values, 732 for 361).
+
+    :param count: the number of values in the scan.
+    """
     return 6 + 1 + 2 + 2 * count + 1
 

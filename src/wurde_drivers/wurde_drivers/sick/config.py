@@ -35,7 +35,7 @@ from ..mounting import MOUNT_XYZ, Mounting, read_mounting
 from ..xml_config import Attributes, device_named, read_devices
 from . import facts
 
-__all__ = ['DEFAULT_PARITY', 'LaserDevice', 'device_named', 'load_laser_config']
+__all__ = ['DEFAULT_PARITY', 'LaserDevice', 'SickDevice', 'device_named', 'load_laser_config']
 
 _BAUDS = ('9600', '19200', '38400', '500000')
 _RESOLUTIONS = {'1.0': 1.0, '1': 1.0, '0.5': 0.5}
@@ -44,7 +44,7 @@ DEFAULT_PARITY = {'PLS': 'even', 'LMS': 'none'}
 
 
 @dataclasses.dataclass(frozen=True)
-class LaserDevice:
+class SickDevice:
     """One ``<device>`` of a laser-config file, with where it was read (``path``, ``line``).
 
     ``parity`` is ``'none'`` or ``'even'``; left empty it becomes the type's :data:`DEFAULT_PARITY`.
@@ -73,7 +73,7 @@ class LaserDevice:
         return facts.VALUES_AT[self.resolution]
 
 
-def _device(path: str, node: etree._Element) -> LaserDevice:
+def _device(path: str, node: etree._Element) -> SickDevice:
     attributes = Attributes(path, node, required=('port', 'name', 'type'),
                             optional=('invert', 'log', 'baud', 'resolution', 'units', 'parity',
                                       *MOUNT_XYZ))
@@ -82,7 +82,7 @@ def _device(path: str, node: etree._Element) -> LaserDevice:
     if resolution_text not in _RESOLUTIONS:
         raise attributes.error(f'attribute resolution="{resolution_text}" of <device> must be '
                                f'1.0 or 0.5')
-    device = LaserDevice(
+    device = SickDevice(
         port=attributes.text('port'), name=attributes.text('name'), type=kind,
         invert=attributes.boolean('invert', False), log=attributes.boolean('log', False),
         baud=int(attributes.choice('baud', _BAUDS, '38400')),
@@ -95,10 +95,14 @@ def _device(path: str, node: etree._Element) -> LaserDevice:
     return device
 
 
-def load_laser_config(path: str | os.PathLike[str]) -> list[LaserDevice]:
+def load_laser_config(path: str | os.PathLike[str]) -> list[SickDevice]:
     """Every device of the file, in order.
 
+    :param path: the laser-config.xml to read.
     :raises ConfigError: naming the file and line: malformed XML, wrong root, unknown element or
         attribute, a missing required attribute, a bad value, a duplicate name, no device at all.
     """
     return read_devices(path, 'laser-config', _device)
+
+
+LaserDevice = SickDevice  # old name (docs/naming.md)

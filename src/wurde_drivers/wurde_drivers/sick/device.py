@@ -1,36 +1,24 @@
 """The SICK LMS 2xx / PLS driver over a :class:`~wurde_drivers.ports.serial_link.SerialLink` (no ROS).
 
-Life cycle (docs/style.md 5): construct (no I/O) → :meth:`SickLaser.connect` (may raise) →
-:meth:`SickLaser.poll` (never blocks longer than asked, never raises on bad bytes) → :meth:`close`
+Life cycle (docs/style.md 5): construct (no I/O) → :meth:`SickDriver.connect` (may raise) →
+:meth:`SickDriver.poll` (never blocks longer than asked, never raises on bad bytes) → :meth:`close`
 (idempotent).  One thread uses an instance.
 
-``connect`` replays a CARMEN-like start-up (docs/protocols.md 1.7): find the device's current speed by
-trying 9600, 19200, 38400 and 500000 baud (the last known one first) with a stop-continuous and
-then a status request until a reply telegram arrives; enter installation mode; switch to the target
-speed (the device answers at the old one, then we change termios); for an LMS read the type and set
-the variant (180° at 1° → 181 values, or 0.5° → 361) and the units (cm, or mm) — a PLS is left at
-180°/0.5° in cm, as Player does; start continuous mode.  Defaults follow Pluto 8.1: cm, 361 values,
-38400 baud, which gives a scan about every 200 ms.  A speed the port refuses is never taken for
-done (:meth:`~wurde_drivers.ports.serial_link.SerialLink.set_baudrate` raises): the search skips
-it, and a refused target speed fails :meth:`SickLaser.connect` with a :class:`DeviceError`.
+``connect`` replays a CARMEN-like start-up (docs/protocols.md 1.7): a search for the device's
+current speed, installation mode, the switch to the target speed, the LMS's variant and units,
+continuous mode; the defaults follow Pluto 8.1 (cm, 361 values, 38400 baud).  A speed the port
+refuses is never taken for done
+(:meth:`~wurde_drivers.ports.serial_link.SerialLink.set_baudrate` raises).
 
-Time stamps of a :class:`Scan`: ``arrival_time`` is ``time.time()`` just after the read that
-brought the telegram's last byte; ``centre_time`` estimates when the mirror was in the middle of
-the scan::
+A :class:`Scan` carries ``arrival_time`` (just after the read that brought its last byte) and
+``centre_time``, when the mirror was in the middle of the scan: the telegram's wire time and half
+a mirror sweep earlier (as :func:`.facts.centre_offset_s`; Pluto 8.1's "about 200 ms earlier").
 
-    centre_time = arrival_time - telegram_bytes * 10 / baud - 0.5 / 75
-
-(the telegram's time on the wire at 10 bits a byte, then half of one 1/75 s mirror sweep).  At
-38400 baud with 361 values that is 190.6 + 6.7 ≈ 197 ms, Pluto 8.1's "about 200 ms earlier".
-
-Fatal errors (Pluto 8.1: "requires the sick server to reboot the sick sensor ... about 20 s; all
-data -1 meanwhile"): the driver notices only silence (:meth:`silent_for`).  :meth:`recover` sends
-the reset request ``10``, waits for ``91`` and for the ``90`` power-on telegram at 9600 baud (the
-sequence the emulator documents), then runs :meth:`connect` again; :attr:`state` says
-``RESETTING`` meanwhile, so the module can publish -1 ranges, and ``FAILED`` if it did not work.
-A device in a fatal error hears the reset only at its own speed, which need not be the line's
-(a failed :meth:`connect` leaves the line at 500000 baud), so the reset goes out first at the speed
-the device was last known to run at, then at each of the others, until one is acknowledged.
+Fatal errors (Pluto 8.1: the server must reboot the laser, about 20 s, all data -1 meanwhile):
+the driver notices only silence (:meth:`silent_for`); :meth:`recover` resets the device and
+connects again, :attr:`state` saying ``RESETTING`` meanwhile (so the module can publish -1
+ranges) and ``FAILED`` if it did not work.  docs/wurde-drivers.md ("sick.device") gives the
+sequences step by step.
 """
 
 from __future__ import annotations
@@ -85,25 +73,27 @@ class Scan:
         return math.radians(self.fov_deg) / max(self.count - 1, 1)
 
 
-class SickLaser:
-    """A SICK LMS 2xx or PLS on ``port`` (a pyserial URL or path).
-
-    :param kind: ``'LMS'`` or ``'PLS'`` (a PLS line is 8E1, docs/protocols.md 1.1).
-    :param baudrate: target speed, one of 9600, 19200, 38400, 500000.
-    :param resolution: degrees between beams over 180°: 1.0 (181 values) or 0.5 (361).
-    :param units: ``'cm'`` (81.82 m max) or ``'mm'`` (8.182 m max); a PLS supports cm only.
-    :param invert: reverse the beam order (laser mounted upside down, WURDE guide 7.5).
-    :param reply_timeout: seconds to wait for the reply to a request (plus, while a frame is
-        half received, the time the longest telegram takes on the wire at the current speed).
-    :param parity: ``serial.PARITY_NONE`` or ``serial.PARITY_EVEN``; default even for a PLS,
-        none for an LMS (the devices speak 8E1 / 8N1).  A pty cannot do parity (docs/protocols.md 6:
-        reconfiguring an open pty with PARENB fails with EINVAL), so a PLS emulator is driven with
-        ``serial.PARITY_NONE`` (``parity="none"`` in laser-config.xml).
-    """
+class SickDriver:
+    """A SICK LMS 2xx or PLS on a serial port; construction does no I/O (see :meth:`connect`)."""
 
     def __init__(self, port: str, *, kind: str = 'LMS', baudrate: int = 38400,
                  resolution: float = 0.5, units: str = 'cm', invert: bool = False,
                  reply_timeout: float = 0.3, parity: str | None = None) -> None:
+        """Check the settings and prepare the link, closed, at the power-up speed of 9600 baud.
+
+        :param port: a pyserial URL or device path.
+        :param kind: ``'LMS'`` or ``'PLS'`` (a PLS line is 8E1, docs/protocols.md 1.1).
+        :param baudrate: target speed, one of 9600, 19200, 38400, 500000.
+        :param resolution: degrees between beams over 180°: 1.0 (181 values) or 0.5 (361).
+        :param units: ``'cm'`` (81.82 m max) or ``'mm'`` (8.182 m max); a PLS supports cm only.
+        :param invert: reverse the beam order (laser mounted upside down, WURDE guide 7.5).
+        :param reply_timeout: seconds to wait for the reply to a request (plus, while a frame is
+            half received, the time the longest telegram takes on the wire at the current speed).
+        :param parity: ``serial.PARITY_NONE`` or ``serial.PARITY_EVEN``; None: even for a PLS,
+            none for an LMS (the devices speak 8E1 / 8N1).  A pty cannot do parity (docs/protocols.md 6),
+            so a PLS emulator is driven with ``serial.PARITY_NONE`` (``parity="none"`` in laser-config.xml).
+        :raises ValueError: an unknown kind or speed, or a resolution and units the kind cannot run.
+        """
         if kind not in sick.PASSWORDS:
             raise ValueError(f'kind must be LMS or PLS, not {kind!r}')
         if baudrate not in sick.BAUD_CODES:
@@ -342,13 +332,13 @@ class SickLaser:
         The reset goes out at the speed the device was last known to run at, then at each of the
         other :data:`SEARCH_BAUDS`, round after round, until the device acknowledges it (``91``)
         or ``reset_timeout`` has passed (one round at least): a device in a fatal error hears
-        nothing else and only at its own speed, and may miss one reset.  After the
-        acknowledgement the device reboots; up to ``reset_timeout`` more is spent waiting for its
-        ``90`` power-on telegram.  When no speed got an acknowledgement (the device is merely
-        silent, or unplugged) or the device refused the reset (``92``: it is alive), it goes
-        straight to :meth:`connect`.  Blocks up to twice ``reset_timeout`` (plus one
-        ``reply_timeout``) plus a connect.
+        nothing else and only at its own speed, and may miss one reset.  When no speed got an
+        acknowledgement (the device is merely silent, or unplugged) or the device refused the reset
+        (``92``: it is alive), it goes straight to :meth:`connect`.  Blocks up to twice
+        ``reset_timeout`` (plus one ``reply_timeout``) plus a connect.
 
+        :param reset_timeout: seconds to go round the speeds for an acknowledgement, and again to
+            wait for the ``90`` power-on telegram after it.
         :raises DeviceError: (or DeviceTimeout) when the device cannot be brought back;
             :attr:`state` is then ``FAILED``.
         """
@@ -392,7 +382,12 @@ class SickLaser:
         return False
 
     def poll(self, timeout: float) -> list[Scan]:
-        """Scans that arrive within ``timeout`` s; returns as soon as there is at least one."""
+        """Scans that arrive within ``timeout`` s; returns as soon as there is at least one.
+
+        :param timeout: the longest wait in seconds (negative counts as 0).
+        :returns: the scans decoded, oldest first; empty when none came (bad bytes are counted in
+            :attr:`stats`, never raised).
+        """
         deadline = time.monotonic() + max(timeout, 0.0)
         scans: list[Scan] = []
         received, self._backlog = self._backlog, []
@@ -443,9 +438,12 @@ class SickLaser:
         self._link.close()
         self.state = LaserState.CLOSED
 
-    def __enter__(self) -> SickLaser:
+    def __enter__(self) -> SickDriver:
         self.connect()
         return self
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+SickLaser = SickDriver  # old name (docs/naming.md)

@@ -1,43 +1,25 @@
 """An emulated SICK LMS 2xx or PLS on a pseudo-terminal, with the real telegrams (docs/protocols.md 1).
 
-What it does, as the real device does:
+It behaves as the device does wherever a driver can tell: it powers up at 9600 baud with values
+on request, 180° at 1° (PLS: 0.5°), in cm; it answers the requests a driver sends at start-up
+(install mode, variant, config, type, status, one scan, baud switch), ACK byte first, and a
+request with a bad CRC with a lone NAK; in continuous mode it sends B0 telegrams paced by the
+mirror and by the line.  A request sent at a line speed other than the device's is ignored, so a
+driver's baud search means on a pty what it means on a line.  docs/wurde-drivers.md
+("sick.emulator") lists each behaviour and the pacing.
 
-- powers up at **9600 baud**, values on request (mode 0x25), 180° at 1° (PLS: 180° at 0.5°), cm;
-- a request arriving while the line speed the driver set (:attr:`PtyDevice.baudrate`) differs from
-  the device's own is garbled, so it is ignored; what the device sends then reaches the driver as
-  garbage (no STX).  That is what makes a driver's baud search meaningful on a pty;
-- baud switch ``20 4x``: replies ``A0 00`` at the **old** rate, then listens at the new one (the
-  driver changes termios after reading the reply, which we follow through ``self.baudrate``);
-- install mode (password ``SICK_LMS``/``SICK_PLS``), variant ``3B`` (100°/180°; 1°, 0.5°; 0.25°
-  at 100° only), config ``74``/``77`` (writes need install mode, 7..34 bytes), type ``3A``, status
-  ``31``, one scan ``30 01``; each reply is the ACK byte 0x06 + the telegram, a request with a bad
-  CRC gets a lone NAK 0x15 (1.4);
-- continuous mode ``20 24``: B0 telegrams with **no** leading ACK, paced like the real device: a
-  scan needs ``interlace/75`` s of mirror (0.5° is interlaced over 2 sweeps, 0.25° over 4) and a
-  telegram cannot go out faster than its bytes at 10 bits a byte, so 361 values run at 37.5 scans/s
-  at 500 kbaud and ~5/s at 38400; 181 values at 75/s and ~10/s.  Each telegram is written whole
-  when its last byte would have left the device.
+Ranges come from ``scan_source(count, fov_deg) -> metres``, beam 0 at the right-hand end, as the
+device sends it; an upside-down mounting is the driver's business, not the emulator's.
 
-Ranges come from ``scan_source(count, fov_deg) -> metres`` (beam 0 is the right-hand end, as the
-device sends it); an upside-down mounting is the driver's business, not the emulator's.  ``inf``
-or anything past the maximum becomes 8183 (value > maximum), ``nan`` or a negative range 8191.
+Parity cannot be emulated on a pty (docs/protocols.md 6), so a driver talks to an emulated PLS
+without parity (``parity="none"`` in laser-config.xml); on a real line it uses even parity.
 
-**PLS parity:** a PLS speaks 8E1.  Parity cannot be emulated on a pty (PARENB does not stick, and
-reconfiguring an open pty that was opened with even parity fails with EINVAL, docs/protocols.md 6), so
-this emulator ignores parity and a driver talking to it opens the pty without parity
-(``parity="none"`` on the ``<device>`` of laser-config.xml, or ``SickLaser(...,
-parity=serial.PARITY_NONE)``); on a real line the driver uses even parity.
-
-Fault injection (callable from any thread): :meth:`corrupt_next` (bad CRC on the next N
-telegrams), :meth:`inject_garbage` (bytes before the next frames), :attr:`silent` (says nothing,
-hears nothing), :meth:`fatal_error`, :meth:`miss_resets` (the next reset requests are not heard),
-:meth:`power_cycle` (back at 9600 baud and the defaults), and ``unplugged`` from :class:`PtyDevice`.
-
-**Fatal error and reset (our choice, documented here and in the driver):** after
-:meth:`fatal_error` the device streams nothing and answers nothing except the reset request ``10``
-(the LMS "initialisation and reset" telegram).  To that it answers ``06`` + ``91`` at its current
-rate, then after ``reset_s`` seconds it is powered up again (9600 baud, defaults) and sends a
-``90`` power-on telegram carrying its type string.  Pluto 8.1 says a real reset takes about 20 s.
+Faults for tests, callable from any thread: :meth:`corrupt_next`, :meth:`inject_garbage`,
+:attr:`silent`, :meth:`fatal_error`, :meth:`miss_resets`, :meth:`power_cycle`, and ``unplugged``
+from :class:`PtyEmulator`.  After :meth:`fatal_error` the device answers only the reset request
+``10``, then reboots (``91``, then ``90`` at 9600 baud after ``reset_s``): our choice, which the
+driver's :meth:`~wurde_drivers.sick.device.SickDriver.recover` follows (docs/protocols.md,
+"Additions").  Pluto 8.1 says a real reset takes about 20 s.
 """
 
 from __future__ import annotations
@@ -47,7 +29,7 @@ import threading
 import time
 from collections.abc import Callable, Sequence
 
-from ..ports.pty import PtyDevice
+from ..ports.pty import PtyEmulator
 from . import codec as sick
 from . import facts
 
@@ -59,22 +41,30 @@ _TYPES = {'LMS': 'LMS200;30106', 'PLS': 'PLS101-312'}
 
 
 def constant_source(metres: float = 4.0) -> ScanSource:
-    """A scan source that sees a circle of ``metres`` around the scanner."""
+    """A scan source that sees a circle of ``metres`` around the scanner.
+
+    :param metres: the range of every beam.
+    """
     def source(count: int, fov_deg: float) -> Sequence[float]:
         return [metres] * count
     return source
 
 
-class SickEmulator(PtyDevice):
-    """An LMS 2xx (``kind='LMS'``) or PLS (``kind='PLS'``) on a pty; ``path`` is its port.
-
-    :param scan_source: ``(count, fov_deg) -> ranges in metres``; default 4 m everywhere.
-    :param reset_s: how long a reset takes before the power-on telegram.
-    :param status_byte: the STATUS byte of every reply (real captures show 0x10).
-    """
+class SickEmulator(PtyEmulator):
+    """An LMS 2xx (``kind='LMS'``) or PLS (``kind='PLS'``) on a pty; ``path`` is its port."""
 
     def __init__(self, *, kind: str = 'LMS', scan_source: ScanSource | None = None,
                  reset_s: float = 0.3, status_byte: int = 0x10, tick_s: float = 0.002) -> None:
+        """Open the pty and power up (9600 baud, values on request); :meth:`start` runs it.
+
+        :param kind: ``'LMS'`` or ``'PLS'``.
+        :param scan_source: ``(count, fov_deg) -> ranges in metres``, beam 0 at the right-hand end;
+            None: 4 m everywhere.
+        :param reset_s: seconds a reset takes before the power-on telegram.
+        :param status_byte: the STATUS byte of every reply (real captures show 0x10).
+        :param tick_s: seconds between two turns of the emulator's thread (the pacing's granularity).
+        :raises ValueError: an unknown kind.
+        """
         if kind not in sick.PASSWORDS:
             raise ValueError(f'kind must be LMS or PLS, not {kind!r}')
         super().__init__(tick_s=tick_s)
@@ -122,12 +112,19 @@ class SickEmulator(PtyDevice):
 
     # -- fault injection ------------------------------------------------------------------------
     def corrupt_next(self, telegrams: int = 1) -> None:
-        """Send the next ``telegrams`` telegrams with a wrong CRC."""
+        """Send the next ``telegrams`` telegrams with a wrong CRC.
+
+        :param telegrams: how many; added to any still pending.
+        """
         with self._faults:
             self._corrupt += telegrams
 
     def inject_garbage(self, data: bytes = b'\x55\xaa\x02\x00\xff', frames: int = 1) -> None:
-        """Write ``data`` before each of the next ``frames`` telegrams."""
+        """Write ``data`` before each of the next ``frames`` telegrams.
+
+        :param data: the garbage bytes (the default holds a false STX).
+        :param frames: how many telegrams it precedes; replaces any garbage still pending.
+        """
         with self._faults:
             self._garbage, self._garbage_frames = bytes(data), frames
 
@@ -137,7 +134,10 @@ class SickEmulator(PtyDevice):
             self._fatal = True
 
     def miss_resets(self, count: int = 1) -> None:
-        """Do not hear the next ``count`` reset requests (a fatal error stays as it is)."""
+        """Do not hear the next ``count`` reset requests (a fatal error stays as it is).
+
+        :param count: how many; added to any still pending.
+        """
         with self._faults:
             self._resets_to_miss += count
 
@@ -189,6 +189,10 @@ class SickEmulator(PtyDevice):
 
     # -- input ----------------------------------------------------------------------------------
     def on_bytes(self, data: bytes) -> None:
+        """Take request bytes from the driver: ignored while silent or at the wrong speed, NAK on a bad CRC.
+
+        :param data: the bytes read from the pty, in any pieces.
+        """
         if self.silent.is_set():
             return
         if self.baudrate != self.device_baud:
@@ -269,6 +273,10 @@ class SickEmulator(PtyDevice):
 
     # -- streaming ------------------------------------------------------------------------------
     def tick(self, now: float) -> None:
+        """Finish a reset that is due, or send the next B0 telegram in continuous mode when its time has come.
+
+        :param now: ``time.monotonic()`` of this turn.
+        """
         if self._reset_at is not None and now >= self._reset_at:
             self._power_up()
             self._reply(sick.REPLY_POWER_ON, _TYPES[self.kind].encode('ascii'), ack=False)

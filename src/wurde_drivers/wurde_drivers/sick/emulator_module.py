@@ -30,7 +30,12 @@ HELP = ('  -k KIND     LMS (default) or PLS\n'
 
 
 def room_source(right: float, ahead: float, left: float) -> ScanSource:
-    """Ranges to the walls of a room: beam 0 at the right-hand end, counter-clockwise (as sent)."""
+    """Ranges to the walls of a room: beam 0 at the right-hand end, counter-clockwise (as sent).
+
+    :param right: metres from the scanner to the wall on its right.
+    :param ahead: metres to the wall ahead.
+    :param left: metres to the wall on its left.
+    """
     def source(count: int, fov_deg: float) -> Sequence[float]:
         ranges = []
         for index in range(count):
@@ -62,7 +67,11 @@ def _positive(letter: str, text: str) -> float:
 
 
 def make(options: dict[str, str]) -> SickEmulator:
-    """The emulator the options describe (exits with status 2 on a bad value)."""
+    """The emulator the options describe (exits with status 2 on a bad value).
+
+    :param options: the program's own options by letter: ``k`` (LMS or PLS), ``w``
+        (``RIGHT,AHEAD,LEFT``), ``d`` (metres everywhere, wins over ``w``), ``t`` (reset seconds).
+    """
     kind = options.get('k', 'LMS')
     if kind not in ('LMS', 'PLS'):
         _fail(f'-k {kind!r} is not LMS or PLS')
@@ -79,6 +88,11 @@ def make(options: dict[str, str]) -> SickEmulator:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The ``sick_emulator`` program: the emulator on a pty linked at ``-p`` until Quit.
+
+    :param argv: the command line, program name first; None: ``sys.argv``.
+    :returns: the exit status (0, or 1 when the emulator's thread failed).
+    """
     return run_emulator('sick', make, user_spec='k:w:d:t:', help_text=HELP, argv=argv)
 
 

@@ -39,7 +39,12 @@ _MAX_RANGE_M[('PLS', 'cm')] = 50.0
 
 
 def variant_error(kind: str, values: int, units: str) -> str | None:
-    """Why ``kind`` cannot scan ``values`` values per 180° in ``units``, or None if it can."""
+    """Why ``kind`` cannot scan ``values`` values per 180° in ``units``, or None if it can.
+
+    :param kind: ``'LMS'`` or ``'PLS'``.
+    :param values: 181 or 361.
+    :param units: ``'cm'`` or ``'mm'``.
+    """
     if kind not in KINDS:
         return f'laser type {kind!r} is not LMS or PLS'
     if values not in VALUES_AT.values():
@@ -54,29 +59,46 @@ def variant_error(kind: str, values: int, units: str) -> str | None:
 def max_range_m(kind: str, units: str) -> float:
     """Largest range (m) a ``kind`` reports in ``units``; farther reads as "value > maximum".
 
+    :param kind: ``'LMS'`` or ``'PLS'``.
+    :param units: ``'cm'`` or ``'mm'``.
     :raises KeyError: a type and units the device does not run in (see :func:`variant_error`).
     """
     return _MAX_RANGE_M[(kind, units)]
 
 
 def sweeps(values: int) -> int:
-    """Mirror sweeps per 180° scan of ``values`` values (0.5° is interlaced over 2)."""
+    """Mirror sweeps per 180° scan (0.5° is interlaced over 2).
+
+    :param values: values per scan, 181 or 361.
+    """
     return codec.interlace(FOV_DEG * 100 // (values - 1))
 
 
 def wire_time_s(values: int, baud: int) -> float:
-    """Seconds a B0 telegram of ``values`` values takes on the line at ``baud`` (10 bits a byte)."""
+    """Seconds a B0 telegram takes on the line (10 bits a byte).
+
+    :param values: values per scan.
+    :param baud: the line speed.
+    """
     return codec.telegram_size(values) * 10.0 / baud
 
 
 def scan_period_s(values: int, baud: int) -> float:
-    """Seconds between two scans streamed at ``baud``: the mirror's sweeps or the telegram's time
-    on the wire, whichever is longer."""
+    """Seconds between two scans streamed: the mirror's sweeps or the telegram's time on the wire,
+    whichever is longer.
+
+    :param values: values per scan, 181 or 361.
+    :param baud: the line speed.
+    """
     return max(sweeps(values) / MIRROR_HZ, wire_time_s(values, baud))
 
 
 def centre_offset_s(values: int, baud: int) -> float:
     """Seconds from the middle of a scan to the arrival of its telegram's last byte: the wire time,
     then half of one mirror sweep.  At 38400 baud with 361 values that is 190.6 + 6.7 ≈ 197 ms,
-    Pluto 8.1's "about 200 ms earlier"."""
+    Pluto 8.1's "about 200 ms earlier".
+
+    :param values: values per scan.
+    :param baud: the line speed.
+    """
     return wire_time_s(values, baud) + 0.5 / MIRROR_HZ

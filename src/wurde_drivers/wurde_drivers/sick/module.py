@@ -1,34 +1,20 @@
 """sick_server: WURDE's SICKServer (guide 7.5) and Pluto's sickModule (8.1), a SICK LMS/PLS as a module.
 
-It reads its ``<device>`` from ``laser-config.xml`` (``-c``, default in the config directory),
-chosen by the module name (``-n``, which WURDE says "should always be specified"; default
-PlutoLaser, the dummy's name), drives the laser through :class:`~wurde_drivers.sick.device.SickLaser`
-and publishes exactly the streams of ``dummy_sick`` (:class:`~wurde_drivers.streams.laser.LaserStreams`):
-``N`` stamped at the scan's centre, ``N/RWI`` (181 values) stamped at arrival, ``N/Timing``.
-Ranges are in the robot's order; the device layer reverses an inverted laser's beams.
+It reads its ``<device>`` from ``laser-config.xml``, chosen by the module name (``-n``), drives the
+laser through :class:`~wurde_drivers.sick.device.SickDriver` and publishes exactly the streams of
+``dummy_sick`` (:class:`~wurde_drivers.streams.laser.LaserStreams`): ``N`` stamped at the scan's
+centre, ``N/RWI`` (181 values) stamped at arrival, ``N/Timing``.
 
-Life cycle.  Connecting and resetting the laser block for seconds (a baud search, Pluto's ~20 s
-reboot), longer than the 1 s heartbeat TTL, so each runs in a worker thread while the loop goes on
-beating; the loop touches the device only when no worker runs.  A laser that is not there at
-start is tried again every :data:`RETRY_S` (the module never exits for a missing device).  A laser
-that sends no scan for :func:`silent_after` is logged once and nothing is published (never stale
-data); its return is logged too.  After :data:`RECOVER_AFTER_S` of silence the module reboots it
-(:meth:`SickLaser.recover`, retried every :data:`RETRY_S`): that is how a fatal error ends, since
-a laser in a fatal error only answers the reset.  Once the laser acknowledged the reset, and until
-it streams again, every scan period carries −1 ranges (Pluto 8.1: "all data is set to −1 if a fatal
-error occurs ... about 20 seconds"; :meth:`LaserStreams.publish_fatal`).  A laser that does not
-answer the reset is merely silent and gets nothing published.
+Before changing the loop: connecting and resetting the laser block for seconds (a baud search,
+Pluto's ~20 s reboot), longer than the 1 s heartbeat TTL, so each runs in a worker thread while
+the loop goes on beating, and the loop touches the device only when no worker runs.  A missing
+laser is tried again every :data:`RETRY_S` (the module never exits for it); a silent one is
+logged once and nothing stale is published; after :data:`RECOVER_AFTER_S` of silence it is
+rebooted, and until it streams again every scan period carries −1 ranges (Pluto 8.1).
 
-``log="true"`` appends one line per scan to ``<data directory>/LaserLog.txt`` (guide 7.5:
-``[timestamp] : [readings]``); the format is :func:`log_line`'s.
-
-Tunables (``ros2 param set``, or carmen.ini through :mod:`wurde_core.carmen_tunables`):
-``invert`` and ``log``, starting from the ``<device>``'s attributes — a laser remounted upside
-down, or logging switched on and off, while the module runs; each takes effect at the next scan.
-
-The line's parity is the ``<device>``'s ``parity`` attribute (:mod:`~wurde_drivers.sick.config`:
-``none|even``, default even for a PLS, none for an LMS).  A pseudo-terminal cannot carry parity
-(docs/protocols.md 6: it refuses PARENB), so a PLS on ``sick_emulator``'s link says ``parity="none"``.
+``log="true"`` appends each scan to ``<data directory>/LaserLog.txt`` (guide 7.5, :func:`log_line`);
+the ``invert`` and ``log`` tunables change while the module runs.  docs/wurde-drivers.md
+("sick.module") has the detail, the line's parity among it.
 """
 
 from __future__ import annotations
@@ -48,10 +34,10 @@ from ..module_setup import configured_device, run_loop, set_loop
 from ..ports.retry import RetryGate
 from ..streams.laser import LaserStreams
 from . import facts
-from .config import LaserDevice, load_laser_config
-from .device import LaserState, Scan, SickLaser
+from .config import SickDevice, load_laser_config
+from .device import LaserState, Scan, SickDriver
 
-__all__ = ['LOG_NAME', 'SickRunner', 'log_line', 'main', 'make_laser', 'scan_period']
+__all__ = ['LOG_NAME', 'SickModule', 'SickRunner', 'log_line', 'main', 'make_laser', 'scan_period']
 
 #: Loop sleep and the longest poll (a scan comes every 13 ms at best, 190 ms at Pluto's defaults).
 SLEEP_S = 0.02
@@ -68,13 +54,19 @@ QUIT_JOIN_S = 1.0
 LOG_NAME = 'LaserLog.txt'
 
 
-def scan_period(device: LaserDevice) -> float:
-    """Seconds between two scans: the mirror's sweeps (0.5° interlaced over 2) or the wire time."""
+def scan_period(device: SickDevice) -> float:
+    """Seconds between two scans: the mirror's sweeps (0.5° interlaced over 2) or the wire time.
+
+    :param device: the configured device (its values per scan and target speed).
+    """
     return facts.scan_period_s(device.values, device.baud)
 
 
-def silent_after(device: LaserDevice) -> float:
-    """Seconds without a scan that make a laser silent: four scan periods, at least half a second."""
+def silent_after(device: SickDevice) -> float:
+    """Seconds without a scan that make a laser silent: four scan periods, at least half a second.
+
+    :param device: the configured device.
+    """
     return max(0.5, 4 * scan_period(device))
 
 
@@ -82,21 +74,25 @@ def silent_after(device: LaserDevice) -> float:
 PARITY = {'none': serial.PARITY_NONE, 'even': serial.PARITY_EVEN}
 
 
-def make_laser(device: LaserDevice) -> SickLaser:
-    """The device layer for ``device`` (no I/O), with the configured line parity."""
-    return SickLaser(device.port, kind=device.type, baudrate=device.baud,
-                     resolution=device.resolution, units=device.units, invert=device.invert,
-                     parity=PARITY[device.parity])
+def make_laser(device: SickDevice) -> SickDriver:
+    """The device layer for ``device`` (no I/O), with the configured line parity.
+
+    :param device: a ``<device>`` of laser-config.xml.
+    """
+    return SickDriver(device.port, kind=device.type, baudrate=device.baud,
+                      resolution=device.resolution, units=device.units, invert=device.invert,
+                      parity=PARITY[device.parity])
 
 
 def log_line(stamp: float, ranges: Sequence[float]) -> str:
     """One line of ``LaserLog.txt``: ``[timestamp] : [readings]`` (guide 7.5), newline included.
 
-    The timestamp is the scan's centre (the main stream's stamp) in seconds since the epoch with
-    6 decimals; the readings are the published ranges, metres in robot order with 3 decimals
-    (a millimetre), separated by single spaces; ``inf`` (nothing within range) and ``nan`` (an
-    invalid or dazzled beam) as Python writes them.  Example: ``1700000000.123456 : 1.200 inf 2.345``.
-    Only scans are logged: the −1 placeholders published while the laser reboots are no readings.
+    Example: ``1700000000.123456 : 1.200 inf 2.345``.
+
+    :param stamp: the scan's centre (the main stream's stamp), seconds since the epoch, written
+        with 6 decimals.
+    :param ranges: the published ranges, metres in robot order, written with 3 decimals;
+        ``inf`` (nothing within range) and ``nan`` (an invalid or dazzled beam) as Python writes them.
     """
     return f'{stamp:.6f} : ' + ' '.join(f'{r:.3f}' for r in ranges) + '\n'
 
@@ -107,13 +103,22 @@ class LaserLog:
     again only after the next switch on (its error was logged once)."""
 
     def __init__(self, wanted: Callable[[], bool], opener: Callable[[], TextIO | None]) -> None:
+        """Logging starts closed; the file is opened at the first :meth:`write` while wanted.
+
+        :param wanted: whether logging is on now (the ``log`` tunable).
+        :param opener: opens the log for appending, or returns None after logging why it cannot.
+        """
         self.wanted = wanted
         self.opener = opener
         self._file: TextIO | None = None
         self._failed = False
 
     def write(self, stamp: float, ranges: Sequence[float]) -> None:
-        """One scan's line, if logging is on."""
+        """One scan's line, if logging is on; closes the file when it has been switched off.
+
+        :param stamp: the scan's centre, seconds since the epoch.
+        :param ranges: the published ranges in metres (only scans: not the −1 of a rebooting laser).
+        """
         if not self.wanted():
             self.close()
             self._failed = False
@@ -132,25 +137,26 @@ class LaserLog:
             file.close()
 
 
-class SickRunner:
-    """The module's work per loop turn: connect or reset in a worker, poll, publish, watch.
+class SickModule:
+    """The module's work per loop turn: connect or reset in a worker, poll, publish, watch."""
 
-    :param device: the configured device.
-    :param streams: the module's laser streams (registered, info published).
-    :param logger: where state changes are logged (once each).
-    :param log: ``LaserLog.txt``, or None.
-    :param invert: whether the beams are reversed now (the ``invert`` tunable); default the
-        device's attribute.
-    """
-
-    def __init__(self, device: LaserDevice, streams: LaserStreams, logger: Logger,
+    def __init__(self, device: SickDevice, streams: LaserStreams, logger: Logger,
                  log: LaserLog | None = None, invert: Callable[[], bool] | None = None) -> None:
+        """Nothing is opened yet: the first :meth:`step` starts the connect.
+
+        :param device: the configured device.
+        :param streams: the module's laser streams (registered, info published).
+        :param logger: where state changes are logged (once each).
+        :param log: ``LaserLog.txt``, or None.
+        :param invert: whether the beams are reversed now (the ``invert`` tunable); default the
+            device's attribute.
+        """
         self.device = device
         self.streams = streams
         self.logger = logger
         self.log = log
         self.invert = invert or (lambda: device.invert)
-        self.laser: SickLaser | None = None
+        self.laser: SickDriver | None = None
         self.streaming = False
         self.silent = False
         self.rebooting = False
@@ -172,7 +178,11 @@ class SickRunner:
 
     # -- one turn -------------------------------------------------------------------------------
     def step(self, timeout: float) -> int:
-        """Connect, reset or poll (up to ``timeout`` s); returns the scans published."""
+        """Connect, reset or poll (up to ``timeout`` s); returns the scans published.
+
+        :param timeout: the longest poll in seconds; a turn that starts or waits for a worker
+            returns at once.
+        """
         if self._worker is not None:
             if self._worker.is_alive():
                 self._while_resetting()
@@ -289,8 +299,15 @@ class SickRunner:
             self.laser.close()
 
 
+SickRunner = SickModule  # old name (docs/naming.md)
+
+
 def open_log(manager: CommsManager, logger: Logger) -> TextIO | None:
-    """``<data directory>/LaserLog.txt`` for appending, or None (logged) when it cannot be opened."""
+    """``<data directory>/LaserLog.txt`` for appending, or None (logged) when it cannot be opened.
+
+    :param manager: gives the data directory.
+    :param logger: where the file opened, or the reason it was not, is logged.
+    """
     path = pathlib.Path(manager.config.get_data_directory()) / LOG_NAME
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -303,6 +320,12 @@ def open_log(manager: CommsManager, logger: Logger) -> TextIO | None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The ``sick_server`` program (also ``sickServer``, ``sickLaser``): one ``<device>`` of
+    laser-config.xml as a laser module.
+
+    :param argv: the command line, program name first; None: ``sys.argv``.
+    :returns: the exit status (2 for a bad config, with ``file:line: reason`` on stderr).
+    """
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('PlutoLaser')
     device = configured_device(manager, argv, 'laser-config.xml', load_laser_config)
@@ -319,7 +342,7 @@ def main(argv: list[str] | None = None) -> int:
     logging = manager.tunable('log', device.log, f'append each scan to <data directory>/{LOG_NAME} '
                               '(guide 7.5)')
     log = LaserLog(lambda: bool(logging.value), lambda: open_log(manager, logger))
-    runner = SickRunner(device, streams, logger, log, lambda: bool(invert.value))
+    runner = SickModule(device, streams, logger, log, lambda: bool(invert.value))
 
     def close() -> None:
         try:

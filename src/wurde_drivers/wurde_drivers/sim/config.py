@@ -1,45 +1,18 @@
-"""sim-config.xml: what the simulated robot is, read by every dummy module.
+"""sim-config.xml: what the simulated robot is, read by every dummy module (Pluto 5's dummies).
 
 One file describes the whole dummy robot, so the dummies agree on the world, the seed and the
-time scale::
+time scale: the map and start place, the base, its odometry noise (zero by default, as the seed's
+ideal dummy), the sonar ring, lasers, wrist, DMU, GPS, and the people walking about
+(``<person>``, :mod:`.person_config`; where one is at a stamp, :mod:`.walk`).  Every element but
+``map`` and ``base`` is optional and every attribute has a default; docs/wurde-drivers.md
+("sim.config") shows the whole file with them, and must be kept in step with the defaults here.
 
-    <sim-config seed="1" time-scale="1.0" step="0.02">
-      <map file="maps/office.xml" start="start"/>           <!-- path relative to this file -->
-      <base name="PlutoBase" type="ATRVJr" rate="10" command-timeout="1.0"
-            max-tv="1.0" max-rv="1.5" tv-accel="1.0" rv-accel="2.0" radius="0.35"/>
-      <odometry-noise trans="0" rot="0" drift="0" scale="1" turn-scale="1"/>  <!-- Pluto's ideal dummy -->
-      <sonar count="16" radius="0.3" max-range="8.0" half-angle="0.218" rate="10"/>
-      <laser name="PlutoLaser" model="LMS" count="361" units="cm" inverted="false"
-             baud="38400" mount-x="0.2" noise="0"/>
-      <wrist name="PlutoWrist" rate="20" max-velocity="1.0" max-acceleration="2.0"
-             pan-min="-2.9" pan-max="2.9" tilt-min="-0.8" tilt-max="0.5"
-             mount-x="0" mount-y="0" mount-z="0" mount-yaw="0"/>
-      <dmu name="PlutoDMU" rate="50" rate-bias="0" rate-noise="0" cutoff="5.0"
-           mount-x="0" mount-y="0" mount-z="0"/>
-      <gps name="PlutoGPS" rate="1" latitude="59.3498" longitude="18.0707" altitude="30"
-           noise="0" satellites="8" quality="2" hdop="0.9" mount-x="0" mount-y="0" mount-z="0"/>
-      <person name="ana" points="10,10.3 10,7.5 7.5,7.5 7.5,4" speed="1.0" pause="0"
-              mode="loop" radius="0.25" height="1.75"/>            <!-- any number -->
-    </sim-config>
+The ``mount-*`` attributes place a device on the robot (:mod:`wurde_drivers.mounting`); the sonar
+ring and the bumpers are placed by ``<sonar>`` and the base's ``radius``.  The ground truth of
+the base is the stream ``<base name>Truth``; the other dummies read it.
 
-Every element but ``map`` and ``base`` is optional; every attribute has the default shown, but
-the base's ``radius``: 0.62 for ``type="ATRV2"`` (Pluto's own robot, skid steered; the other types
-are ``ATRVJr``, ``B21r`` and the guide appendix's ``B21ir``, a B21r). The
-``mount-*`` attributes place a device on the robot (:mod:`wurde_drivers.mounting`); the sonar
-ring and the bumpers are placed by ``<sonar>`` and the base's ``radius``. The
-ground truth of the base is the stream ``<base name>Truth``; the other dummies read it. Wrong
-files are refused with file, line and reason.
-
-``<person>`` (any number, names unique) is a moving obstacle: a disc (``radius``) or a box
-(``length`` along its walking direction, ``width``) of some ``height``, walking a scripted
-(``points``) or random (``random="N"`` waypoints in ``area``) path at ``speed`` (0, 1.5] m/s
-with ``pause`` s at each waypoint, in a ``loop`` or ``back-and-forth``
-(:mod:`.person_config`; where it is at a stamp, :mod:`.walk`).  The laser and the sonars see
-people, the bumpers feel them, the base publishes them (:mod:`.dummies.people_topic`).  Refused
-with the ``<person>``'s line: a person not taller than a laser's ``mount-z`` or the sonars'
-height (the sensor could not see it), a speed out of range, unknown attributes, and (once the map
-is read, :mod:`.crowd`) a waypoint or leg where the body would touch a wall or the robot at its
-start.
+Wrong files are refused with file, line and reason; a ``<person>`` with its own line, and, once
+the map is read (:mod:`.crowd`), when its path would touch a wall or the robot at its start.
 """
 
 from __future__ import annotations
@@ -164,7 +137,11 @@ def _start(attrs: Attributes) -> str | tuple[float, float, float]:
 
 
 def load_sim_config(path: str | os.PathLike[str]) -> SimConfig:
-    """Read and check a sim-config file; :raises ConfigError: with file, line and reason."""
+    """Read and check a sim-config file.
+
+    :param path: the sim-config.xml; the map's path in it is relative to this file.
+    :raises ConfigError: with file, line and reason.
+    """
     path = os.fspath(path)
     root = read_root(path, 'sim-config')
     top = Attributes(path, root, optional=('seed', 'time-scale', 'step'))

@@ -16,8 +16,12 @@ __all__ = ['load_sim', 'read_sim_config', 'sim_config_path']
 
 
 def load_sim(path: str) -> tuple[SimConfig, World, tuple[float, float, float]]:
-    """The sim config, its world (with the config's people in it, :mod:`.crowd`) and the start
-    pose (a named place or x y theta); :raises ConfigError: with file, line and reason."""
+    """The sim config, its world (with the config's people in it, :mod:`.crowd`) and the start pose.
+
+    :param path: the sim-config.xml.
+    :returns: the config, the world, and the start (x, y, theta) from a named place or the numbers.
+    :raises ConfigError: with file, line and reason (a start place the map lacks among them).
+    """
     config = load_sim_config(path)
     world = load_map(config.map_file)
     start = config.start
@@ -33,14 +37,23 @@ def load_sim(path: str) -> tuple[SimConfig, World, tuple[float, float, float]]:
 
 
 def sim_config_path(manager: CommsManager, argv: list[str], extra_help: str = '') -> str:
-    """Parse a dummy's options and return its sim-config path (``-c``, else the config directory's)."""
+    """Parse a dummy's options and return its sim-config path (``-c``, else the config directory's).
+
+    :param manager: the dummy's manager, its options not parsed yet.
+    :param argv: the command line, program name first.
+    :param extra_help: more lines for ``-h``, after ``-c``'s.
+    """
     manager.set_help_string('  -c FILE  sim-config.xml (default: <config dir>/sim-config.xml)' + extra_help)
     opts = manager.parse_options(argv, 'c:')
     return config_file(manager, opts.user.get('c'), 'sim-config.xml')
 
 
 def read_sim_config(manager: CommsManager, argv: list[str]) -> SimConfig:
-    """Parse a dummy's options and read its sim-config; a bad one ends the program with status 2."""
+    """Parse a dummy's options and read its sim-config; a bad one ends the program with status 2.
+
+    :param manager: the dummy's manager, its options not parsed yet.
+    :param argv: the command line, program name first.
+    """
     path = sim_config_path(manager, argv)
     try:
         return load_sim_config(path)

@@ -98,8 +98,11 @@ def _body(a: Attributes) -> Body:
 
 
 def read_person(a: Attributes) -> PersonConfig:
-    """The ``<person>`` of ``a`` (its attributes already checked against
-    :data:`PERSON_ATTRIBUTES`); :raises ConfigError: with the file, the line and the reason."""
+    """One ``<person>``.
+
+    :param a: its attributes, already checked against :data:`PERSON_ATTRIBUTES`.
+    :raises ConfigError: with the file, the line and the reason.
+    """
     name = a.text('name')
     speed = a.number('speed', 1.0)
     if not 0.0 < speed <= MAX_SPEED:

@@ -1,46 +1,24 @@
-"""The streams of a robot base, shared by every base module (the rFLEX driver and the dummy base).
+"""The streams of a robot base, shared by every base module (the rFLEX driver, the dummy base, ros_inputs).
 
-A base module named ``N`` supplies, as WURDE's RFlexServer did (guide 2.x mappings: ``<N>Drive``,
-``<N>Motion``), and as Pluto's baseserver (4: "ATRV2/Drive/Command", cmdFlags 0 only):
+A base module named ``N`` supplies, as WURDE's RFlexServer (guide 7.6) and Pluto's baseserver
+(Pluto 4: cmdFlags 0 only), ``NDrive`` (SynchroDrive for a synchro drive, RobotDrive for a skid
+steer), ``NCommand`` (ActuatorState), ``NMotion`` (Egomotion), ``NSonar``, ``NBumpers`` and
+``NPower``, and the standard ROS topics beside them (:mod:`wurde_drivers.ros_std`,
+:mod:`wurde_drivers.ros_std_base`): the README's tables in "The simulated robot and the drivers".
+Whatever backend moves the robot, consumers see the same streams, so no module can tell a dummy
+from the real base.
 
-============== ================ =====================================================================
-stream         interface        what
-============== ================ =====================================================================
-``NDrive``     SynchroDrive     B21r (synchro drive): requests set trans/angular, limits, brake
-``NDrive``     RobotDrive       ATRV-Jr (differential/skid): trans/rot or left/right wheel velocities
-``NCommand``   ActuatorState    Pluto's base command: cmdFlags 0, velocity[0..1] = (linear, angular)
-``NMotion``    Egomotion        odometry: pose, tv, rv, acceleration
-``NSonar``     RangeFinder      the sonar ring
-``NBumpers``   Bumper           front and back bumpers
-``NPower``     Power            battery
-============== ================ =====================================================================
+The guide's examples disagree on which drive interface a base supplies, so every base supplies
+its own kind on ``NDrive`` and the other kind as the typed view ``NDrive/<Interface>``
+(:func:`wurde_core.naming.typed_view`); both drive one set-point (docs/wurde-drivers.md).
 
-Standard ROS alongside (:mod:`wurde_drivers.ros_std`, :mod:`wurde_drivers.ros_std_base`):
-``nav_msgs/Odometry`` on ``/N/odom`` (covariance from the base's noise figures),
-``geometry_msgs/Twist`` commands on ``/N/cmd_vel``, ``sensor_msgs/Range`` per sonar on
-``/N/sonar`` and per bumper on ``/N/bumpers``, ``sensor_msgs/BatteryState`` on ``/N/battery``,
-and the sonars' and bumpers' mountings (from their info) on ``/tf_static``. Whatever backend
-moves the robot, consumers see the same streams, so no module can tell a dummy from the real
-base.
+Before changing it: the base must fail safe.  Commands are velocity set-points with a watchdog (no
+command for ``command_timeout`` seconds stops the base); only a Drive request that sets ``brake``
+false releases the brake, never a Twist on ``cmd_vel`` or a Pluto command; a command with a NaN or
+infinite value is refused whole and counted (``refused_commands``).
 
-Both drive interfaces: the guide's examples disagree on which one a base supplies (chapter 1 maps
-a SynchroDrive consumer to an ATRV Jr, the appendix a RobotDrive consumer to a B21r, and 7.3 says
-SynchroMover needs RobotDrive), so every base supplies its own kind on ``NDrive`` and the other
-kind as the typed view ``NDrive/<Interface>`` (:func:`wurde_core.naming.typed_view`), which the MCP
-assigns to a mapping of that interface to ``NDrive``.  Both drive one set-point.
-
-Failing safe:
-
-- Commands are velocity set-points with a watchdog: when no command has come for
-  ``command_timeout`` seconds the base is stopped (a command that stops coming stops the robot).
-- The brake is released only by a Drive request that sets ``brake`` false — an explicit request,
-  refused while ``brake`` (or the drive) is locked against its sender.  A Twist on ``cmd_vel`` or
-  a Pluto command never releases it: while the brake is set they are refused and counted.
-- A command with a NaN or infinite value is refused whole and counted (``refused_commands``).
-
-Odometry calibration (Pluto 6.1, 7.1): ``NCommand`` also takes cmdFlags 99 with force[0..1] =
-(distance scale, rotation scale), which scale every later odometry increment on ``NMotion`` and
-``/N/odom`` (:mod:`.calibration`); force[0..1] of ``NCommand``'s data show the scales in use.
+Odometry calibration (Pluto 6.1, 7.1): ``NCommand`` with cmdFlags 99 scales every later odometry
+increment on ``NMotion`` and ``/N/odom`` (:mod:`.calibration`).
 """
 
 from __future__ import annotations

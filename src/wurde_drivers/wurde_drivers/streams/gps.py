@@ -2,31 +2,15 @@
 
 A GPS module named ``N`` supplies one GPS stream ``N``: latitude, longitude, altitude, satellites,
 fix quality, HDOP, the UTC time of the fix, and x (east), y (north) in metres in a local frame
-around the origin given in the info — Pluto's gpsmeter grid. The info also says what counts as a
-good fix (Pluto: more than 5 satellites and quality 2 for sub-metre accuracy); the quality is a
-GGA code ranked by accuracy, not a number to compare with ``>=``: with minimum 2 a good fix is 2
-(DGPS), 5 or 4 (RTK), never 6 (dead reckoning), see :mod:`wurde_drivers.gps.quality`. Each fix
-also goes out as ``sensor_msgs/NavSatFix`` on ``/N/fix`` (:mod:`wurde_drivers.ros_std`), in frame
-``N`` (the antenna, whose mounting ``base_link`` → ``N`` goes to ``/tf_static``), its covariance
-approximated from HDOP and quality.
+around the origin given in the info — Pluto's gpsmeter grid.  The info also says what counts as a
+good fix (Pluto: more than 5 satellites and quality 2); the quality is a GGA code ranked by
+accuracy, not a number to compare with ``>=`` (:mod:`wurde_drivers.gps.quality`).  Each fix also
+goes out as ``sensor_msgs/NavSatFix`` on ``/N/fix`` (:mod:`wurde_drivers.ros_std`) in frame ``N``.
 
 Pluto's own layout (Pluto 8.4: "force[0]=number of satellites and force[3]=GPS quality") is the
 extra ActuatorState stream ``N/Pluto`` (:data:`PLUTO_SUFFIX`), one event per fix with the same
-time stamp, for Pluto programs that read it:
-
-================ =============================================================================
-field            value
-================ =============================================================================
-``cmdFlags``     0
-``position``     ``[x, y]``: m east and north on the gpsmeter grid (NaN before the origin)
-``velocity``     ``[]``
-``force``        ``[satellites, hdop, altitude, quality]``: force[0] and force[3] as Pluto 8.4
-                 says; force[1] (HDOP) and force[2] (m above MSL) are ours
-``acceleration`` ``[]``
-================ =============================================================================
-
-Latitude and longitude are not in it (a Float cannot hold them to the metre); read them from
-``N``.
+time stamp; docs/wurde-drivers.md ("streams.gps") gives its fields.  Latitude and longitude are
+not in it (a Float cannot hold them to the metre).
 """
 
 from __future__ import annotations

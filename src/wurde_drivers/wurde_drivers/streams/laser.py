@@ -1,31 +1,17 @@
-"""The streams of a laser module, shared by the SICK driver and the dummy SICK.
+"""The streams of a laser module, shared by the SICK driver, the dummy SICK and ros_inputs.
 
 Pluto's sickModule has three interfaces (8.1), and WURDE's SICKServer one RangeFinder named after
-the laser (7.5). A laser module named ``N`` supplies:
-
-================ ============== ===================================================================
-stream           interface      what
-================ ============== ===================================================================
-``N``            RangeFinder    every beam (181 or 361), stamped at the scan's centre (Pluto's
-                                second interface; the WURDE SICKServer's stream)
-``N/RWI``        RangeFinder    181 beams stamped when the data arrived at the serial port, as the
-                                old RWI interface (Pluto's first)
-``N/Timing``     FVectorState   one element, the number of scan points, stamped at the scan's
-                                centre (Pluto's third, used by the localization)
-================ ============== ===================================================================
+the laser (7.5). A laser module named ``N`` supplies ``N`` (RangeFinder, every beam, stamped at
+the scan's centre: WURDE's stream), ``N/RWI`` (RangeFinder, 181 beams stamped when the data
+arrived, as the old RWI interface) and ``N/Timing`` (FVectorState, the number of scan points),
+and a ``sensor_msgs/LaserScan`` of ``N`` on ``/N/scan`` (:mod:`wurde_drivers.ros_std`).
 
 Ranges are metres in the robot's order (counter-clockwise from −90° to +90°, also for a laser
-mounted upside down); a beam that saw nothing within range reads ``inf``. A ``sensor_msgs/LaserScan``
-of the main stream goes to ``/N/scan`` as well (:mod:`wurde_drivers.ros_std`), in frame ``N``, whose
-mounting (``base_link`` → ``N``) the module publishes on ``/tf_static``. When the laser has a
+mounted upside down); a beam that saw nothing within range reads ``inf``.  When the laser has a
 fatal error every range is −1 until it is back (Pluto 8.1: "all data is set to -1").
 
-Any other fan (a ROS robot's laser through ``ros_inputs``: 270°, 1081 beams, mounted turned or
-upside down) is announced with a :class:`Fan`: the bearing of the first beam and the step, in
-the robot's frame and counter-clockwise order, as the RangeFinder info's ``theta_offset`` and
-``theta_separation``.  Then ``N/RWI`` carries the same beams as ``N`` (the same info), stamped at
-the end of the scan, and ``/N/scan`` the same fan (frame ``N`` at the mounting, no yaw: the beams'
-bearings are the robot's).
+Any other fan (a ROS robot's laser through ``ros_inputs``) is announced with a :class:`Fan`,
+which changes what ``N/RWI`` and ``/N/scan`` carry; see docs/wurde-drivers.md ("streams.laser").
 """
 
 from __future__ import annotations

@@ -17,7 +17,7 @@ from typing import Any
 from wurde_core.interfaces import VisionControl
 from wurde_idl.errors import ConfigError
 
-from .runner import VisionRunner
+from .runner import VisionModule
 from .vision_config import load_vision_config
 
 __all__ = ['START', 'STOP', 'SET_OPTION', 'RELOAD', 'VisionControlSupplier']
@@ -29,7 +29,7 @@ STATUS_PERIOD_S = 1.0
 class VisionControlSupplier:
     """Supplies VisionControl for ``runner``; :meth:`step` once per loop turn."""
 
-    def __init__(self, manager: Any, runner: VisionRunner, logger: Any, vision_path: str) -> None:
+    def __init__(self, manager: Any, runner: VisionModule, logger: Any, vision_path: str) -> None:
         self.runner = runner
         self.logger = logger
         self.vision_path = vision_path

@@ -19,7 +19,7 @@ from wurde_idl.errors import ConfigError
 
 from ..module_setup import config_file, exit_on_config_error, run_loop, set_loop
 from .control import VisionControlSupplier
-from .runner import VisionRunner, load_layout
+from .runner import VisionModule, load_layout
 
 #: Longest sleep of a loop turn (s); shorter when a camera's next frame is due sooner.
 LOOP_S = 0.01
@@ -39,7 +39,7 @@ def main(argv: list[str] | None = None) -> int:
         layout, cameras, operators = load_layout(camera_path, vision_path, manager.name, logger.warn,
                                                    logger.notice)
         manager.register_supplier(logger)
-        runner = VisionRunner(layout, cameras, operators, logger)
+        runner = VisionModule(layout, cameras, operators, logger)
         runner.setup(manager)
     except ConfigError as error:
         manager.clean_up()

@@ -22,7 +22,7 @@ from .operator import Operator, OperatorContext
 from .registry import camera_class, load_plugins, operator_class
 from .vision_config import ModuleLayout, load_vision_config
 
-__all__ = ['VisionRunner', 'load_layout']
+__all__ = ['VisionModule', 'VisionRunner', 'load_layout']
 
 
 def load_layout(camera_path: str, vision_path: str, name: str, report: Callable[[str], object],
@@ -47,7 +47,7 @@ def load_layout(camera_path: str, vision_path: str, name: str, report: Callable[
     return layout, built, operators
 
 
-class VisionRunner:
+class VisionModule:
     """Cameras and operators of one layout; :meth:`step` once per loop turn."""
 
     def __init__(self, layout: ModuleLayout, cameras: list[Camera], operators: list[Operator],
@@ -110,3 +110,6 @@ class VisionRunner:
                 self.logger.error(f'operator {operator.name} shutdown: {error!r}')
         for camera in self.cameras:
             camera.close()
+
+
+VisionRunner = VisionModule  # old name (docs/naming.md)

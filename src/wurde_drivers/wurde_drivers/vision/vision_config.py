@@ -1,30 +1,15 @@
 """Reader of ``vision-config.xml``, the VisionModule's layout file (WURDE guide 7.2.2).
 
-::
+One or more ``<module name>`` (a VisionModule started with ``-n NAME`` uses the one of that
+name), each with an optional ``<comment>``, its ``<camera name>`` elements and its
+``<operator name type>`` elements; an operator names its one or two cameras in a ``camera``
+attribute or ``<camera name>`` children, and its options in ``<option name value>`` children.
+``<plugin path>`` says where more operator classes come from: a dotted Python module or a ``.py``
+file (relative: from this file's directory); a WURDE C++ library (``.so``, as the appendix lists)
+is accepted and skipped with a notice, its operators being built in (:mod:`.registry`).
 
-    <vision-config>
-      <module name="DesktopVisionModule">
-        <comment>Module for testing</comment>
-        <camera name="DesktopPlayback"/>
-        <operator name="DesktopWriter" type="ImageWriter">
-          <camera name="DesktopPlayback"/>
-          <option name="imagePrefix" value="desk"/>
-        </operator>
-      </module>
-      <plugin path="my_package.my_operators"/>
-    </vision-config>
-
-- one or more ``<module name>``: a VisionModule started with ``-n NAME`` uses the one of that name;
-  each holds an optional ``<comment>``, one or more ``<camera name>`` and one or more
-  ``<operator name type>``;
-- an operator names its one or two cameras in a ``camera`` attribute (the appendix's
-  ``LeftWriter``) or in ``<camera name>`` children (its ``DesktopWriter``), each one of the
-  module's cameras; ``<option name value>`` children are the operator's options;
-- ``<plugin path>``: where more operator classes come from. Here a dotted Python module
-  (``my_package.my_operators``) or a ``.py`` file (relative: from this file's directory); a
-  WURDE C++ library (``.so``, as the appendix lists) is accepted and skipped with a notice, its
-  operators being built in (:mod:`.registry`).
-
+The README ("Vision") describes the file and docs/wurde-drivers.md ("vision.vision_config") shows
+an example; config/vision/vision-config.xml is the guide appendix's, read by a test as shipped.
 Operator types are checked when the module loads them (:mod:`.registry`), with this file's line.
 Pure Python (lxml).
 """

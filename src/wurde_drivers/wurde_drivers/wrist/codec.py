@@ -164,6 +164,7 @@ def _check_module(module: int) -> None:
 def encode_command(cmd: WristCommand) -> CanFrame:
     """The frame for ``cmd``.
 
+    :param cmd: a host -> module command.
     :raises CodecError: bad module, parameter, motion or value.
     """
     if cmd.module == 0:
@@ -188,7 +189,14 @@ def encode_command(cmd: WristCommand) -> CanFrame:
 
 def encode_move(module: int, position: float, velocity: float,
                 acceleration: float) -> list[CanFrame]:
-    """The three frames of one ramp move: TargetVel, TargetAcc, then ramp to ``position``."""
+    """The three frames of one ramp move: TargetVel, TargetAcc, then ramp to ``position``.
+
+    :param module: the module's address.
+    :param position: the target, rad.
+    :param velocity: rad/s.
+    :param acceleration: rad/s².
+    :raises CodecError: a value that is not finite, or a bad module.
+    """
     return [encode_command(WristCommand(Command.SET_EXTENDED, module, Param.TARGET_VEL, velocity)),
             encode_command(WristCommand(Command.SET_EXTENDED, module, Param.TARGET_ACC,
                                         acceleration)),
@@ -223,6 +231,7 @@ def _command_id(raw: int) -> Command:
 def decode_command(frame: tuple[int, bytes, bool]) -> WristCommand:
     """The host -> module command in ``frame``.
 
+    :param frame: (arbitration id, data, is_extended_id).
     :raises CodecError: not a command frame of this protocol.
     """
     arbitration_id, data = _check_frame(frame)
@@ -255,6 +264,7 @@ def decode_command(frame: tuple[int, bytes, bool]) -> WristCommand:
 def encode_reply(reply: WristReply) -> CanFrame:
     """The acknowledge frame for ``reply``.
 
+    :param reply: a module -> host acknowledge.
     :raises CodecError: bad module, parameter or value.
     """
     _check_module(reply.module)
@@ -282,6 +292,7 @@ def encode_reply(reply: WristReply) -> CanFrame:
 def decode_reply(frame: tuple[int, bytes, bool]) -> WristReply:
     """The module -> host acknowledge in ``frame``.
 
+    :param frame: (arbitration id, data, is_extended_id).
     :raises CodecError: not an acknowledge frame of this protocol.
     """
     arbitration_id, data = _check_frame(frame)

@@ -80,6 +80,7 @@ def _device(path: str, node: etree._Element) -> WristDevice:
 def load_wrist_config(path: str | os.PathLike[str]) -> list[WristDevice]:
     """Every device of the file, in order.
 
+    :param path: the wrist-config.xml to read.
     :raises ConfigError: naming the file and line: malformed XML, wrong root, unknown element or
         attribute, a missing required attribute, a bad value, a duplicate name, no device at all.
     """

@@ -67,18 +67,19 @@ class WristStats:
 
 
 class WristDriver:
-    """Drives the two wrist modules on ``bus``.
-
-    :param bus: an open python-can bus; the driver shuts it down in :meth:`close`.
-    :param pan_id: module address of the pan axis (1..31).
-    :param tilt_id: module address of the tilt axis (1..31).
-    :param request_period: seconds between two state requests made by :meth:`poll`.
-    :param clock: the time source for stamps and :attr:`silent_for`.
-    """
+    """Drives the two wrist modules on a CAN bus."""
 
     def __init__(self, bus: can.BusABC, *, pan_id: int = 1, tilt_id: int = 2,
                  request_period: float = 0.05,
                  clock: Callable[[], float] = time.monotonic) -> None:
+        """Keep the bus and the settings; nothing is sent until :meth:`connect`.
+
+        :param bus: an open python-can bus; the driver shuts it down in :meth:`close`.
+        :param pan_id: module address of the pan axis (1..31).
+        :param tilt_id: module address of the tilt axis (1..31).
+        :param request_period: seconds between two state requests made by :meth:`poll`.
+        :param clock: the time source for stamps and :attr:`silent_for`.
+        """
         self.bus: can.BusABC | None = bus
         self.pan_id, self.tilt_id = pan_id, tilt_id
         self.request_period = request_period
@@ -115,6 +116,8 @@ class WristDriver:
     def connect(self, timeout: float = 1.0) -> WristState:
         """Reset both modules (clearing a halt) and wait for their state.
 
+        :param timeout: seconds to wait for a complete state.
+        :returns: the first complete state.
         :raises DeviceTimeout: no complete state within ``timeout`` seconds.
         """
         self.reset()
@@ -136,10 +139,14 @@ class WristDriver:
     # -- commands -----------------------------------------------------------------------------
     def move(self, pan: float, tilt: float, pan_vel: float, tilt_vel: float, pan_acc: float,
              tilt_acc: float) -> None:
-        """Ramp to (pan, tilt) rad with the given velocities (rad/s) and accelerations (rad/s^2).
+        """Ramp both axes to a position; a module halted by :meth:`halt` is reset first.
 
-        A module halted by :meth:`halt` is reset first.
-
+        :param pan: rad.
+        :param tilt: rad.
+        :param pan_vel: rad/s.
+        :param tilt_vel: rad/s.
+        :param pan_acc: rad/s².
+        :param tilt_acc: rad/s².
         :raises CodecError: a value is not finite.
         """
         frames = (codec.encode_move(self.pan_id, pan, pan_vel, pan_acc)
@@ -192,6 +199,8 @@ class WristDriver:
 
         Returns as soon as something new has arrived (after taking every frame already
         waiting). Bad frames are counted in :attr:`stats`, never raised.
+
+        :param timeout: the longest wait in seconds.
         """
         deadline = time.monotonic() + timeout
         updated = False

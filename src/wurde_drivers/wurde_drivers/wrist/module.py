@@ -43,7 +43,7 @@ from .config import WristDevice, load_wrist_config
 from .device import WristDriver, WristState
 from .emulator import WristEmulator
 
-__all__ = ['WristRunner', 'main']
+__all__ = ['WristModule', 'WristRunner', 'main']
 
 #: Loop sleep and the longest poll (commands wait at most about twice this).
 SLEEP_S = 0.02
@@ -63,7 +63,7 @@ def _pair(values: Any) -> list[float] | None:
     return items[:2] if len(items) >= 2 else None
 
 
-class WristRunner:
+class WristModule:
     """The module's work per loop turn: open and connect (again), commands, state, silence.
 
     :param device: the configured device.
@@ -237,13 +237,21 @@ class WristRunner:
         self.connected = False
 
 
+WristRunner = WristModule  # old name (docs/naming.md)
+
+
 def main(argv: list[str] | None = None) -> int:
+    """The ``wrist_module`` program: one ``<device>`` of wrist-config.xml as an ActuatorState stream.
+
+    :param argv: the command line, program name first; None: ``sys.argv``.
+    :returns: the exit status (2 for a bad config, with ``file:line: reason`` on stderr).
+    """
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('PlutoWrist')
     device = configured_device(manager, argv, 'wrist-config.xml', load_wrist_config)
     wrist = ActuatorState(manager.name)
     wrist.set_auto_timestamp(False)
-    runner = WristRunner(device, wrist, Logger(manager.name))
+    runner = WristModule(device, wrist, Logger(manager.name))
     manager.register_supplier(wrist)
     manager.register_supplier(runner.logger)
     runner.joints = pan_tilt_standard(manager.node, manager.name, device.mount)   # the node exists now

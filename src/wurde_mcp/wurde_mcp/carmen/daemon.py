@@ -4,29 +4,18 @@
 
 Every parameter of the chosen robot (``[*]``, ``[expert]`` and ``[ROBOT]``, read by CARMEN's
 rules: :mod:`.ini`) becomes the ROS 2 parameter ``module.variable`` of the node
-``/param_daemon``, typed from its text (int, float, on/off as bool, else string), so ``ros2 param
-list/get/set /param_daemon`` and ``/parameter_events`` work and the client API
-(:mod:`wurde_core.carmen_param`, Programming with CARMEN 6) reads them; an ``[expert]``
-parameter's description says ``(expert)``.  What the reader warns about (a line CARMEN skips, a
-later line overriding an earlier one) is printed on stderr, file:line: reason, once: at start,
-and on a re-read only what is new.  A set keeps each parameter's type (an int is taken for a
-float) and is refused with rclpy's reason otherwise; a set of a parameter the daemon does not
-have is refused by rclpy's own undeclared-parameter error.
+``/param_daemon``, typed from its text (int, float, on/off as bool, else string), so ``ros2 param``
+and ``/parameter_events`` work and the client API (:mod:`wurde_core.carmen_param`, Programming
+with CARMEN 6) reads them.  A MAP is served as :mod:`map_server <wurde_mcp.carmen.map_server>`
+serves it, as CARMEN's daemon serves its map.  The README ("CARMEN's parameters") is the manual;
+docs/wurde-mcp.md ("param_daemon") has the detail of sets, re-reads and where this daemon
+differs from CARMEN's.
 
-Where CARMEN's daemon differs: its ``-r ROBOT`` is ``-R`` here, because ``-r`` is every WURDE
-module's registration mode (CARMEN's long form ``--robot=ROBOT`` or ``--robot ROBOT`` is taken
-as it is; its ``-ROBOT`` form is not); with several robots and none chosen it refuses, listing
-them, as CARMEN's does; parameter names are case sensitive for ROS 2 clients (CARMEN's lookups
-are not): a parameter is named as the file first spells it; an argument ending in ``.ini`` is
-the ini file, another one the map (the suite's XML, a map_server YAML or a CARMEN map, told by
-content: :mod:`wurde_idl.maps`), named by the read-only ``map.file`` and served as CARMEN's daemon
-serves its map: the MapServer stream (``-s``, default ``MapServer``) and ``/map``, exactly as
-:mod:`map_server <wurde_mcp.carmen.map_server>` serves it (a grid map's own cells; a wall map's
-on a grid of ``-M`` m per cell, default 0.05).  Setting the
-parameter ``reread`` to true re-reads the ini file: a file that cannot be read, a robot no longer
-in it, or a parameter whose type changes is refused with file:line: reason and the old values
-stay; otherwise the changed values are set (parameter events go out) and new ones declared;
-parameters no longer in the file stay as they are.
+Before changing it: CARMEN's ``-r ROBOT`` is ``-R`` here because ``-r`` is every WURDE module's
+registration mode.  A re-read (the parameter ``reread`` set true) is checked inside rclpy's set
+callback, so a refused file refuses the set and the old values stay, and is applied by the
+module's loop after that set returns, never from within the callback.  A parameter keeps the type
+it was first served with.
 """
 
 from __future__ import annotations
@@ -67,13 +56,18 @@ HELP = ('  -a          print the loaded parameters (module_variable value, sorte
 
 
 def ros_name(entry: Entry) -> str:
-    """``module.variable``: dots, so that ``ros2 param list`` groups a module's parameters."""
+    """``module.variable``: dots, so that ``ros2 param list`` groups a module's parameters.
+
+    :param entry: a carmen.ini line.
+    """
     return f'{entry.module}.{entry.variable}'
 
 
 def split_arguments(arguments: list[str]) -> tuple[str | None, str | None]:
     """``(map, ini)`` from the positional arguments (``[MAP] [INI]``; a lone ``*.ini`` is the ini).
 
+    :param arguments: the positional arguments, in order; of two, the first is the map.
+    :returns: the map's and the ini file's paths, None for one not given.
     :raises ValueError: for more than two.
     """
     if len(arguments) > 2:
@@ -90,6 +84,7 @@ def carmen_options(argv: list[str]) -> list[str]:
     ``-R ROBOT`` right after the program name, where WURDE's option parser takes it (it knows no
     long options and stops at the first argument).  ROS arguments are left as they are.
 
+    :param argv: the command line, the program's name first.
     :raises ValueError: for ``--robot`` without a robot.
     """
     own, ros = split_ros_arguments(argv[1:])
@@ -115,6 +110,15 @@ class ParamDaemon:
     """The parameters of one robot of one carmen.ini on ``node``."""
 
     def __init__(self, node: Any, ini: IniFile, robot: str | None, map_path: str | None) -> None:
+        """Take the parameters to serve; :meth:`declare` declares them.
+
+        :param node: the rclpy node whose parameters they become.
+        :param ini: the carmen.ini read; re-reads read its path again.
+        :param robot: the robot chosen (:func:`~.ini.choose_robot`), None for ``[*]`` and
+            ``[expert]`` only.
+        :param map_path: the map file given on the command line, None for none; when given, the
+            file's own ``map_file`` parameter is not served (the read-only ``map.file`` is).
+        """
         self.node = node
         self.path = ini.path
         self.robot = robot
@@ -131,7 +135,10 @@ class ParamDaemon:
         return entries
 
     def warn(self, warnings: list[IniWarning]) -> int:
-        """Print on stderr each of ``warnings`` not printed before; returns how many were."""
+        """Print on stderr each of ``warnings`` not printed before; returns how many were.
+
+        :param warnings: the reader's warnings (of the first read or a re-read).
+        """
         new = [warning for warning in warnings if warning not in self._told]
         for warning in new:
             print(f'param_daemon: warning: {warning}', file=sys.stderr, flush=True)
@@ -229,6 +236,11 @@ class ParamDaemon:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run ``param_daemon`` until it is told to quit.
+
+    :param argv: the command line, the program's name first (None: ``sys.argv``).
+    :returns: the exit status (2 for a usage error, a refused file or map).
+    """
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('param_daemon')
     manager.set_help_string(HELP)

@@ -1,50 +1,19 @@
 """carmen.ini: CARMEN's parameter file, read by CARMEN's rules for ``param_daemon`` and
 ``param_tool install``.
 
-::
-
-    # comment lines, and trailing comments after a value
-    [*]                          # every robot
-    robot_max_t_vel    0.5       # module "robot", variable "max_t_vel"
-    laser_flipped      off
-
-    [pluto]                      # this robot
-    robot_max_t_vel    0.3
-
-    [expert]                     # every robot, marked expert
-    robot_theta_gain   1.0
-
 The rules are those of CARMEN's ``param_daemon.c`` (``read_parameters_from_file``,
-``set_param``, ``find_valid_robots``), so that CARMEN's own carmen.ini and robots' files load:
+``set_param``, ``find_valid_robots``; Programming with CARMEN, the parameter daemon), so that
+CARMEN's own carmen.ini and robots' files load: ``[*]``, ``[expert]`` and ``[ROBOT]`` sections,
+``module_variable value`` lines, ``#`` comments, the sections that apply read in file order and
+a later line winning.  docs/wurde-mcp.md ("carmen.ini") lists every rule, what is skipped with a
+warning and where this reader deviates from CARMEN's.
 
-- ``#`` anywhere starts a comment (also inside a value); blank lines are skipped.
-- A line whose first word starts with ``[`` is a section header.  ``[*]`` holds parameters for
-  every robot, ``[expert]`` (any case) too, marked expert; any other ``[NAME]`` is robot NAME,
-  matched in any case (``--robot=PLUTO`` takes ``[pluto]``).  ``+`` and ``-`` are part of a
-  robot's name (``[p2d8+]``, ``[pioneer-I]``): a section is one robot, there is no list syntax.
-- Every other line is ``name value``: the name is the first word, the value the rest of the line,
-  trimmed.  The name splits at its first ``_`` into module and variable (``navigator_goal_size``
-  is module ``navigator``, variable ``goal_size``).
-- The sections that apply — ``[*]``, ``[expert]`` and the robot's own — are read in file order and
-  a later line wins, also within one section; names are not case sensitive (the first spelling
-  names the parameter).
-
-What CARMEN's daemon skips, this reader skips too, with a warning naming file:line and the
-reason (:attr:`IniFile.warnings`, each once): a name without a value (``xsens_adapt``), a name
-that does not split into module_variable (``>``), a line before the first section header, a
-header that names no section (``[pluto`` — the lines under it are skipped).  It also warns where
-the file is read as CARMEN reads it but probably not as its author meant: a name set twice in
-one section, one name in two spellings, text after a header's ``]``, and a value of a robot's
-section overridden by a later ``[*]`` or ``[expert]``.
-
-Where this reader deviates from CARMEN's, it says so in a warning too: a parameter name must be
-letters, digits and ``_`` (a ROS 2 parameter name; CARMEN takes any characters) — others are
-skipped.  A robot's section listed twice counts as one robot (CARMEN counts two and then asks
-which).  A header without ``]`` skips the lines under it also when no robot is chosen (CARMEN
-then reads them on into the section before).  Refused, as a
-:class:`~wurde_idl.errors.ConfigError`: a file that cannot be read and bytes that are not UTF-8
-(CARMEN refuses any byte beyond ASCII).  ``$include`` lines are not supported: CARMEN's daemon
-has none, so they are warned about as a name that is not module_variable.
+Before changing it: what CARMEN's daemon skips, this reader skips too, with an
+:class:`IniWarning` naming file:line and the reason (each once, in :attr:`IniFile.warnings`);
+it also warns where a line is read as CARMEN reads it but probably not as its author meant.
+A parameter name must be a ROS 2 parameter name (letters, digits and ``_``), where CARMEN takes
+any characters.  A file that cannot be read or is not UTF-8 is refused as a
+:class:`~wurde_idl.errors.ConfigError`.
 """
 
 from __future__ import annotations
@@ -119,7 +88,10 @@ class Section:
         return self.name == ALL_ROBOTS or self.name.lower() == EXPERT
 
     def applies_to(self, robot: str | None) -> bool:
-        """Whether the parameters of ``robot`` (``None``: none chosen) include this section's."""
+        """Whether the parameters of ``robot`` include this section's.
+
+        :param robot: a robot's name, in any case (``None``: none chosen).
+        """
         return self.for_every_robot or (robot is not None and self.name.lower() == robot.lower())
 
 
@@ -143,6 +115,7 @@ class IniFile:
     def robot(self, name: str) -> str:
         """The file's spelling of robot ``name`` (any case).
 
+        :param name: a robot's name, in any case.
         :raises ConfigError: for a robot the file has no section of.
         """
         for robot in self.robots():
@@ -154,6 +127,8 @@ class IniFile:
         """The parameters of ``robot`` (``None``: ``[*]`` and ``[expert]`` only), sorted by name:
         the sections that apply, in file order, a later line winning.
 
+        :param robot: a robot's name, in any case (``None``: ``[*]`` and ``[expert]`` only).
+        :returns: the entries by ``module_variable`` name, as the file first spells it.
         :raises ConfigError: for a robot the file has no section of.
         """
         if robot is not None:
@@ -175,8 +150,10 @@ def _listing(ini: IniFile) -> str:
 
 
 def read_ini(path: str | os.PathLike[str]) -> IniFile:
-    """Read one carmen.ini by CARMEN's rules (the module docstring).
+    """Read one carmen.ini by CARMEN's rules (docs/wurde-mcp.md, "carmen.ini").
 
+    :param path: the file.
+    :returns: its sections and the warnings about lines skipped or probably misread.
     :raises ConfigError: for a file that cannot be read (no line) or that is not UTF-8 (its line).
     """
     path = os.fspath(path)
@@ -284,6 +261,8 @@ def find_ini(directory: str | os.PathLike[str] = '.') -> str:
     """The carmen.ini ``param_daemon`` reads when it is given none: the first of
     :data:`SEARCH_PATH` from ``directory`` that exists.
 
+    :param directory: where the search starts (the working directory by default).
+    :returns: the absolute path of the file found.
     :raises ConfigError: naming every place looked at, when there is none.
     """
     for candidate in SEARCH_PATH:
@@ -298,6 +277,7 @@ def robots(path: str | os.PathLike[str]) -> list[str]:
     """The robot sections of the carmen.ini at ``path`` (not ``[*]`` nor ``[expert]``), in file
     order.
 
+    :param path: the carmen.ini.
     :raises ConfigError: when the file is refused.
     """
     return read_ini(path).robots()
@@ -311,6 +291,8 @@ def choose_robot(ini: IniFile, robot: str | None) -> str | None:
     With several robots and none chosen CARMEN's param_daemon refuses too ("You must specify a
     robot name on the command line using --robot"), listing them here.
 
+    :param ini: the file read by :func:`read_ini`.
+    :param robot: the robot asked for (``-R``/``--robot``), in any case; ``None``: none asked for.
     :raises ConfigError: for an unknown robot, or several robots and none chosen.
     """
     if robot is not None:

@@ -47,6 +47,12 @@ class Grid:
     """A grid: ``cells[iy, ix]`` (0 free, 1 occupied, -1 unknown), cell (0, 0)'s corner at ``origin``."""
 
     def __init__(self, cells: np.ndarray, origin: tuple[float, float], resolution: float) -> None:
+        """Keep the cells.
+
+        :param cells: the cells, row ``iy`` by column ``ix`` (0 free, 1 occupied, -1 unknown).
+        :param origin: the map coordinates of cell (0, 0)'s outer corner (m).
+        :param resolution: a cell's side (m).
+        """
         self.cells = cells
         self.origin = origin
         self.resolution = resolution
@@ -61,7 +67,13 @@ class Grid:
 
 
 def rasterize(world: MapData, resolution: float) -> Grid:
-    """The walls of ``world`` as a grid over its bounds (or the walls' extent)."""
+    """The walls of ``world`` as a grid over its bounds (or the walls' extent).
+
+    :param world: a wall map; a cell is occupied (1) where a wall passes within half a cell's
+        diagonal of its centre, else free (0).
+    :param resolution: a cell's side (m).
+    :raises ValueError: for a resolution that is not above 0.
+    """
     if not resolution > 0:
         raise ValueError(f'resolution {resolution} must be above 0')
     walls = np.asarray(world.walls, dtype=float).reshape(-1, 4)
@@ -88,7 +100,10 @@ def rasterize(world: MapData, resolution: float) -> Grid:
 
 
 def from_grid_map(grid_map: GridMap) -> Grid:
-    """A grid map file's own cells (nav_msgs/OccupancyGrid's 100, 0, -1) as 1, 0 and -1."""
+    """A grid map file's own cells (nav_msgs/OccupancyGrid's 100, 0, -1) as 1, 0 and -1.
+
+    :param grid_map: the grid of a map file; its origin and resolution are kept.
+    """
     cells = np.where(grid_map.cells < 0, -1.0, grid_map.cells / 100.0).astype(np.float32)
     return Grid(cells, (float(grid_map.origin[0]), float(grid_map.origin[1])), float(grid_map.resolution))
 
@@ -106,7 +121,10 @@ def _fill(target: Any, world: MapData, grid: Grid) -> None:
 
 
 def occupancy_grid(grid: Grid) -> OccupancyGrid:
-    """``nav_msgs/OccupancyGrid`` of ``grid`` in frame ``map`` (0 free, 100 occupied)."""
+    """``nav_msgs/OccupancyGrid`` of ``grid`` in frame ``map`` (0 free, 100 occupied).
+
+    :param grid: the served grid (-1 stays unknown).
+    """
     message = OccupancyGrid()
     message.header.frame_id = 'map'
     message.info.resolution = float(grid.resolution)
@@ -122,6 +140,13 @@ class MapServerModule:
     """Serves one map: info at start, data again on each request, /map once (transient local)."""
 
     def __init__(self, manager: CommsManager, world: MapData, grid: Grid, stream: str) -> None:
+        """Supply the map and publish it once, as info and on ``map``.
+
+        :param manager: the module's manager (its node publishes ``map``).
+        :param world: the map: its name, places and off-limits regions.
+        :param grid: its cells (:func:`rasterize` or :func:`from_grid_map`).
+        :param stream: the MapServer stream supplied.
+        """
         self.world, self.grid = world, grid
         self.obj = robot_object_class('MapServer')(stream)
         manager.register_supplier(self.obj)
@@ -142,6 +167,11 @@ class MapServerModule:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run ``map_server`` until it is told to quit.
+
+    :param argv: the command line, the program's name first (None: ``sys.argv``).
+    :returns: the exit status (2 for a refused map or resolution).
+    """
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('map_server')
     manager.set_help_string('  -m MAP         the map file: XML, map_server YAML or CARMEN map (default map.xml of\n'

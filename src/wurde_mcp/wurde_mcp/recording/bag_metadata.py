@@ -1,28 +1,14 @@
 """rosbag2's ``metadata.yaml``: written for a bag directory ``record`` makes, read for ``replay``.
 
-The layout is rosbag2's (Jazzy, ``rosbag2_storage/yaml.hpp``), metadata version 9::
+The layout written is rosbag2's (Jazzy, ``rosbag2_storage/yaml.hpp``), metadata version 9, so
+``ros2 bag`` and rosbags read the directories ``record`` writes; docs/wurde-mcp.md ("rosbag2's
+metadata.yaml") shows it.  Reading takes every version rosbag2 wrote (1-9: ``compression_*``
+from 3, ``files`` from 5, the type hash from 7; ``offered_qos_profiles`` a YAML string before 9),
+and only what ``replay`` needs.
 
-    rosbag2_bagfile_information:
-      version: 9
-      storage_identifier: mcap
-      duration: {nanoseconds: N}
-      starting_time: {nanoseconds_since_epoch: N}
-      message_count: N
-      topics_with_message_count:
-      - topic_metadata: {name, type, serialization_format,
-                         offered_qos_profiles: [profile, ...], type_description_hash}
-        message_count: N
-      compression_format: ''
-      compression_mode: ''
-      relative_file_paths: [NAME_0.mcap, ...]
-      files:
-      - {path, starting_time: {nanoseconds_since_epoch}, duration: {nanoseconds}, message_count}
-      custom_data: ~
-      ros_distro: jazzy
-
-Reading takes every version rosbag2 wrote (1-9: ``compression_*`` from 3, ``files`` from 5, the
-type hash from 7; ``offered_qos_profiles`` a YAML string before 9).  Errors name the file and the
-key.
+Before changing it: check a change against rosbag2's ``yaml.hpp`` (the tests compare the schema);
+errors name the file and the key; the file is written whole, through a temporary file beside it,
+so a recorder that dies leaves the old file or none.
 """
 
 from __future__ import annotations
@@ -85,7 +71,14 @@ class BagMetadata:
 
 def bagfile_information(*, storage_identifier: str, files: Sequence[FileEntry], topics: Sequence[TopicEntry],
                         ros_distro: str = '') -> dict[str, Any]:
-    """The whole ``metadata.yaml`` document of a bag made of ``files`` (in order), version 9."""
+    """The whole ``metadata.yaml`` document of a bag made of ``files`` (in order), version 9.
+
+    :param storage_identifier: the storage plugin's name (``mcap``).
+    :param files: the bag's storage files, in split order; the bag's start and duration span
+        those with messages.
+    :param topics: the topics, with their offered QoS profiles as a list.
+    :param ros_distro: the distribution named ('': ``ROS_DISTRO``, else ``jazzy``).
+    """
     filled = [f for f in files if f.message_count]
     start = min((f.starting_time for f in filled), default=NO_TIME)
     end = max((f.starting_time + f.duration for f in filled), default=NO_TIME)
@@ -112,13 +105,19 @@ def bagfile_information(*, storage_identifier: str, files: Sequence[FileEntry], 
 
 
 def dump(document: Mapping[str, Any]) -> str:
-    """YAML text of a metadata document (key order kept, block style, as yaml-cpp writes)."""
+    """YAML text of a metadata document (key order kept, block style, as yaml-cpp writes).
+
+    :param document: a document from :func:`bagfile_information`.
+    """
     return yaml.safe_dump(dict(document), default_flow_style=False, sort_keys=False)
 
 
 def write_metadata(directory: pathlib.Path, document: Mapping[str, Any]) -> pathlib.Path:
     """Write ``metadata.yaml`` into ``directory`` whole (through a temporary file beside it).
 
+    :param directory: the bag directory.
+    :param document: a document from :func:`bagfile_information`.
+    :returns: the path written.
     :raises OSError: it cannot be written.
     """
     path = directory / METADATA_FILE
@@ -153,6 +152,7 @@ def _topic(entry: Any, where: str) -> TopicEntry:
 def read_metadata(directory: pathlib.Path) -> BagMetadata:
     """The ``metadata.yaml`` of the bag ``directory``.
 
+    :param directory: the bag directory.
     :raises BagError: unreadable, not YAML, or a key missing or of the wrong kind (named).
     """
     path = directory / METADATA_FILE

@@ -18,7 +18,10 @@ _KINDS = ('msg', 'srv', 'action')
 
 
 def normalize_type(type_name: str) -> str:
-    """``pkg/Name`` -> ``pkg/msg/Name``; any other name as it is."""
+    """``pkg/Name`` -> ``pkg/msg/Name``; any other name as it is.
+
+    :param type_name: a ROS type name.
+    """
     parts = type_name.split('/')
     return f'{parts[0]}/msg/{parts[1]}' if len(parts) == 2 else type_name
 
@@ -26,6 +29,7 @@ def normalize_type(type_name: str) -> str:
 def message_class(type_name: str) -> Any:
     """The Python class of ``pkg/msg/Name`` (or ``pkg/Name``, ``pkg/srv/Name_Event``...).
 
+    :param type_name: the type's name; its package is imported.
     :raises MessageTypeError: not a type name, or the type is not installed here.
     """
     parts = normalize_type(type_name).split('/')

@@ -46,7 +46,10 @@ def _duration(duration: Duration) -> dict[str, int]:
 
 
 def offered_profile(profile: QoSProfile) -> dict[str, Any]:
-    """One publisher's profile in rosbag2's metadata version 9 form."""
+    """One publisher's profile in rosbag2's metadata version 9 form.
+
+    :param profile: the QoS the publisher offers (from the ROS graph).
+    """
     return {'history': profile.history.name.lower(), 'depth': int(profile.depth),
             'reliability': profile.reliability.name.lower(), 'durability': profile.durability.name.lower(),
             'deadline': _duration(profile.deadline), 'lifespan': _duration(profile.lifespan),
@@ -57,7 +60,10 @@ def offered_profile(profile: QoSProfile) -> dict[str, Any]:
 
 def offered_qos_yaml(profiles: Sequence[Mapping[str, Any]]) -> str:
     """The ``offered_qos_profiles`` string of an MCAP channel (YAML, as rosbag2's
-    ``serialize_rclcpp_qos_vector`` writes it)."""
+    ``serialize_rclcpp_qos_vector`` writes it).
+
+    :param profiles: one profile per publisher, as :func:`offered_profile` makes them.
+    """
     return yaml.safe_dump([dict(p) for p in profiles], default_flow_style=False, sort_keys=False).strip()
 
 
@@ -79,6 +85,9 @@ def offers_from_yaml(value: str | Sequence[Any] | None) -> tuple[Offer, ...]:
     """The offers of ``offered_qos_profiles`` as found: a YAML string (an MCAP channel's, or a
     metadata.yaml of version 4-8), a list (metadata.yaml version 9), or nothing.
 
+    :param value: the value found; None or '' gives no offers.
+    :returns: one offer per profile, policies by rmw's lower-case names (a number of versions
+        4-8 is named; an unknown number is ``unknown``).
     :raises ValueError: not a list of profiles with a reliability and a durability each.
     """
     if value is None or value == '':
@@ -100,7 +109,13 @@ def offers_from_yaml(value: str | Sequence[Any] | None) -> tuple[Offer, ...]:
 def replay_qos(offers: Iterable[Offer], legacy: Mapping[str, str] | None = None) -> QoSProfile:
     """The profile to replay a topic with: the recorded publishers' reliability and durability
     when they all agree, rosbag2's default (reliable, volatile) when they differ; without offers,
-    the ``durability`` and ``reliability`` metadata of files recorded before (default the same)."""
+    the ``durability`` and ``reliability`` metadata of files recorded before (default the same).
+
+    :param offers: the recorded publishers' offers (:func:`offers_from_yaml`).
+    :param legacy: a channel's ``reliability`` and ``durability`` metadata, used only without
+        offers (None: none).
+    :returns: a profile of depth :data:`REPLAY_DEPTH`.
+    """
     offers = set(offers)
     if len(offers) == 1:
         (offer,) = offers

@@ -44,6 +44,14 @@ class XmlClient:
 
     def __init__(self, host: str = '127.0.0.1', port: int = 24919, timeout: float = 5.0, *,
                  name: str = 'xmlClient', version: str = '1.0') -> None:
+        """Connect and exchange the greetings.
+
+        :param host: the server's address.
+        :param port: the server's TCP port (an xmlServer's default is 24919).
+        :param timeout: how long the connection, the greeting and each request wait (s).
+        :param name: the tag of this client's opening root line (replies to a warning carry it).
+        :param version: the version its opening line gives.
+        """
         #: How long a request waits for its reply (s).
         self.timeout = timeout
         #: The server's root tag and the name and version its greeting gave.
@@ -73,6 +81,10 @@ class XmlClient:
         """Send one command line and return its reply lines (see the module's rule on where a
         reply ends).  A warning is a reply like any other.
 
+        :param line: one command, tagged (``<var odoPose.pose=""/>``) or lazy (``var odoPose.pose``).
+        :param until_done: whether the reply ends with an ``info="done"`` line (None: the module's
+            rule decides).
+        :returns: the reply lines as dicts, the tag under ``''``.
         :raises TimeoutError: the reply did not end within :attr:`timeout`.
         :raises OSError: the connection failed.
         """
@@ -99,6 +111,7 @@ class XmlClient:
     def get(self, name: str) -> dict[str, str]:
         """The reply line of variable ``name`` (``value``, ``typ``, ``size``; ``x y th`` of a pose).
 
+        :param name: a variable's full name, e.g. ``odoPose.pose`` (not case sensitive).
         :raises VarError: the server's warning (no such variable, or a structure).
         :raises ValueError: ``name`` is not a variable name.
         """
@@ -107,6 +120,8 @@ class XmlClient:
     def set(self, name: str, value: str | float | Sequence[float]) -> dict[str, str]:
         """Set variable ``name`` (numbers are written for you); the reply line (with ``oldValue``).
 
+        :param name: a variable's full name (a new one is made, as the server's ``var X=...``).
+        :param value: the text as sent, a number, or a sequence of numbers (written space-separated).
         :raises VarError: the server's warning (read-only, a bad value, refused).
         :raises ValueError: an empty value (it would read the variable, not set it).
         """
@@ -121,8 +136,11 @@ class XmlClient:
         return self._one(self.request(reply('var', [(name, text)])), name)
 
     def lines(self, timeout: float | None = None) -> Iterator[dict[str, str]]:
-        """The lines the server sends (pushes), for ``timeout`` s from now (None: until the server
-        closes the connection)."""
+        """The lines the server sends (pushes), until the time is up or the server closes.
+
+        :param timeout: how long to read from now (s); None: until the server closes the
+            connection.
+        """
         deadline = None if timeout is None else time.monotonic() + timeout
         while True:
             try:
@@ -134,7 +152,10 @@ class XmlClient:
             yield item
 
     def help(self, command: str = '') -> str:
-        """The text of the server's help (``help``) or of a command's (``help('var')``)."""
+        """The text of the server's help (``help``) or of a command's (``help('var')``).
+
+        :param command: a command's keyword ('' for the server's help).
+        """
         replies = self.request(f'{command} help' if command else 'help', until_done=True)
         return '\n'.join(item['text'] for item in replies if 'text' in item and item[''] == '')
 

@@ -1,28 +1,19 @@
 """The ``pt`` line of a robot controller: its odometry pose, kept in ``odoPose.pose``, unanswered.
 
-Mobotware's robot controller ``mrc``, connected to a laser or camera server, sends the XML
-declaration, its opening tag ``<smrdemo version="2.00" >`` and then, on every control tick
-(100 Hz), its odometry pose with the time of day — the values of y and th with a space inside
-the quotes::
+Mobotware's robot controller ``mrc``, connected to a laser or camera server, sends on every
+control tick (100 Hz) its odometry pose with the time of day (AU Robot Servers, "Coordinate
+systems": odometry is ``odoPose``)::
 
     <pt tod="1286376207.875200" x="1.5310" y="-21.9120 " th="-2.0260 " />
 
-The AU Robot Servers take it as the robot's odometry pose ("Coordinate systems": odometry is
-``odoPose``): their server core catches a ``pt`` line before the command queue, adds the pose to
-the odoPose pose history, whose newest pose is the variable ``odoPose.pose``, and answers
-nothing.  :class:`PoseCommand` does likewise with this server's variables: the pose becomes
-``odoPose.pose`` (x, y, th, time) through :meth:`VariablePool.update
+As the AU Robot Servers' core does, :class:`PoseCommand` catches it before the command queue and
+answers nothing; the pose becomes ``odoPose.pose`` (x, y, th, time) through :meth:`VariablePool.update
 <.variables.VariablePool.update>`, so ``var odoPose.pose`` reads it and a ``varpush`` on
-``odoPose`` runs on it.  In ``xml_server`` the localModule's Dead-Reckoning stream sets
-``odoPose.pose`` too: the newer of the two is read.  No history is kept, so memory does not grow
-however long a controller sends.
+``odoPose`` runs on it.  docs/wurde-mcp.md ("The pt line") says which attributes are taken.
 
-As AURS's, a pose needs ``tod``, ``x``, ``y`` and ``th`` (or ``h``); ``vel`` and ``q`` may come
-too and are not kept (no ``odoPose.vel`` here); a pose of time 0 at x = 0 is the controller's "no
-pose yet" and is not taken.  Where AURS drops a ``pt`` it cannot read without a word, this server
-tells the client once per session why (a warning reply with the client's tag), and stays silent
-about the rest, so that a controller with a broken pose line does not get a hundred warnings a
-second.
+Before changing it: no history is kept, so memory does not grow however long a controller sends;
+and a ``pt`` that cannot be read is warned about once per session, not once per line, so that a
+controller with a broken pose line does not get a hundred warnings a second.
 """
 
 from __future__ import annotations
@@ -49,6 +40,8 @@ class PoseError(ValueError):
 def parse_pose(command: Command) -> tuple[float, float, float, float]:
     """``(x, y, th, tod)`` of a ``pt`` command; values may have spaces inside their quotes.
 
+    :param command: the parsed ``pt`` line; ``th`` may be given as ``h``.
+    :returns: x, y (m), th (rad) and the time of day tod (s since 1970).
     :raises PoseError: an attribute is missing, or is not a finite number.
     """
     values: list[float] = []
@@ -74,6 +67,12 @@ class PoseCommand:
     TOLD = 'pt'
 
     def __init__(self, pool: VariablePool, variable: str = ODO_POSE) -> None:
+        """Take poses into ``variable`` of ``pool``.
+
+        :param pool: the server's variables.
+        :param variable: the pose variable set; while the pool has no such variable, poses are
+            dropped.
+        """
         self._pool = pool
         self._variable = variable
 

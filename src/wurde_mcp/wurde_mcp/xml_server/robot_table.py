@@ -2,39 +2,18 @@
 streams and the members of their messages.
 
 Pluto (section 2): the xmlServer is "a translation program between mobility and a much simpler xml
-interface using sockets".  Every variable below is a row of :data:`ROWS`; :class:`RobotPool` makes
-one consumer per stream of the table and copies the named members into the pool as messages
-arrive — there is no handler per variable.  Stream names are templates over the robot's device
-names (``{base}``, ``{laser}``, ``{gps}``: PlutoBase, PlutoLaser, PlutoGPS by default, as in
-``config/pluto``).
+interface using sockets".  Every variable is a row of :data:`ROWS`; :class:`RobotPool` makes one
+consumer per stream of the table and copies the named members into the pool as messages arrive —
+there is no handler per variable, so a new variable is a new row.  Stream names are templates over
+the robot's device names (``{base}``, ``{laser}``, ``{gps}``: :data:`DEVICE_DEFAULTS`, as in
+``config/pluto``).  docs/wurde-mcp.md ("The robot's variables") has the table of variables,
+streams and members.
 
-========================= ====== ========================================= =========================
-variable                  typ    stream (interface)                        members
-========================= ====== ========================================= =========================
-``odoPose.pose``          pose   Localization/Dead-Reckoning (Localiz.Pose) pose x, y, theta; stamp
-``mapPose.pose``          pose   Localization/Pose (LocalizationPose)       pose x, y, theta; stamp
-``mapPose.setter``        d      Localization/Pose                          cmdFlags (the setter)
-``utmPose.pose``          pose   {gps} (GPS)                                x (east), y (north); th nan
-``gps.fix``               d      {gps} (GPS)                                lat, lon, alt, sats, quality, hdop
-``base.pose``             pose   {base}Motion (Egomotion)                   raw odometry location
-``base.vel``              d      {base}Motion (Egomotion)                   tv, rv
-``base.power``            d      {base}Power (Power)                        voltage, charge
-``laser.ranges``          d      {laser} (RangeFinder)                      ranges (m)
-``drive.status``          d      drive/status (FVectorState)                element codes
-``drive.data``            d      drive/status (FVectorState)                data values
-``drive.command``         d, rw  drive/command (ActuatorState)              cmdFlags, position
-``avoid.*``, ``motion.*`` as drive, on avoidance/… and motion/…
-``mcp.<module>.state``    s      mcp_control (SimpleControl)                run state, status, pid,
-                                                                            restarts per module
-========================= ====== ========================================= =========================
-
-``odoPose.pose`` is also set by a client's ``pt`` line (a robot controller's odometry pose:
-:mod:`.pose_command`); the newer of the two is read.
-
-A ``*.command`` variable is written as ``cmdFlags p0 p1 [v0 v1 [f0]]`` (Pluto 4 and 6: e.g.
-``42 7.5 3`` a moveto, ``32 8.5 3 0.5 1`` an avoid goto): the values go to the stream's request
-channel as (cmd_flags, position, velocity, force), so the link's Writable locks apply and a locked
-member is refused with the lock's reason; it reads back the link's echo of the command it runs.
+Before changing it: a ``*.command`` variable is written as ``cmdFlags p0 p1 [v0 v1 [f0]]`` (Pluto
+4 and 6): only the members given go to the stream's request channel, so the link's Writable locks
+apply and a locked member is refused with the lock's reason; it reads back the link's echo of the
+command it runs.  ``odoPose.pose`` is also set by a client's ``pt`` line (:mod:`.pose_command`);
+the newer of the two is read.
 """
 
 from __future__ import annotations
@@ -136,6 +115,14 @@ class RobotPool:
 
     def __init__(self, manager: CommsManager, devices: dict[str, str] | None = None,
                  rows: Sequence[Row] = ROWS) -> None:
+        """Make the variables (empty, a pose NaN, until their stream's first message) and their
+        consumers.
+
+        :param manager: the xmlServer's manager; the consumers are registered with it.
+        :param devices: device names by template key (``base``, ``laser``, ``gps``) where they
+            differ from :data:`DEVICE_DEFAULTS`; None: the defaults.
+        :param rows: the table (the tests pass a smaller one).
+        """
         names = {**DEVICE_DEFAULTS, **(devices or {})}
         self.pool = VariablePool()
         self._streams: dict[str, RobotObject] = {}

@@ -6,7 +6,7 @@ AU Robot Servers, "Interface description" / "Value exchange": a variable has a d
 ``typ`` — ``d`` (one or more doubles), ``pose`` (x, y, th), ``m2`` (a matrix of doubles, rows
 separated by ``;``) or ``s`` (a string) — and a ``size`` (characters of a string, doubles of the
 rest).  The server (:mod:`.server`) knows only this module's :class:`VariablePool`; the pool of the
-running robot (:mod:`.wurde_pool`) fills it from the WURDE streams.
+running robot (:mod:`.robot_table`) fills it from the WURDE streams.
 """
 
 from __future__ import annotations
@@ -41,7 +41,13 @@ def _number(x: float) -> str:
 
 
 def format_value(typ: str, value: Value) -> tuple[str, int]:
-    """The ``value`` attribute's text and the ``size`` attribute of a value of type ``typ``."""
+    """The ``value`` attribute's text and the ``size`` attribute of a value of type ``typ``.
+
+    :param typ: one of :data:`TYPES`.
+    :param value: a value of that type (a string for ``s``, rows for ``m2``, else doubles).
+    :returns: the text (numbers in the C locale, ``m2`` rows joined by ``;``) and the size
+        (characters of a string, doubles of the rest).
+    """
     if typ == 's':
         assert isinstance(value, str)
         return value, len(value)
@@ -55,6 +61,9 @@ def format_value(typ: str, value: Value) -> tuple[str, int]:
 def parse_value(typ: str, text: str) -> Value:
     """The value of type ``typ`` written as ``text`` by a client (``var X="..."``).
 
+    :param typ: one of :data:`TYPES`.
+    :param text: the client's text: doubles separated by spaces or commas, ``m2`` rows of equal
+        length separated by ``;``, or any text for ``s``.
     :raises VarError: the text is not a value of that type.
     """
     if typ == 's':
@@ -108,17 +117,30 @@ class VariablePool:
         self._descriptions: dict[str, str] = {}
 
     def add(self, variable: Variable) -> Variable:
+        """Add a variable (replacing one of the same name, in any case).
+
+        :param variable: the variable; its ``typ`` must be one of :data:`TYPES`.
+        :returns: ``variable``.
+        :raises ValueError: for another ``typ``.
+        """
         if variable.typ not in TYPES:
             raise ValueError(f'{variable.name}: typ {variable.typ!r} is not one of {TYPES}')
         self._vars[variable.name.lower()] = variable
         return variable
 
     def describe(self, struct: str, description: str) -> None:
-        """The description of structure ``struct`` (``var list`` shows it)."""
+        """Set the description of a structure (``var list`` shows it).
+
+        :param struct: the structure's dotted name ('' the root), any case.
+        :param description: the text.
+        """
         self._descriptions[struct.lower()] = description
 
     def find(self, name: str) -> Variable | None:
-        """The variable ``name`` (any case), or None."""
+        """The variable ``name`` (any case), or None.
+
+        :param name: a variable's full dotted name.
+        """
         return self._vars.get(name.lower())
 
     def is_struct(self, name: str) -> bool:
@@ -160,6 +182,8 @@ class VariablePool:
     def set(self, name: str, text: str) -> tuple[Value, Value]:
         """Write ``text`` to variable ``name``: (old value, new value).
 
+        :param name: a variable's full dotted name, any case.
+        :param text: the client's text of the value (:func:`parse_value`); a pose needs x y th.
         :raises VarError: no such variable, read-only, a value of the wrong type or the owner refused.
         """
         var = self.find(name)
@@ -189,7 +213,12 @@ class VariablePool:
         return self._updates.get(name.lower().strip('.'), 0)
 
     def update(self, name: str, value: Value) -> None:
-        """Store a new value of the variable ``name`` from its source and count the update."""
+        """Store a new value of the variable ``name`` from its source and count the update.
+
+        :param name: a variable's full dotted name, any case.
+        :param value: the new value, of the variable's type (not checked).
+        :raises KeyError: no such variable.
+        """
         var = self.find(name)
         if var is None:
             raise KeyError(name)

@@ -1,30 +1,20 @@
 """dummy_base: Pluto's dummy base server (5), driving a simulated robot through a map.
 
 It supplies exactly the streams of a real base (see :mod:`wurde_drivers.streams.base`), plus the
-ground truth on ``<name>Truth`` (Egomotion, every simulation step, queue mode) for the other
-dummies, tests and plots, mirrored as ``nav_msgs/Odometry`` on ``/<name>/ground_truth/odom``
-(frame ``map``: not odometry; :func:`wurde_drivers.ros_std.ground_truth_publisher`). The
-odometry's covariance on ``/<name>/odom`` follows the config's ``<odometry-noise>``.
+ground truth on ``<name>Truth`` (Egomotion, every simulation step) for the other dummies, tests and
+plots, mirrored on ``/<name>/ground_truth/odom`` (:func:`wurde_drivers.ros_std.ground_truth_publisher`).
+Its module name (``-n``) should be the config's base name, since the other dummies follow
+``<base name>Truth``.
 
-Options: ``-c sim-config.xml`` (default: the config directory's ``sim-config.xml``) and the
-standard WURDE options; the module name (``-n``) should be the
-config's base name, since the other dummies follow ``<base name>Truth``.
-
-Simulated time advances in the config's fixed steps; the loop catches up with the wall clock times
-the time scale, so at time scale 10 the robot lives ten seconds each wall second.  Each step's
-time is published on ``/clock`` (:mod:`wurde_drivers.sim.dummies.clock_topic`) for nodes with
-``use_sim_time``; the command watchdog counts simulated time.
-
-The config's people (``<person>``, :mod:`wurde_drivers.sim.people`) are in the world: the sonars
-see them, the robot stops at them, and one that walks into the robot presses a bumper and stops the
-base; each contact with a person is logged once, when it begins, with the count so far.  Where
-everyone is goes out on ``/<name>/ground_truth/people`` at the odometry rate
-(:mod:`wurde_drivers.sim.dummies.people_topic`).
+Simulated time advances in the config's fixed steps, catching up with the wall clock times the
+time scale, and goes out on ``/clock`` (:mod:`wurde_drivers.sim.dummies.clock_topic`); the command
+watchdog counts simulated time.  The config's people (:mod:`wurde_drivers.sim.people`) are in the
+world: the sonars see them, the robot stops at them, and one that walks into the robot presses a
+bumper and stops the base.
 
 The simulated robot outlives its driver, as a real one does: under an MCP the base keeps where
-the robot truly stands in its state file (:mod:`wurde_core.resume`), and a base the MCP restarts
-puts the robot back there (at rest, its odometry counting from zero again as a restarted base
-driver's does) instead of at the config's start.
+the robot truly stands in its state file (:mod:`wurde_core.resume`), and a restarted base puts
+the robot back there.  docs/wurde-drivers.md ("sim.dummies.base") has the detail.
 """
 
 from __future__ import annotations
@@ -62,6 +52,11 @@ def _every(rate: float, step: float) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The ``dummy_base`` program: the simulated base of sim-config.xml.
+
+    :param argv: the command line, program name first; None: ``sys.argv``.
+    :returns: the exit status (2 for a bad config, with ``file:line: reason`` on stderr).
+    """
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('PlutoBase')
     path = sim_config_path(manager, argv)

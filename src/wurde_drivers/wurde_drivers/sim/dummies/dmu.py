@@ -23,6 +23,11 @@ from ..loading import read_sim_config
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The ``dummy_dmu`` program: the sim-config's ``<dmu>`` on the simulated robot.
+
+    :param argv: the command line, program name first; None: ``sys.argv``.
+    :returns: the exit status (2 for a bad config, with ``file:line: reason`` on stderr).
+    """
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('PlutoDMU')
     config = read_sim_config(manager, argv)

@@ -22,6 +22,11 @@ from ..loading import read_sim_config
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The ``dummy_gps`` program: the sim-config's ``<gps>`` on the simulated robot.
+
+    :param argv: the command line, program name first; None: ``sys.argv``.
+    :returns: the exit status (2 for a bad config, with ``file:line: reason`` on stderr).
+    """
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('PlutoGPS')
     config = read_sim_config(manager, argv)

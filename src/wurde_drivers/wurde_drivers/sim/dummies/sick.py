@@ -64,6 +64,11 @@ class TruthHistory:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The ``dummy_sick`` program: the sim-config's ``<laser>`` named like the module.
+
+    :param argv: the command line, program name first; None: ``sys.argv``.
+    :returns: the exit status (2 for a bad config, with ``file:line: reason`` on stderr).
+    """
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('PlutoLaser')
     path = sim_config_path(manager, argv, '\n  -n NAME  the <laser> of the config to simulate')

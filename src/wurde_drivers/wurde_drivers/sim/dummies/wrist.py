@@ -39,6 +39,11 @@ def _pair(values: object) -> list[float] | None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The ``dummy_wrist`` program: the sim-config's ``<wrist>`` on the simulated robot.
+
+    :param argv: the command line, program name first; None: ``sys.argv``.
+    :returns: the exit status (2 for a bad config, with ``file:line: reason`` on stderr).
+    """
     argv = list(sys.argv if argv is None else argv)
     manager = CommsManager('PlutoWrist')
     config = read_sim_config(manager, argv)
