@@ -1,6 +1,8 @@
 """What every shipped module does the same way: find its config file, refuse a bad one, announce
-its loop and run the guide's loop (5.2.1).  Drivers, dummies and the Pluto modules share it, so no
-module writes its own state handling."""
+its loop and run the guide's loop (5.2.1).  Drivers, dummies and the Pluto modules share it.  A
+few programs keep a loop of their own, each for a reason: the guide's FooServer and FooClient (its
+printed examples), emulator_host (ends with status 1 when its emulator fails), the dummy base and
+wrist (catch-up stepping with Idle/Run hooks), tour and pose_i (interactive) and the MCP."""
 
 from __future__ import annotations
 
