@@ -92,7 +92,12 @@ class MotionController:
             self._planner = Planner(self.grid.restricted(inside))
         return self._planner
 
-    def _inside(self, x: float, y: float) -> bool:
+    def inside(self, x: float, y: float) -> bool:
+        """Whether a goal at (``x``, ``y``) is allowed: inside the rectangle, or anywhere without one.
+
+        :param x: m, Localization/Pose frame.
+        :param y: m, Localization/Pose frame.
+        """
         return self.rectangle is None or bool(self.rectangle.contains(x, y))
 
     def moveto(self, goal: tuple[float, float]) -> Moveto:
@@ -130,7 +135,7 @@ class MotionController:
             return []
         if kind is Kind.MOVETO:
             goal = (command.position[0], command.position[1])
-            if not self._inside(*goal):
+            if not self.inside(*goal):
                 raise CommandRefused(f'moveto ({goal[0]:.2f}, {goal[1]:.2f}) is outside the rectangle')
             self._begin(self.moveto(goal))
             # "element[2]=-1 if moveto point set (cmdFlags 42 received)" (Pluto 6.3): at once, so
@@ -140,7 +145,7 @@ class MotionController:
         if pose is None:
             raise CommandRefused(f'cmdFlags {command.cmd_flags}: no pose yet')
         if kind is Kind.INVESTIGATE:
-            self._begin(Investigate(self.settings, self._inside, self.warn, wrist=self.wrist))
+            self._begin(Investigate(self.settings, self.inside, self.warn, wrist=self.wrist))
             self.element2 = NO_MOVETO
             return []
         assert kind is Kind.EXPLORE and command.rectangle is not None
