@@ -188,6 +188,35 @@ def test_a_module_told_to_quit_is_not_killed_by_a_late_sigint(manager, ros_domai
     assert 'KeyboardInterrupt' not in leaver.stderr
 
 
+BUSY = '''
+import os, signal, sys
+from wurde_core import CommsManager
+manager = CommsManager('Busy')
+manager.run_update()
+print('busy', flush=True)
+sys.stdin.readline()                    # one long step: the MCP's Quit arrives meanwhile
+os.kill(os.getpid(), signal.SIGINT)     # and, the exit being slow, its SIGINT
+assert manager.run_update().name == 'QUIT'
+manager.clean_up()
+print('commanded' if manager._told_to_quit else 'not commanded', flush=True)
+'''
+
+
+def test_a_module_that_sees_the_sigint_before_the_quit_command_knows_it_was_commanded(
+        manager) -> None:
+    """A step that runs long on a loaded machine: the MCP's Quit waits in the heartbeat's reader
+    when its SIGINT ends the loop.  The clean-up finds the command, so the module does not wait
+    for the MCP to acknowledge a goodbye (that wait outlasted the escalation's SIGKILL in CI)."""
+    with Peer(['-c', BUSY]) as busy:
+        busy.expect('busy')
+        heartbeat = _heartbeat(manager, 'Busy')
+        _command(manager, heartbeat, RunState.QUIT)
+        assert heartbeat.wait_delivered(20, channel='request')     # in the module's reader
+        busy.send('go on')
+        assert busy.process.wait(timeout=30) == 0, busy.stderr[-2000:]
+    assert 'not commanded' not in busy.stdout and 'commanded' in busy.stdout
+
+
 STUCK = '''
 import time
 from wurde_core import CommsManager

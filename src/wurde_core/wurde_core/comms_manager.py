@@ -752,7 +752,7 @@ class CommsManager:
                     # unless the MCP (or a controller) commanded the Quit: it knows, and waits for
                     # the exit.  A reliable writer's acknowledgements can take the DDS heartbeat
                     # period, and every module of an MCP stopping at once must end in seconds.
-                    if wait and not self._told_to_quit:
+                    if wait and not self._quit_was_commanded():
                         self._heartbeat.obj.wait_delivered(GOODBYE_WAIT_S, channel='info')
                 if self._daemon is not None:
                     self._daemon.close()
@@ -780,6 +780,16 @@ class CommsManager:
         atexit.unregister(self.clean_up)
         if ending:
             faulthandler.cancel_dump_traceback_later()
+
+    def _quit_was_commanded(self) -> bool:
+        """Whether a Quit command came, also one still waiting in the heartbeat's reader: a
+        module whose step ran long (a loaded machine) sees the MCP's SIGINT, 2 s after its Quit,
+        before it looks at the command, and must not then wait for the MCP to acknowledge a
+        goodbye it is not listening for — that wait can outlast the escalation's SIGKILL."""
+        if not self._told_to_quit and self._heartbeat is not None:
+            self._heartbeat.obj._drain()
+            self._told_to_quit = RunState.QUIT in self._heartbeat.commands()
+        return self._told_to_quit
 
     # -- time ----------------------------------------------------------------------------------
     def now(self) -> Timestamp:
