@@ -127,6 +127,12 @@ SOAK_SECONDS ?= 600
 soak: build
 	$(IN_ENV) python bench/soak.py --seconds $(SOAK_SECONDS)
 
+# The robot's footprint (issue 39; not a test, about 5 minutes): config/pluto driving a fixed route, per
+# process CPU and PSS beside a raw rclpy baseline (default executor and EventsExecutor) in the same run.
+.PHONY: bench-footprint
+bench-footprint: build
+	$(IN_ENV) python bench/footprint.py
+
 # Two hosts (issue 16; needs root): network namespaces joined by a veth pair, the simulated Pluto
 # under one MCP on "robot", a client under its own MCP on "desktop", the link cut for 10 s
 # (src/wurde_mcp/test/test_two_hosts.py; about 2 minutes).  DDS stays on that link.

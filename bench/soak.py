@@ -38,6 +38,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from lxml import etree
@@ -93,7 +94,7 @@ def wall_contacts(truth: 'Track', map_file: pathlib.Path) -> list[tuple[float, f
     for stamp, pose in zip(truth.stamps, truth.poses):
         before = log.contacts
         xyt = (pose[0], pose[1], pose[2])
-        log.add(Sample(t=stamp, pose=xyt, covariance=np.zeros((3, 3)), truth=xyt))
+        log.add(Sample(t=stamp, pose=xyt, covariance=np.zeros((3, 3)), truth=xyt, pose_truth=xyt))
         if log.contacts > before:
             found.append((stamp, pose[0], pose[1]))
     return found
@@ -159,6 +160,28 @@ def orphans(marker: str) -> list[tuple[int, str]]:
     return found
 
 
+def start_mcp(work: pathlib.Path, env: dict[str, str]) -> subprocess.Popen[bytes]:
+    """The MCP on ``work``'s mcp-config.xml and mcp-mappings.xml, starting every module (-a),
+    its output in ``work``/mcp.out."""
+    from wurde_testing import find_executable
+    return start_logged([sys.executable, find_executable('wurde_mcp', 'mcp'), '-c', str(work / 'mcp-config.xml'),
+                         '-m', str(work / 'mcp-mappings.xml'), '-a'], work / 'mcp.out', env)
+
+
+def start_mission(work: pathlib.Path, env: dict[str, str], places: Sequence[str]) -> subprocess.Popen[bytes]:
+    """The ``mission`` client driving to ``places`` in order (120 s a goal, its log in ``work``),
+    its output appended to ``work``/mission.out."""
+    from wurde_testing import find_executable
+    return start_logged([sys.executable, find_executable('pluto_motion', 'mission'), '-P', ','.join(places),
+                         '-t', '120', '-O', str(work)], work / 'mission.out', env)
+
+
+def start_logged(argv: list[str], log: pathlib.Path, env: dict[str, str]) -> subprocess.Popen[bytes]:
+    """Start ``argv`` with its stdout and stderr appended to ``log`` (the child keeps the file)."""
+    with open(log, 'ab') as out:
+        return subprocess.Popen(argv, env=env, stdout=out, stderr=subprocess.STDOUT)
+
+
 def interrupt(process: subprocess.Popen[bytes], timeout: float) -> None:
     """SIGINT ``process`` (if it still runs) and reap it; SIGKILL it if it has not ended in time."""
     if process.poll() is not None:
@@ -194,7 +217,7 @@ def main() -> int:
     from wurde_core import CommsManager, RunState, StatusMode
     from wurde_core.interfaces import Egomotion, Foo, LocalizationPose, SimpleControl
     from wurde_core.mcp_client import control_stream
-    from wurde_testing import claim_domain_id, find_executable
+    from wurde_testing import claim_domain_id
 
     claim = claim_domain_id()
     os.environ['ROS_DOMAIN_ID'] = str(claim.domain_id)
@@ -252,11 +275,7 @@ def main() -> int:
             take()
             manager.wait(0.05)
 
-    mcp_log = open(work / 'mcp.out', 'wb')   # noqa: SIM115 - closed below
-    mission_log = open(work / 'mission.out', 'wb')   # noqa: SIM115 - closed below
-    mcp = subprocess.Popen([sys.executable, find_executable('wurde_mcp', 'mcp'), '-c', str(work / 'mcp-config.xml'),
-                            '-m', str(work / 'mcp-mappings.xml'), '-a'], env=env,
-                           stdout=mcp_log, stderr=subprocess.STDOUT)
+    mcp = start_mcp(work, env)
     mission: subprocess.Popen[bytes] | None = None
     missions = 0
     chaos_stamp = math.nan
@@ -273,9 +292,7 @@ def main() -> int:
         while time.monotonic() - start < args.seconds:
             if mission is None or mission.poll() is not None:
                 missions += 1
-                mission = subprocess.Popen(
-                    [sys.executable, find_executable('pluto_motion', 'mission'), '-P', ','.join(ROUND),
-                     '-t', '120', '-O', str(work)], env=env, stdout=mission_log, stderr=subprocess.STDOUT)
+                mission = start_mission(work, env, ROUND)
             now = time.monotonic()
             if now >= next_kill:
                 up = sorted(n for n, (s, r, p, _) in rows.items()
@@ -305,8 +322,6 @@ def main() -> int:
         if mission is not None:
             interrupt(mission, 30.0)
         interrupt(mcp, 60.0)
-        mcp_log.close()
-        mission_log.close()
         manager.clean_up()
         claim.release()
     left = orphans(marker)

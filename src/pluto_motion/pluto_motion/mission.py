@@ -38,6 +38,7 @@ from wurde_idl.errors import ConfigError
 from wurde_idl.maps import load_map
 
 from pluto_nav.loc_proxy import LocProxy
+from pluto_nav.pose_history import PoseHistory
 from pluto_nav.streams import POSE
 
 from .mission_log import Goal, MissionLog, Sample
@@ -63,10 +64,14 @@ FACING = math.radians(5.0)
 #: The robot's radius (m): a truth nearer a wall is a contact.
 RADIUS = 0.35
 SAMPLE_S = 0.1
+#: Seconds of truth kept to pair with the pose of its stamp (a pose older is not compared).
+TRUTH_KEEP_S = 5.0
 #: How the navigator's stop reasons read in the mission's report.
 STOP_REASONS = {GOAL_REACHED: 'reached', USER_STOPPED: 'stopped by the user',
                 STOP_FAILED: 'not reached (the navigator\'s log says why)'}
 START_TIMEOUT_S = 120.0
+#: Seconds between sends of a goal the navigator's status does not show it driving to.
+RESEND_S = 2.0
 HELP = ('  -m MAP       the map file (default map.xml of the config directory)\n'
         f'  -P PLACES    comma-separated place names, explore:NAME explores the room of place NAME\n'
         f'               (default {",".join(DEFAULT_PLACES)})\n'
@@ -84,6 +89,8 @@ class Mission:
         self.motion = MotionProxy(manager)
         self.loc = LocProxy(manager, 1 << POSE)
         self.truth = Egomotion(truth) if truth else None
+        if self.truth is not None:
+            self.truth.set_queue_mode(True)
         self.table = SimpleControl(control_stream(mcp_name()))  # its own MCP's table
         self.nav = Navigator('Navigator')
         self.nav.set_queue_mode(True)
@@ -96,6 +103,9 @@ class Mission:
                 manager.register_consumer(obj)
         self.log = MissionLog(walls, RADIUS)
         self.latest_truth: tuple[float, float, float] | None = None
+        #: The truth by its stamps (the robot's clock, as the pose's): the pose is compared with
+        #: the truth of its own moment.
+        self.truths = PoseHistory(keep_s=TRUTH_KEEP_S)
         self.modules: dict[str, str] = {}
         self._sampled = -math.inf
         self.start = time.monotonic()
@@ -107,6 +117,7 @@ class Mission:
             while self.truth.get_next_data():
                 loc = self.truth.data.location
                 self.latest_truth = (loc.x(), loc.y(), loc.theta())
+                self.truths.add(self.truth.data.timestamp.get_seconds(), self.latest_truth)
         while self.nav.get_next_data():
             d = self.nav.data
             self.statuses.append((bool(d.autonomous), int(d.stop_reason), d.goal.x(), d.goal.y()))
@@ -124,7 +135,7 @@ class Mission:
         if pose is not None and now - self._sampled >= SAMPLE_S:
             self._sampled = now
             self.log.add(Sample(now - self.start, (pose.pose[0], pose.pose[1], pose.pose[3]),
-                                pose.covariance, self.latest_truth))
+                                pose.covariance, self.latest_truth, self.truths.at(pose.stamp)))
 
     def view(self, goal: Goal | None) -> Group:
         """The live view: the goal's line and the modules' states."""
@@ -134,7 +145,7 @@ class Mission:
         sample = self.log.samples[-1] if self.log.samples else None
         if goal is not None and sample is not None:
             x, y, theta = sample.pose
-            error = f'{math.dist(sample.pose[:2], sample.truth[:2]):.2f} m' if sample.truth else '-'
+            error = f'{math.dist(sample.pose[:2], sample.pose_truth[:2]):.2f} m' if sample.pose_truth else '-'
             table.add_row(goal.name, f'{math.dist((x, y), (goal.x, goal.y)):.2f} m',
                           f'{x:.2f}, {y:.2f}, {theta:.2f}', error, f'{sample.t:.0f} s')
         running = sum(state == 'RUN' for state in self.modules.values())
@@ -169,28 +180,37 @@ class Mission:
 
     def visit(self, goal: Goal, timeout: float, on_turn: Callable[[], object], *, by_place: bool = True) -> str:
         """Send the navigator to ``goal`` — by its place name, or (``by_place`` False) by its
-        coordinates — and go; how it ended: ``reached``, or why not."""
+        coordinates — and go; how it ended: ``reached``, or why not.
+
+        The goal and go are sent again every :data:`RESEND_S` while the navigator's status does
+        not show it driving to ``goal`` (issue 38: a request sent while the navigator restarts is
+        lost, and a navigator restarted before it kept the goal comes back idle); a refusal of
+        ``goal`` (stop reason 3) ends the visit at once.
+        """
         mark = len(self.statuses)
-        if by_place:
-            self.nav.set_goal_place(goal.name)
-        else:
-            self.nav.set_goal(goal.x, goal.y)
-        self.nav.go()
         deadline = time.monotonic() + timeout
-        started = False
+        started = held = False
+        sent = -math.inf
         while True:
+            if not held and time.monotonic() - sent >= RESEND_S:
+                if by_place:
+                    self.nav.set_goal_place(goal.name)
+                else:
+                    self.nav.set_goal(goal.x, goal.y)
+                self.nav.go()
+                sent = time.monotonic()
             if not self._turn(on_turn):
                 return 'the mission was told to quit'
             for autonomous, reason, x, y in self.statuses[mark:]:
                 mark += 1
-                if autonomous and math.isclose(x, goal.x, abs_tol=1e-3) and math.isclose(y, goal.y, abs_tol=1e-3):
-                    started = True
-                elif started and not autonomous and reason != STOP_NONE:
+                ours = math.isclose(x, goal.x, abs_tol=1e-3) and math.isclose(y, goal.y, abs_tol=1e-3)
+                held = autonomous and ours
+                started = started or held
+                if not autonomous and ((started and reason != STOP_NONE) or (ours and reason == STOP_FAILED)):
                     return STOP_REASONS.get(reason, f'stopped ({reason})')
             if time.monotonic() > deadline:
                 self.nav.stop()
                 return f'not reached within {timeout:g} s'
-
 
     def explore(self, goal: Goal, area: ExploreArea, timeout: float, on_turn: Callable[[], object]) -> str:
         """Explore ``area`` (the room ``goal`` names; ``goal`` is its home): to the home by the

@@ -16,12 +16,16 @@ __all__ = ['Goal', 'MissionLog', 'Sample', 'Summary', 'wall_clearance']
 
 @dataclasses.dataclass(frozen=True)
 class Sample:
-    """One moment: the Localization/Pose (x, y, theta, its 3x3 covariance) and the truth (or None)."""
+    """One moment: the Localization/Pose (x, y, theta, its 3x3 covariance), the truth now (or
+    None), and the truth at the pose's stamp (None when not known): the pose error is measured on
+    the latter, so that a pose that stopped coming (its localModule stopped) is not compared with
+    where the robot has gone since."""
 
     t: float
     pose: tuple[float, float, float]
     covariance: np.ndarray
     truth: tuple[float, float, float] | None
+    pose_truth: tuple[float, float, float] | None
 
 
 @dataclasses.dataclass
@@ -90,7 +94,7 @@ class MissionLog:
 
     def summary(self) -> Summary:
         truths = [s.truth for s in self.samples if s.truth is not None]
-        paired = [(s.pose, s.truth) for s in self.samples if s.truth is not None]
+        paired = [(s.pose, s.pose_truth) for s in self.samples if s.pose_truth is not None]
         path = truths if truths else [s.pose for s in self.samples]
         distance = sum(math.dist(p[:2], q[:2]) for p, q in zip(path, path[1:]))
         errors = [math.dist(p[:2], t[:2]) for p, t in paired]

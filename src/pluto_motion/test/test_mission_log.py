@@ -16,7 +16,8 @@ WALLS = [(0.0, 0.0, 10.0, 0.0), (0.0, 0.0, 0.0, 4.0)]
 
 
 def _sample(t: float, truth: tuple[float, float], error: float = 0.0) -> Sample:
-    return Sample(t, (truth[0] + error, truth[1], 0.0), np.diag([0.01, 0.01, 0.001]), (truth[0], truth[1], 0.0))
+    return Sample(t, (truth[0] + error, truth[1], 0.0), np.diag([0.01, 0.01, 0.001]), (truth[0], truth[1], 0.0),
+                  (truth[0], truth[1], 0.0))
 
 
 def test_clearance_is_the_distance_to_the_nearest_segment() -> None:
@@ -44,9 +45,21 @@ def test_contacts_are_counted_once_per_touch_and_the_figures_follow_the_truth() 
 def test_without_a_truth_contacts_are_unknown(tmp_path: pathlib.Path) -> None:
     log = MissionLog(WALLS, radius=0.35)
     for i in range(30):
-        log.add(Sample(float(i), (1.0 + 0.2 * i, 2.0, 0.0), np.diag([0.04, 0.02, 0.001]), None))
+        log.add(Sample(float(i), (1.0 + 0.2 * i, 2.0, 0.0), np.diag([0.04, 0.02, 0.001]), None, None))
     s = log.summary()
     assert s.contacts == -1 and math.isnan(s.pose_rmse) and s.distance == pytest.approx(5.8)
     log.last_scan = np.array([[7.0, y] for y in np.linspace(0.5, 3.5, 50)])   # a wall seen at the end
     plot_mission(log, tmp_path / 'm.png')
     assert (tmp_path / 'm.png').read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'
+
+
+def test_a_pose_that_stopped_coming_is_not_compared_with_where_the_robot_went() -> None:
+    log = MissionLog(WALLS, radius=0.35)
+    log.add(_sample(0.0, (5.0, 2.0), error=0.05))
+    # The localModule is stopped: its last pose is sampled on while the robot drives 1 m on; the
+    # truth of that pose's stamp is no longer kept (None), the truth now still counts contacts.
+    for i in range(1, 11):
+        log.add(Sample(float(i), (5.05, 2.0, 0.0), np.eye(3), (5.0, 2.0 - 0.19 * i, 0.0), None))
+    s = log.summary()
+    assert s.pose_max == pytest.approx(0.05)
+    assert s.contacts == 1 and s.clearance == pytest.approx(0.1)
