@@ -55,7 +55,7 @@ from typing import Any
 
 from mirrors_cpu import cpu_seconds
 from mirrors_cpu import topics as mirror_topics
-from soak import interrupt, orphans, start_mcp, start_mission
+from soak import interrupt, orphans, require_loopback, start_mcp, start_mission
 
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -483,8 +483,7 @@ def main() -> int:
     parser.add_argument('--warmup', type=float, default=10.0, help='driving before the survey (s)')
     parser.add_argument('--settle', type=float, default=10.0, help='the baseline up before its window (s)')
     args = parser.parse_args()
-    if os.environ.get('ROS_AUTOMATIC_DISCOVERY_RANGE') != 'LOCALHOST':
-        raise SystemExit('footprint: run it through `make bench-footprint` or env.sh (DDS on loopback only)')
+    require_loopback('footprint', 'make bench-footprint')
     from wurde_testing import claim_domain_id
 
     command = ' '.join(['python', *sys.argv])

@@ -160,6 +160,12 @@ def orphans(marker: str) -> list[tuple[int, str]]:
     return found
 
 
+def require_loopback(program: str, target: str) -> None:
+    """Refuse to run unless DDS stays on loopback (env.sh, which make runs it through, sets it)."""
+    if os.environ.get('ROS_AUTOMATIC_DISCOVERY_RANGE') != 'LOCALHOST':
+        raise SystemExit(f'{program}: run it through `{target}` or env.sh (DDS on loopback only)')
+
+
 def start_mcp(work: pathlib.Path, env: dict[str, str]) -> subprocess.Popen[bytes]:
     """The MCP on ``work``'s mcp-config.xml and mcp-mappings.xml, starting every module (-a),
     its output in ``work``/mcp.out."""
@@ -212,8 +218,7 @@ def main() -> int:
     parser.add_argument('--kill-every', type=float, default=10.0, help='mean time between kills (s)')
     parser.add_argument('--seed', type=int, default=1, help='the chaos and the simulator noise')
     args = parser.parse_args()
-    if os.environ.get('ROS_AUTOMATIC_DISCOVERY_RANGE') != 'LOCALHOST':
-        raise SystemExit('soak: run it through `make soak` or env.sh (DDS on loopback only)')
+    require_loopback('soak', 'make soak')
     from wurde_core import CommsManager, RunState, StatusMode
     from wurde_core.interfaces import Egomotion, Foo, LocalizationPose, SimpleControl
     from wurde_core.mcp_client import control_stream
