@@ -61,3 +61,9 @@ class DriveProxy(ChainProxy):
     def refused(self) -> int:
         """element[1]: commands the drive refused so far."""
         return self.element[1] if len(self.element) > 1 else 0
+
+    @property
+    def ready(self) -> bool:
+        """element[2]: the drive hears the base's sonar and the base reads its commands, so a
+        command can move the robot now (False before the first status)."""
+        return len(self.element) > 2 and self.element[2] == 1

@@ -12,7 +12,7 @@ from collections.abc import Callable
 from typing import Any
 
 import pytest
-from drive_fixture import Driver, angle_error, robot, room_config, seconds
+from drive_fixture import Driver, angle_error, program, robot, room_config, seconds
 from wurde_testing.parameters import ParameterTool
 from wurde_testing import ChildProcess, find_executable
 
@@ -249,4 +249,29 @@ def test_the_limits_follow_carmen_s_parameter_daemon(ros_domain: int, tmp_path: 
     finally:
         if tool is not None:
             tool.close()
+        driver.close()
+
+
+def test_the_status_says_ready_once_the_drive_hears_the_base(ros_domain: int, tmp_path: pathlib.Path) -> None:
+    """element[2]: 0 while the drive runs without a base, 1 once the base's sonar is in and the base
+    reads the drive's commands, 0 again a second after the base is gone (its sonar stale)."""
+    directory = room_config(tmp_path)
+    driver = Driver()
+    d = driver.drive
+    try:
+        with program('pluto_motion', 'drive_module', directory) as drive:
+            driver.children = {'drive': drive}
+            driver.until(lambda: d.code == 0 and len(d.element) == 3, 'the drive heard', timeout=60)
+            assert not d.ready and d.element[2] == 0
+            with program('wurde_drivers', 'dummy_base', directory, '-n', 'PlutoBase') as base:
+                driver.children['base'] = base
+                driver.until(lambda: d.ready, 'ready with the base', timeout=60)
+                driver.until(lambda: driver.pose is not None, 'the truth')
+                x0 = driver.pose[0]
+                driver.until(lambda: driver.pose[0] > x0 + 0.1, 'driven with sonar protection',
+                             every=lambda: d.velocity(0.3, 0.0, sonar=True))
+                del driver.children['base']
+            driver.until(lambda: not d.ready, 'not ready without the base', timeout=30)
+            assert d.element[2] == 0
+    finally:
         driver.close()

@@ -49,7 +49,8 @@ def test_the_carmen_program_drives_and_navigates_the_simulated_pluto(ros_domain:
             start = c.truths[-1][:2]
             c.until(lambda: printed('moved'), 'the program drives ahead', timeout=60)
             moved = printed('moved')
-            assert float(moved.split('moved ')[1].split()[0]) > 0.3, moved
+            drive_log = tmp_path / 'mcp-modules' / 'driveModule.log'
+            assert float(moved.split('moved ')[1].split()[0]) > 0.3, (moved, drive_log.read_text()[-3000:])
             assert math.dist(start, c.truths[-1][:2]) > 0.3
             c.until(lambda: printed('autonomous stopped'), 'autonomous_stopped', timeout=300)
             line = printed('autonomous stopped')

@@ -86,11 +86,11 @@ def carmen_robot_velocity_command(tv: float, rv: float) -> int:
         drive = ipc.links['drive'] = DriveProxy(ipc.manager)
         drive.start_activity()                      # a released drive takes commands again
         ipc.collectors.append(drive.update)
-        # The first command waits (at most DRIVE_MATCH_S) until the driveModule reads commands,
-        # as CARMEN's IPC delivers to the base once connected: a program that drives for 2 s
-        # right after its first command must not spend them on discovery (held commands would
-        # go out only when matched, the newest alone).
-        drive.wait_for(lambda p: p.command.peers('request') > 0 and p.status.peers('request') > 0,
-                       DRIVE_MATCH_S)
+        # The first command waits (at most DRIVE_MATCH_S) until the driveModule reads commands
+        # and can drive the base (its status's ready: it hears the sonar, the base hears it), as
+        # CARMEN's IPC delivers to the base once connected: a program that drives for 2 s right
+        # after its first command must not spend them on discovery (held commands would go out
+        # only when matched, the newest alone; a drive without sonar stops the robot).
+        drive.wait_for(lambda p: p.command.peers('request') > 0 and p.ready, DRIVE_MATCH_S)
     drive.velocity(float(tv), float(rv), sonar=True)
     return 0
