@@ -1,7 +1,7 @@
 # The two commands of this workspace:
 #   make demo   build everything, then run the main job
 #   make test   build everything, lint it (tools/lint.sh: ruff and mypy), then run every package's
-#               tests (colcon test, three lanes at once: tools/test_lanes.sh)
+#               tests (colcon test, four lanes at once: tools/test_lanes.sh)
 # Both set themselves up from nothing: virtual environment with pinned wheels, CMake fix, colcon build.
 
 SHELL := /bin/bash

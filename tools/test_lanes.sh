@@ -1,35 +1,68 @@
 #!/usr/bin/env bash
-# `make test`'s colcon test: every package's tests in three lanes at once, for the 2-core machine
+# `make test`'s colcon test: every package's tests in four lanes at once, for the 2-core machine
 # that must finish within 20 minutes.  The tests wait on robots that move in real time far more
-# than they compute (test_guide_avoider: 43% of one core over its run), so three lanes on two
-# cores cut the wall time; the tests hold on a loaded machine by design (they wait on events with
+# than they compute (test_guide_avoider: 43% of one core over its run), so more lanes than cores
+# cut the wall time; the tests hold on a loaded machine by design (they wait on events with
 # deadlines).  A package's tests need its dependencies built, not tested, so colcon's test
-# ordering is dropped (COLCON_FEATURE_FLAGS=drop_test_deps).  The lanes are balanced by measured
-# test times (a fresh-clone run, r85): pluto_motion ~14.5 min alone; wurde_drivers ~9.5 min with
-# wurde_core ~1 min; wurde_mcp ~7 min with pluto_nav ~3 min and every other package, which is
-# where a package added later goes.  Arguments go to `colcon test`.
+# ordering is dropped (COLCON_FEATURE_FLAGS=drop_test_deps).
+#
+# The lanes are balanced by measured test times (a fresh-clone run with three lanes, 2026-12-06:
+# pluto_motion 16.4 min, which made the whole `make test` 20 min; wurde_drivers 11.5; wurde_mcp
+# 8.7; pluto_nav 5.1; wurde_core 1).  pluto_motion is split in two runs of its own pytest: its
+# four longest files (about 6 min: a whole robot each, or a calibration drive) and the rest; each
+# writes its own JUnit report (colcon test-result and tools/test_summary.py read them all).  The
+# lane of every other package is where a package added later goes.  Arguments go to `colcon test`.
 set -uo pipefail
 cd "$(dirname "$0")/.."
-motion=(pluto_motion)
-drivers=(wurde_core wurde_drivers)
+long_files=(test/test_demo.py test/test_odometry_calibration.py test/test_guide_avoider.py
+            test/test_navigator.py)
+placed=(pluto_motion pluto_nav wurde_core wurde_drivers)
 mapfile -t all < <(tools/in_env.sh colcon list --names-only)
 rest=()
 for package in "${all[@]}"; do
-  [[ " ${motion[*]} ${drivers[*]} " == *" $package "* ]] || rest+=("$package")
+  [[ " ${placed[*]} " == *" $package "* ]] || rest+=("$package")
+done
+# Two pytest runs of one package share its build directory: no pytest cache for them.  colcon
+# takes a --pytest-args value that starts with '-' only after a space.
+no_cache=(' -p' 'no:cacheprovider')
+ignore_long=()
+for file in "${long_files[@]}"; do
+  ignore_long+=(" --ignore=$file")
 done
 
-lane() {  # lane NAME PACKAGE...: one colcon test, its own log directory
+run() {  # run NAME ARG...: one colcon test with its own log directory; ARGs go to colcon test
   local name=$1
   shift
   COLCON_FEATURE_FLAGS=drop_test_deps tools/in_env.sh colcon --log-base "log/test-$name" test \
-    --executor sequential "${COLCON_ARGS[@]}" --packages-select "$@"
+    --executor sequential "${COLCON_ARGS[@]}" "$@"
 }
+
+lane() {  # lane CMD...: the commands (each one word, a function) in turn; the first failure's status
+  local rc=0 cmd
+  for cmd in "$@"; do
+    "$cmd" || { local status=$?; (( rc )) || rc=$status; }
+  done
+  return "$rc"
+}
+
+long_motion() {
+  run motion-long --packages-select pluto_motion --test-result-base build/test-motion-long \
+    --pytest-args "${no_cache[@]}" "${long_files[@]}"
+}
+rest_of_motion() {
+  run motion-rest --packages-select pluto_motion --pytest-args "${no_cache[@]}" "${ignore_long[@]}"
+}
+nav() { run nav --packages-select pluto_nav; }
+core() { run core --packages-select wurde_core; }
+drivers() { run drivers --packages-select wurde_drivers; }
+others() { run rest --packages-select "${rest[@]}"; }
 
 COLCON_ARGS=("$@")
 pids=()
-lane motion "${motion[@]}" & pids+=($!)
-lane drivers "${drivers[@]}" & pids+=($!)
-lane rest "${rest[@]}" & pids+=($!)
+lane long_motion nav & pids+=($!)
+lane rest_of_motion core & pids+=($!)
+lane drivers & pids+=($!)
+lane others & pids+=($!)
 rc=0
 for pid in "${pids[@]}"; do
   wait "$pid" || { status=$?; (( rc )) || rc=$status; }

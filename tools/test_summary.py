@@ -16,8 +16,10 @@ from lxml import etree
 def main(build_dir: str) -> int:
     passed = failed = skipped = 0
     build = pathlib.Path(build_dir)
-    # ament_cmake_pytest writes test_results/<pkg>/*.xunit.xml, ament_python's pytest pytest.xml.
-    reports = sorted(build.glob('*/test_results/**/*.xunit.xml')) + sorted(build.glob('*/pytest.xml'))
+    # ament_cmake_pytest writes test_results/<pkg>/*.xunit.xml, ament_python's pytest pytest.xml
+    # (<pkg>/pytest.xml, or test-<lane>/<pkg>/pytest.xml for a package split over two lanes).
+    reports = (sorted(build.glob('*/test_results/**/*.xunit.xml')) + sorted(build.glob('*/pytest.xml'))
+               + sorted(build.glob('test-*/*/pytest.xml')))
     for report in reports:
         root = etree.parse(str(report), etree.XMLParser(resolve_entities=False, no_network=True))
         suites = [root.getroot()] if root.getroot().tag == 'testsuite' else root.findall('testsuite')
