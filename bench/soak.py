@@ -62,6 +62,27 @@ POSE_LIMIT_M = 0.3
 GOAL_LINE = re.compile(r'^mission: \S+ \([^)]*\): (.*?)(?: after [0-9.]+ s)?$', re.MULTILINE)
 #: The share of the mission's goals that must be reached (issue 38).
 GOALS_SHARE = 0.95
+#: The modules whose restart the Pose must ride out within 0.1 m and 2 degrees (issue 38), and
+#: how long after the victim is back in Run its Pose is judged (s).
+LOCALIZATION = ('PlutoBase', 'localModule', 'poseModule')
+SETTLE_WINDOW_S = 10.0
+RESTART_POSE_M, RESTART_POSE_DEG = 0.1, 2.0
+
+
+def pose_after(pose: 'Track', truth: 'Track', start: float, seconds: float) -> tuple[float, float] | None:
+    """The largest position (m) and heading (deg) error of the Pose stamped within ``seconds`` of
+    ``start`` (the truth's clock), None when none was."""
+    worst: tuple[float, float] | None = None
+    for stamp, estimate in zip(pose.stamps, pose.poses):
+        if not start <= stamp <= start + seconds:
+            continue
+        true = truth.at(stamp)
+        if true is None:
+            continue
+        error = (math.dist(estimate[:2], true[:2]),
+                 abs(math.degrees(math.atan2(math.sin(estimate[2] - true[2]), math.cos(estimate[2] - true[2])))))
+        worst = error if worst is None else (max(worst[0], error[0]), max(worst[1], error[1]))
+    return worst
 
 
 def pose_peaks(pose: 'Track', truth: 'Track', origin: float, over: float = 0.15) -> list[tuple[float, float]]:
@@ -109,6 +130,8 @@ class Kill:
     sig: signal.Signals
     pid: int
     recovered_s: float | None = None
+    #: The truth's clock when the victim was back in Run (the Pose after it is judged).
+    recovered_stamp: float | None = None
 
 
 @dataclass
@@ -267,6 +290,7 @@ def main() -> int:
                 status, state, pid, _ = rows[kill.name]
                 if status == StatusMode.ACTIVE and state == RunState.RUN and pid not in (0, kill.pid):
                     kill.recovered_s = now - kill.at
+                    kill.recovered_stamp = truth.stamps[-1] if truth.stamps else None
 
     def all_up() -> bool:
         return len(rows) > 1 and all(s == StatusMode.ACTIVE and r == RunState.RUN
@@ -377,6 +401,18 @@ def main() -> int:
     for when, error in pose_peaks(pose, truth, chaos_stamp):
         print(f'soak: the Pose {100 * error:.0f} cm off {when:.1f} s into the chaos')
     print(f'collisions {len(contacts)}')
+    settled = [(k, pose_after(pose, truth, k.recovered_stamp, SETTLE_WINDOW_S)) for k in kills
+               if k.name in LOCALIZATION and k.recovered_stamp is not None]
+    judged = [(k, e) for k, e in settled if e is not None]
+    if judged:
+        print(f'pose after a restart of {"/".join(LOCALIZATION)} (the {SETTLE_WINDOW_S:g} s after it is back in '
+              f'Run) max {max(e[0] for _, e in judged):.3f} m, {max(e[1] for _, e in judged):.2f} deg over '
+              f'{len(judged)} restarts; {sum(e[0] <= RESTART_POSE_M and e[1] <= RESTART_POSE_DEG for _, e in judged)} '
+              f'within {RESTART_POSE_M:g} m and {RESTART_POSE_DEG:g} deg')
+    for kill, (off_m, off_deg) in judged:
+        if off_m > RESTART_POSE_M or off_deg > RESTART_POSE_DEG:
+            print(f'soak: after {kill.sig.name} {kill.name} ({kill.at - start:.1f} s into the chaos) the Pose was '
+                  f'{100 * off_m:.0f} cm, {off_deg:.1f} deg off')
     for stamp, x, y in contacts:
         print(f'soak: a collision at ({x:.2f}, {y:.2f}), {stamp - chaos_stamp:.1f} s into the chaos')
     for result in results:
