@@ -34,6 +34,9 @@ PLUTO = ROOT / 'config' / 'pluto'
 POSE_STREAM = 'Localization/Pose'
 DR_STREAM = 'Localization/Dead-Reckoning'
 RECOVERED_M = 0.10
+#: The truth comes every simulation step (0.02 s): two samples further apart than this (s) leave
+#: the time between them unknown (lost while a restarted base was not yet matched).
+MAX_GAP_S = 0.5
 MOVEMENT_CHAIN = ('driveModule', 'avoidModule', 'motionModule', 'navigator', 'map_server')
 #: The benchmark's ROS domain, claimed by :func:`bench_setup` and held until the process ends.
 _CLAIM = None
@@ -53,10 +56,14 @@ class Track:
         self.poses.append((x, y, theta))
 
     def at(self, t: float) -> tuple[float, float, float] | None:
+        """The pose at ``t``, interpolated; None outside the track or between two samples more
+        than :data:`MAX_GAP_S` apart (lost: see :class:`pluto_nav.pose_history.PoseHistory`)."""
         i = bisect.bisect_left(self.stamps, t)
         if i == 0 or i >= len(self.stamps):
             return self.poses[0] if self.stamps and t == self.stamps[0] else None
         (ta, a), (tb, b) = (self.stamps[i - 1], self.poses[i - 1]), (self.stamps[i], self.poses[i])
+        if tb - ta > MAX_GAP_S:
+            return None
         f = (t - ta) / (tb - ta)
         turn = math.atan2(math.sin(b[2] - a[2]), math.cos(b[2] - a[2]))
         return a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), a[2] + f * turn

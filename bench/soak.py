@@ -21,7 +21,10 @@ starting at 1 again); the Pose against the truth (RMSE, largest, at the end) and
 goals.  Exit status 0 when every figure holds (see ``verdict``).
 
 Usage: ``make soak [SOAK_SECONDS=600]`` or
-``python bench/soak.py [--seconds 600] [--kill-every 10] [--seed 1]``.
+``python bench/soak.py [--seconds 600] [--kill-every 10] [--seed 1] [--victims A,B] [--signals STOP]``
+(``--victims``/``--signals``: only those modules, those signals — one failure at a time).  The
+Pose and the truth seen are written to ``pose.csv`` and ``truth.csv`` (stamp, x, y, theta) in the
+soak's directory.
 """
 
 from __future__ import annotations
@@ -240,7 +243,16 @@ def main() -> int:
     parser.add_argument('--seconds', type=float, default=600.0, help='length of the chaos (s)')
     parser.add_argument('--kill-every', type=float, default=10.0, help='mean time between kills (s)')
     parser.add_argument('--seed', type=int, default=1, help='the chaos and the simulator noise')
+    parser.add_argument('--victims', default='', help='comma-separated modules to kill (default: any that is up)')
+    parser.add_argument('--signals', default='KILL,STOP,TERM', help='comma-separated signals of KILL, STOP, TERM')
     args = parser.parse_args()
+    victims = {v for v in args.victims.split(',') if v}
+    try:
+        signals = [signal.Signals[f'SIG{s.strip().upper()}'] for s in args.signals.split(',') if s.strip()]
+    except KeyError as unknown:
+        parser.error(f'--signals: unknown signal {unknown}')
+    if not signals or not set(signals) <= set(SIGNALS):
+        parser.error('--signals: one or more of KILL, STOP, TERM')
     require_loopback('soak', 'make soak')
     from wurde_core import CommsManager, RunState, StatusMode
     from wurde_core.interfaces import Egomotion, Foo, LocalizationPose, SimpleControl
@@ -325,10 +337,11 @@ def main() -> int:
             now = time.monotonic()
             if now >= next_kill:
                 up = sorted(n for n, (s, r, p, _) in rows.items()
-                            if s == StatusMode.ACTIVE and r == RunState.RUN and p > 0)
+                            if s == StatusMode.ACTIVE and r == RunState.RUN and p > 0
+                            and (not victims or n in victims))
                 if up:
                     name = chaos.choice(up)
-                    sig = chaos.choice(SIGNALS)
+                    sig = chaos.choice(signals)
                     pid = rows[name][2]
                     try:
                         os.kill(pid, sig)
@@ -354,6 +367,9 @@ def main() -> int:
         manager.clean_up()
         claim.release()
     left = orphans(marker)
+    for track, name in ((pose, 'pose.csv'), (truth, 'truth.csv')):
+        (work / name).write_text(''.join(f'{s:.4f},{x:.4f},{y:.4f},{th:.5f}\n'
+                                         for s, (x, y, th) in zip(track.stamps, track.poses)))
     errors = compare(pose, truth)
     final = None
     if pose.stamps:

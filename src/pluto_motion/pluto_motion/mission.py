@@ -66,6 +66,9 @@ RADIUS = 0.35
 SAMPLE_S = 0.1
 #: Seconds of truth kept to pair with the pose of its stamp (a pose older is not compared).
 TRUTH_KEEP_S = 5.0
+#: The truth comes every simulation step (0.02 s): samples further apart than this were lost
+#: (a restarted base not yet matched), and a pose stamped between them is not compared.
+TRUTH_GAP_S = 0.5
 #: How the navigator's stop reasons read in the mission's report.
 STOP_REASONS = {GOAL_REACHED: 'reached', USER_STOPPED: 'stopped by the user',
                 STOP_FAILED: 'not reached (the navigator\'s log says why)'}
@@ -105,7 +108,7 @@ class Mission:
         self.latest_truth: tuple[float, float, float] | None = None
         #: The truth by its stamps (the robot's clock, as the pose's): the pose is compared with
         #: the truth of its own moment.
-        self.truths = PoseHistory(keep_s=TRUTH_KEEP_S)
+        self.truths = PoseHistory(keep_s=TRUTH_KEEP_S, max_gap_s=TRUTH_GAP_S)
         self.modules: dict[str, str] = {}
         self._sampled = -math.inf
         self.start = time.monotonic()

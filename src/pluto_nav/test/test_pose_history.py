@@ -72,3 +72,20 @@ def test_every_stamp_within_the_history_lies_between_its_neighbours(steps, f) ->
     (x0, y0, _), (x1, y1, _) = poses[i - 1], poses[i]
     assert min(x0, x1) - 1e-9 <= x <= max(x0, x1) + 1e-9
     assert min(y0, y1) - 1e-9 <= y <= max(y0, y1) + 1e-9
+
+
+def test_a_gap_longer_than_max_gap_is_not_covered() -> None:
+    """Samples lost (a restarted base's truth not yet matched): a stamp inside the gap is unknown,
+    not a straight line across it; the samples themselves and the ones beside a short gap are."""
+    history = PoseHistory(keep_s=10.0, max_gap_s=0.5)
+    history.add(1.0, (0.0, 0.0, 0.0))
+    history.add(1.4, (0.1, 0.0, 0.0))
+    history.add(4.0, (0.9, 0.0, 0.5))        # 2.6 s later
+    assert history.at(1.2) == pytest.approx((0.05, 0.0, 0.0))
+    assert history.at(2.5) is None and history.at(3.99) is None
+    assert history.at(1.4) == pytest.approx((0.1, 0.0, 0.0)) and history.at(4.0) == (0.9, 0.0, 0.5)
+    assert PoseHistory(keep_s=10.0).at(1.0) is None     # the default bridges any gap: unchanged
+    unbounded = PoseHistory(keep_s=10.0)
+    unbounded.add(1.0, (0.0, 0.0, 0.0))
+    unbounded.add(4.0, (0.9, 0.0, 0.0))
+    assert unbounded.at(2.5) == pytest.approx((0.45, 0.0, 0.0))
