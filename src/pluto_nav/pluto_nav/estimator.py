@@ -50,11 +50,6 @@ class Estimator:
     SETTER = 1
     #: Uncertainty added to Laser_Pose's own when the thread starts (m, m, rad).
     START_SIGMA = (0.3, 0.3, np.radians(8.0))
-    #: Seconds between two scans paired with the dead reckoning after which the method starts
-    #: again from Laser_Pose, as when the thread starts (None: never).  Such a gap is a restart
-    #: of the localModule, the base or the laser: the dead reckoning bridged it, but the method's
-    #: covariance did not grow with what the bridge could not see.
-    RELOCALIZE_GAP_S: float | None = None
 
     def __init__(self, manager: CommsManager, logger: Logger, method: Method, *, status: str,
                  laser: str, start_running: bool) -> None:
@@ -88,10 +83,6 @@ class Estimator:
         self.adjusted: collections.deque[LocPose] = collections.deque()
         self.want_running = start_running
         self.running = False
-        #: The stamp of the last scan the method took (-inf: none since the thread started).
-        self.last_scan = -np.inf
-        #: Times the method started again after a gap (:attr:`RELOCALIZE_GAP_S`).
-        self.relocalized = 0
         self.setter: int | None = None
         self.element = [0, 0, 0, 0]
         self.data: list[float] = []
@@ -220,18 +211,11 @@ class Estimator:
         if not self.running:
             return
         start = None
-        gap = stamp - self.last_scan
-        if self.cycle.started and self.RELOCALIZE_GAP_S is not None and gap > self.RELOCALIZE_GAP_S:
-            self.cycle.restart()
-            self.relocalized += 1
-            self.logger.notice(f'{self.manager.name}: {gap:.1f} s without a scan: localizing again from '
-                               f'Laser_Pose ({self.relocalized} so far)')
         if not self.cycle.started:
             if adjusted is None:
                 return                   # wait for a scan whose Laser_Pose arrived too
             start = (np.array(adjusted.xytheta), self.start_covariance(adjusted))
         matched = self.cycle.step(scan, dr.xytheta, dr.covariance, start=start)
-        self.last_scan = stamp
         if matched is None:
             return                       # Pluto 8.1: no laser data; dead reckoning only
         self.element[2] += 1

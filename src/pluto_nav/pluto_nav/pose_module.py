@@ -58,10 +58,6 @@ class PoseModule(Estimator):
     """The poseModule: a localizer against an a-priori map; ``element[1] = 2`` is the find-wall."""
 
     SETTER = POSE_SETTER
-    #: Issue 38: after a restart of the localModule, the base or the laser, the pose is found
-    #: against the map again at once, as at the start (the SICK scans at about 5 Hz: a second is
-    #: several scans lost, not a slow one).
-    RELOCALIZE_GAP_S = 1.0
 
     def __init__(self, manager: CommsManager, logger: Logger, wall_map: WallMap, *, laser: str,
                  start_running: bool, method: str = 'lines') -> None:

@@ -123,33 +123,6 @@ def test_pose_module_localizes_finds_the_wall_and_takes_a_pose_set_by_hand(
         watcher.close()
 
 
-def test_after_a_laser_restart_the_pose_module_localizes_again(ros_domain: int, tmp_path: pathlib.Path) -> None:
-    """Issue 38: scans missing for more than a second (the laser restarted) start the filter again
-    from Laser_Pose with the start's uncertainty, as the thread's start does, and the Pose is on
-    the truth again once scans match."""
-    directory = pluto_config(tmp_path)
-    watcher = Watcher({'PlutoBaseTruth': 'Egomotion', POSE: 'LocalizationPose', 'pose/status': 'FVectorState'})
-    try:
-        with processes(directory, ALL, ('local_module', []), ('pose_module', [])) as running:
-            status = watcher.events['pose/status']
-            watcher.until(lambda: watcher.events[POSE] and watcher.events[POSE][-1].cmd_flags == 1
-                          and watcher.events['PlutoBaseTruth'] and status and _matched(status[-1]) >= 3,
-                          'the pose module localized', timeout=90)
-            assert 'localizing again' not in running['pose_module'].stderr
-            running['PlutoLaser'].process.kill()
-            running['PlutoLaser'].process.wait(timeout=30)
-            stopped_at = len(status)
-            with module('wurde_drivers', 'dummy_sick', directory, '-n', 'PlutoLaser'):
-                watcher.until(lambda: 'localizing again from Laser_Pose (1 so far)' in running['pose_module'].stderr,
-                              'the pose module localizes again', timeout=90)
-                watcher.until(lambda: _matched(status[-1]) >= _matched(status[stopped_at - 1]) + 3,
-                              'scans of the new laser matched', timeout=60)
-                position, heading = _error_now(watcher)
-                assert position < 0.05 and heading < math.radians(1.0), (position, heading)
-    finally:
-        watcher.close()
-
-
 def test_a_bad_map_is_refused_with_file_line_and_reason(ros_domain: int, tmp_path: pathlib.Path) -> None:
     directory = pluto_config(tmp_path)
     bad = tmp_path / 'bad.xml'
