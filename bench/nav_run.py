@@ -28,15 +28,13 @@ from collections.abc import Sequence
 
 import numpy as np
 from lxml import etree
+from pluto_nav.pose_history import TRUTH_GAP_S
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 PLUTO = ROOT / 'config' / 'pluto'
 POSE_STREAM = 'Localization/Pose'
 DR_STREAM = 'Localization/Dead-Reckoning'
 RECOVERED_M = 0.10
-#: The truth comes every simulation step (0.02 s): two samples further apart than this (s) leave
-#: the time between them unknown (lost while a restarted base was not yet matched).
-MAX_GAP_S = 0.5
 MOVEMENT_CHAIN = ('driveModule', 'avoidModule', 'motionModule', 'navigator', 'map_server')
 #: The benchmark's ROS domain, claimed by :func:`bench_setup` and held until the process ends.
 _CLAIM = None
@@ -57,12 +55,12 @@ class Track:
 
     def at(self, t: float) -> tuple[float, float, float] | None:
         """The pose at ``t``, interpolated; None outside the track or between two samples more
-        than :data:`MAX_GAP_S` apart (lost: see :class:`pluto_nav.pose_history.PoseHistory`)."""
+        than :data:`pluto_nav.pose_history.TRUTH_GAP_S` apart (lost)."""
         i = bisect.bisect_left(self.stamps, t)
         if i == 0 or i >= len(self.stamps):
             return self.poses[0] if self.stamps and t == self.stamps[0] else None
         (ta, a), (tb, b) = (self.stamps[i - 1], self.poses[i - 1]), (self.stamps[i], self.poses[i])
-        if tb - ta > MAX_GAP_S:
+        if tb - ta > TRUTH_GAP_S:
             return None
         f = (t - ta) / (tb - ta)
         turn = math.atan2(math.sin(b[2] - a[2]), math.cos(b[2] - a[2]))

@@ -41,7 +41,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 
 from lxml import etree
@@ -72,20 +72,20 @@ SETTLE_WINDOW_S = 10.0
 RESTART_POSE_M, RESTART_POSE_DEG = 0.1, 2.0
 
 
+def pose_errors(pose: 'Track', truth: 'Track') -> Iterator[tuple[float, float, float]]:
+    """(stamp, position error m, heading error deg) of each Pose the truth covers at its stamp."""
+    for stamp, estimate in zip(pose.stamps, pose.poses):
+        true = truth.at(stamp)
+        if true is not None:
+            turn = math.atan2(math.sin(estimate[2] - true[2]), math.cos(estimate[2] - true[2]))
+            yield stamp, math.dist(estimate[:2], true[:2]), abs(math.degrees(turn))
+
+
 def pose_after(pose: 'Track', truth: 'Track', start: float, seconds: float) -> tuple[float, float] | None:
     """The largest position (m) and heading (deg) error of the Pose stamped within ``seconds`` of
     ``start`` (the truth's clock), None when none was."""
-    worst: tuple[float, float] | None = None
-    for stamp, estimate in zip(pose.stamps, pose.poses):
-        if not start <= stamp <= start + seconds:
-            continue
-        true = truth.at(stamp)
-        if true is None:
-            continue
-        error = (math.dist(estimate[:2], true[:2]),
-                 abs(math.degrees(math.atan2(math.sin(estimate[2] - true[2]), math.cos(estimate[2] - true[2])))))
-        worst = error if worst is None else (max(worst[0], error[0]), max(worst[1], error[1]))
-    return worst
+    inside = [(m, deg) for stamp, m, deg in pose_errors(pose, truth) if start <= stamp <= start + seconds]
+    return (max(m for m, _ in inside), max(deg for _, deg in inside)) if inside else None
 
 
 def pose_peaks(pose: 'Track', truth: 'Track', origin: float, over: float = 0.15) -> list[tuple[float, float]]:
@@ -93,11 +93,7 @@ def pose_peaks(pose: 'Track', truth: 'Track', origin: float, over: float = 0.15)
     where to look in the kill list."""
     peaks: list[tuple[float, float]] = []
     inside = False
-    for stamp, estimate in zip(pose.stamps, pose.poses):
-        true = truth.at(stamp)
-        if true is None:
-            continue
-        error = math.dist(estimate[:2], true[:2])
+    for stamp, error, _ in pose_errors(pose, truth):
         if error > over and not inside:
             peaks.append((stamp - origin, error))         # a new stretch
         elif error > over and error > peaks[-1][1]:

@@ -38,7 +38,7 @@ from wurde_idl.errors import ConfigError
 from wurde_idl.maps import load_map
 
 from pluto_nav.loc_proxy import LocProxy
-from pluto_nav.pose_history import PoseHistory
+from pluto_nav.pose_history import TRUTH_GAP_S, PoseHistory
 from pluto_nav.streams import POSE
 
 from .mission_log import Goal, MissionLog, Sample
@@ -66,9 +66,6 @@ RADIUS = 0.35
 SAMPLE_S = 0.1
 #: Seconds of truth kept to pair with the pose of its stamp (a pose older is not compared).
 TRUTH_KEEP_S = 5.0
-#: The truth comes every simulation step (0.02 s): samples further apart than this were lost
-#: (a restarted base not yet matched), and a pose stamped between them is not compared.
-TRUTH_GAP_S = 0.5
 #: How the navigator's stop reasons read in the mission's report.
 STOP_REASONS = {GOAL_REACHED: 'reached', USER_STOPPED: 'stopped by the user',
                 STOP_FAILED: 'not reached (the navigator\'s log says why)'}

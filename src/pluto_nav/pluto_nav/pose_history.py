@@ -17,7 +17,12 @@ import math
 
 from .geometry import interpolate
 
-__all__ = ['PoseHistory']
+__all__ = ['TRUTH_GAP_S', 'PoseHistory']
+
+#: For checks that pair an estimate with the simulator's truth (``max_gap_s``): the truth comes
+#: every simulation step (0.02 s), so two samples further apart than this (s) were lost (a
+#: restarted base not yet matched) and the time between them is not known.
+TRUTH_GAP_S = 0.5
 
 Pose2 = tuple[float, float, float]
 
