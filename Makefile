@@ -50,7 +50,20 @@ clean:
 	rm -rf build install log
 
 distclean: clean
-	rm -rf .venv
+	rm -rf .venv .venv-docs
+
+# The manual as a static site (issue 40): mkdocs with mkdocs-material, pinned in
+# requirements-docs.txt and installed into .venv-docs (not the workspace's venv), built with warnings
+# as errors into build/site. Not part of `make test`; the tests check the pages' links and examples.
+DOCS_VENV := .venv-docs
+.PHONY: docs
+$(DOCS_VENV)/.installed: requirements-docs.txt
+	python3 -m venv $(DOCS_VENV)
+	$(DOCS_VENV)/bin/python -m pip install --quiet --disable-pip-version-check -r requirements-docs.txt
+	touch $@
+
+docs: $(DOCS_VENV)/.installed
+	NO_MKDOCS_2_WARNING=1 $(DOCS_VENV)/bin/mkdocs build --strict
 
 # Benchmarks (not tests): compare wurde_core with raw rclpy in the same run.
 .PHONY: bench

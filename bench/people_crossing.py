@@ -6,7 +6,7 @@ with laser protection (cmdFlags 21, 0.6 m/s), as a planned moveto drives it; the
 :class:`pluto_motion.avoid_control.AvoidController`, whose speed reaches the robot 0.1 s later and at
 most 0.5 m/s^2 faster or slower (the driveModule's acceleration).  For each start time (the
 person's phase) it prints the least gap between the robot's disc and the person's body, and at
-the end how many runs touched: the figure behind the README's "Among people".
+the end how many runs touched: the figure behind docs/movement.md's "Among people".
 
 Usage: ``python bench/people_crossing.py`` (config/pluto's robot and office with one person pacing
 across the corridor at x 14.8, 0.53 m/s, 1.4 s pauses by the walls: a person ``bench/nav_people.py``
@@ -30,7 +30,7 @@ from wurde_drivers.sim.loading import load_sim
 
 RADIUS = 0.35
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-#: The person of the README's figure (bench/nav_people.py's office run with one person).
+#: The person of that figure (bench/nav_people.py's office run with one person).
 PACER = ('<person name="p0" points="14.80,8.32 14.82,6.67" speed="0.53" pause="1.4" '
          'mode="back-and-forth" height="1.7" radius="0.25"/>')
 

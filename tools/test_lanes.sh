@@ -11,7 +11,10 @@
 # 8.7; pluto_nav 5.1; wurde_core 1).  pluto_motion is split in two runs of its own pytest: its
 # four longest files (about 6 min: a whole robot each, or a calibration drive) and the rest; each
 # writes its own JUnit report (colcon test-result and tools/test_summary.py read them all).  The
-# lane of every other package is where a package added later goes.  Arguments go to `colcon test`.
+# lane of every other package is where a package added later goes.  wurde_drivers' README examples
+# (test_readme.py, about 100 s) run in that lane too, with their own report
+# (build/test-drivers-readme): a fresh clone on 2026-12-06 had wurde_drivers' lane at 15.9 min and
+# the others' at 13.3.  Arguments go to `colcon test`.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 long_files=(test/test_demo.py test/test_odometry_calibration.py test/test_guide_avoider.py
@@ -54,7 +57,13 @@ rest_of_motion() {
 }
 nav() { run nav --packages-select pluto_nav; }
 core() { run core --packages-select wurde_core; }
-drivers() { run drivers --packages-select wurde_drivers; }
+drivers() {
+  run drivers --packages-select wurde_drivers --pytest-args "${no_cache[@]}" ' --ignore=test/test_readme.py'
+}
+drivers_readme() {
+  run drivers-readme --packages-select wurde_drivers --test-result-base build/test-drivers-readme \
+    --pytest-args "${no_cache[@]}" test/test_readme.py
+}
 others() { run rest --packages-select "${rest[@]}"; }
 
 COLCON_ARGS=("$@")
@@ -62,7 +71,7 @@ pids=()
 lane long_motion nav & pids+=($!)
 lane rest_of_motion core & pids+=($!)
 lane drivers & pids+=($!)
-lane others & pids+=($!)
+lane others drivers_readme & pids+=($!)
 rc=0
 for pid in "${pids[@]}"; do
   wait "$pid" || { status=$?; (( rc )) || rc=$status; }

@@ -8,7 +8,7 @@ possibly modifying the command" (Pluto 4); the drive's ``drive/status`` comes ba
 Dead-Reckoning, else the base odometry, each fall-back warned once).  The control (goto, wall
 follow, laser and sonar protection) is :mod:`pluto_motion.avoid_control`.
 
-The README ("Movement", avoidModule) has the tables of ``avoidance/command`` and
+docs/movement.md ("Movement", avoidModule) has the tables of ``avoidance/command`` and
 ``avoidance/status`` and the options.
 
 Before changing it: each laser scan and sonar reading is placed at the pose of its stamp in a

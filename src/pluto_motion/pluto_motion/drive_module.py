@@ -9,8 +9,8 @@ regulator that holds a heading (:mod:`pluto_motion.drive_control`; the heading's
 why.  At start it sets the odometry calibration file (``-k``) in the base (Pluto 6.1;
 :mod:`pluto_motion.base_calibration`).
 
-The README ("Movement", driveModule) has the tables of ``drive/command`` and ``drive/status``,
-the options and the calibration file; docs/pluto-motion.md ("driveModule") adds what the README
+docs/movement.md ("Movement", driveModule) has the tables of ``drive/command`` and ``drive/status``,
+the options and the calibration file; docs/pluto-motion.md ("driveModule") adds what that page
 leaves out.  The five limits (``max_tv``, ``max_rv``, ``tv_accel``, ``rv_accel``, ``timeout``)
 are tunables starting from the options.
 
@@ -176,7 +176,7 @@ class DriveModule:
         fresh reading and the ring's layout, so a command, sonar-protected or not, can move the
         robot.  A program's first command waits for it (CARMEN's velocity command): modules
         started together find each other in any order, and a drive heard before it hears the base
-        turns a short drive into none (CI: a 2 s drive of the README's CARMEN program moved 0.00 m)."""
+        turns a short drive into none (CI: a 2 s drive of the manual's CARMEN program moved 0.00 m)."""
         return self.base.peers('request') > 0 and sonar is not None and self.control.guard.ready
 
     def close(self) -> None:

@@ -10,7 +10,7 @@ With a map (``-m``) a moveto is planned and followed; without one, or with ``-R`
 "42 moveto using ray_following"), it is ray following.  The wrist (``-W``) is turned for active
 scanning (Pluto 4; :mod:`pluto_motion.active_scan`); without a wrist nothing is sent.
 
-The README ("Movement", motionModule) has the tables of ``motion/command`` and ``motion/status``
+docs/movement.md ("Movement", motionModule) has the tables of ``motion/command`` and ``motion/status``
 and the active scanning; ``-h`` lists the options; the tunables (:data:`TUNABLES`, ROS 2
 parameters starting from the options) are taken by the next motion command.
 

@@ -14,7 +14,7 @@ link restarted) is sent again after :data:`RETRY_S`, and a restarted navigator r
 from its resume file.  The base is down when its odometry (``<BASE>Motion``) is silent for the
 tunable ``base_wait``, or :data:`FIRST_SAMPLE_S` before a first sample; a chain failure while the
 base is quiet (:data:`BASE_QUIET_S`) is judged once the base is down or heard again, so that the
-log names the cause.  The README ("CARMEN's navigator") has the whole behaviour.
+log names the cause.  docs/carmen.md ("CARMEN's navigator") has the whole behaviour.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The README's AvoidProxy example runs as written against the simulated chain (dummy base and laser,
+"""The manual's AvoidProxy example (docs/movement.md) runs as written against the simulated chain (dummy base and laser,
 localModule, driveModule, avoidModule): the goto round a box ends SUCCEEDED with the robot at the
 goal, never closer to a wall than its radius."""
 
@@ -6,17 +6,14 @@ from __future__ import annotations
 
 import os
 import pathlib
-import re
 
 from avoid_fixture import RADIUS, Avoider, chain, write_world
 from goto_sim import box
 from wurde_testing import ChildProcess
-
-README = pathlib.Path(__file__).resolve().parents[3] / 'README.md'
-
+from wurde_testing.manual import example
 
 def test_avoid_proxy_example_reaches_the_goal_round_the_box(ros_domain: int, tmp_path: pathlib.Path) -> None:
-    code = re.search(r'<!-- example: avoid_proxy -->\n```python\n(.*?)```', README.read_text(), re.S).group(1)
+    code = example('avoid_proxy', 'python')
     script = tmp_path / 'goto_box.py'
     script.write_text(code)
     script.chmod(0o755)

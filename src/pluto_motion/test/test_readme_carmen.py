@@ -1,4 +1,4 @@
-"""The README's CARMEN program (pluto_motion.carmen) runs as written as one more module of the whole
+"""The manual's CARMEN program (docs/carmen.md) (pluto_motion.carmen) runs as written as one more module of the whole
 simulated Pluto of config/pluto under the MCP: it hears the odometry and the front laser, drives
 ahead through the driveModule with CARMEN's velocity command, sends the navigator to office2 and
 ends on autonomous_stopped with CARMEN_NAVIGATOR_GOAL_REACHED_v, the simulator's truth at office2."""
@@ -13,6 +13,7 @@ import shutil
 
 from motion_fixture import RADIUS, Commander
 from wurde_testing import ChildProcess, find_executable
+from wurde_testing.manual import example
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
 PLUTO = ROOT / 'config' / 'pluto'
@@ -20,8 +21,7 @@ OFFICE2 = (7.5, 3.0)
 
 
 def test_the_carmen_program_drives_and_navigates_the_simulated_pluto(ros_domain: int, tmp_path: pathlib.Path) -> None:
-    code = re.search(r'<!-- example: carmen_program -->\n```python\n(.*?)```', (ROOT / 'README.md').read_text(),
-                     re.S).group(1)
+    code = example('carmen_program', 'python')
     script = tmp_path / 'carmen_program.py'
     script.write_text(code)
     script.chmod(0o755)

@@ -1,4 +1,4 @@
-"""The README's DriveProxy example runs as written against the dummy base and the driveModule,
+"""The manual's DriveProxy example (docs/movement.md) runs as written against the dummy base and the driveModule,
 and the robot it commands ends facing north."""
 
 from __future__ import annotations
@@ -6,16 +6,13 @@ from __future__ import annotations
 import math
 import os
 import pathlib
-import re
 
 from drive_fixture import Driver, angle_error, robot, room_config
 from wurde_testing import ChildProcess
-
-README = pathlib.Path(__file__).resolve().parents[3] / 'README.md'
-
+from wurde_testing.manual import example
 
 def test_drive_proxy_example_turns_the_robot_north(ros_domain: int, tmp_path: pathlib.Path) -> None:
-    code = re.search(r'<!-- example: drive_proxy -->\n```python\n(.*?)```', README.read_text(), re.S).group(1)
+    code = example('drive_proxy', 'python')
     script = tmp_path / 'turn_north.py'
     script.write_text(code)
     directory = room_config(tmp_path)

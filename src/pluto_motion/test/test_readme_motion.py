@@ -1,4 +1,4 @@
-"""The README's MotionProxy example runs as written against the whole simulated Pluto on the office
+"""The manual's MotionProxy example (docs/movement.md) runs as written against the whole simulated Pluto on the office
 map (dummies with odometry noise, localModule, poseModule, drive, avoid, motion with the map): it
 ends SUCCEEDED in office2, through the room's 0.9 m door, never closer to a wall than the robot's
 radius."""
@@ -8,18 +8,17 @@ from __future__ import annotations
 import math
 import os
 import pathlib
-import re
 
 from motion_fixture import RADIUS, Commander, pluto, pluto_config
 from wurde_testing import ChildProcess
+from wurde_testing.manual import example
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
 OFFICE = ROOT / 'config' / 'maps' / 'office.xml'
 
 
 def test_motion_proxy_example_reaches_office2(ros_domain: int, tmp_path: pathlib.Path) -> None:
-    code = re.search(r'<!-- example: motion_proxy -->\n```python\n(.*?)```', (ROOT / 'README.md').read_text(),
-                     re.S).group(1)
+    code = example('motion_proxy', 'python')
     script = tmp_path / 'go_to_office2.py'
     script.write_text(code)
     script.chmod(0o755)

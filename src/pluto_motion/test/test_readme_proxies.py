@@ -1,4 +1,4 @@
-"""The README's examples of the other modules' proxies and of the calibration file: the WristProxy
+"""The manual's examples (docs/movement.md) of the other modules' proxies and of the calibration file: the WristProxy
 example turns the dummy wrist as written; the calibration file example is a file the reader takes."""
 
 from __future__ import annotations
@@ -12,20 +12,11 @@ from drive_fixture import program, room_config
 from wurde_testing import ChildProcess
 
 from pluto_nav.odometry_calibration import read_calibration
-
-README = pathlib.Path(__file__).resolve().parents[3] / 'README.md'
-
-
-def _example(name: str, language: str) -> str:
-    found = re.search(rf'<!-- example: {name} -->\n( *)```{language}\n(.*?)\1```', README.read_text(), re.S)
-    assert found, name
-    indent = found.group(1)
-    return ''.join(line[len(indent):] + '\n' for line in found.group(2).splitlines())
-
+from wurde_testing.manual import example
 
 def test_wrist_proxy_example_turns_the_wrist(ros_domain: int, tmp_path: pathlib.Path) -> None:
     script = tmp_path / 'look_left.py'
-    script.write_text(_example('wrist_proxy', 'python'))
+    script.write_text(example('wrist_proxy', 'python'))
     directory = room_config(tmp_path)
     with program('wurde_drivers', 'dummy_base', directory, '-n', 'PlutoBase'), \
             program('wurde_drivers', 'dummy_wrist', directory, '-n', 'PlutoWrist'), \
@@ -40,6 +31,6 @@ def test_wrist_proxy_example_turns_the_wrist(ros_domain: int, tmp_path: pathlib.
 
 def test_calibration_file_example_is_read(tmp_path: pathlib.Path) -> None:
     path = tmp_path / 'odometry-calibration.yaml'
-    path.write_text(_example('calibration_file', 'yaml'))
+    path.write_text(example('calibration_file', 'yaml'))
     found = read_calibration(path)
     assert (found.distance, found.rotation) == pytest.approx((0.971178, 1.028928))

@@ -5,7 +5,7 @@
 A WURDE module that supplies, from the log, what the simulated robot's dummies supply
 (``<BASE>Motion``, ``<LASER>`` with its info, ``<LASER>/Timing`` and the ROS mirrors of
 :mod:`.carmen_log_ros`), so that the localModule, poseModule and slamModule run on it as on the
-robot.  The README ("Real robots' data") gives the usage; docs/pluto-nav.md ("carmen_log play")
+robot.  docs/real-data.md ("Real robots' data") gives the usage; docs/pluto-nav.md ("carmen_log play")
 each stream's content, the pace and the waits.
 
 Before changing it: what is published before a reader exists reaches nobody, so before the first

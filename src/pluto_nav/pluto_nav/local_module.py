@@ -3,7 +3,7 @@
 It fuses the base's odometry, the DMU's filtered state, the wrist's pan and tilt and the laser's
 timing stream (any subset may be missing; :mod:`.dead_reckoning` says which gives what) into the
 five LocalizationPose streams of :mod:`pluto_nav.streams`, the status stream
-``Localization/Status`` and the standard topics of :mod:`pluto_nav.ros_std`.  The README
+``Localization/Status`` and the standard topics of :mod:`pluto_nav.ros_std`.  docs/navigation.md
 ("Navigation") gives the inputs, options, streams and status; docs/pluto-nav.md ("localModule")
 the start, the resume file and the status stream's constants.
 

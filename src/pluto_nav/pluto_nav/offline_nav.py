@@ -6,7 +6,7 @@
 ``LOG`` is a CARMEN log (plain or gzip) or a rosbag2 bag (its directory, metadata.yaml, or one
 .mcap/.db3 file).  The estimation is the slamModule's or poseModule's own code
 (:mod:`.slam_methods`, :mod:`.localizers`, run by :mod:`.offline_run` as the modules run it), over
-the whole log as fast as one core allows, the same every time.  The README ("Offline runs") gives
+the whole log as fast as one core allows, the same every time.  docs/real-data.md ("Offline runs") gives
 the outputs and the scoring; docs/pluto-nav.md ("offline_nav") the start pose, the IMU option and
 the exit status.
 

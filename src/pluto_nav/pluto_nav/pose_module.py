@@ -11,7 +11,7 @@ to the map, :mod:`pluto_nav.localizers` says which suits what), the setter is 1,
 runs from the start unless ``-x``.
 
 ``pose/status`` (FVectorState, Pluto 7.1; elements 2 and 3 are ours) and the options are in the
-README ("Navigation"); docs/pluto-nav.md ("poseModule") adds the status layout's detail and the
+docs/navigation.md ("Navigation"); docs/pluto-nav.md ("poseModule") adds the status layout's detail and the
 tunables: the matcher's gates and ranges are ROS 2 parameters (:data:`MATCH_TUNABLES`,
 ``match.<field>`` of :class:`pluto_nav.matching.MatchSettings`), taken at the next scan.
 """

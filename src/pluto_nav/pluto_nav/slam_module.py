@@ -16,7 +16,7 @@ wait"), and so does the module's end while the thread runs, which is why it asks
 :data:`QUIT_TIME_S` after Quit.  The map is saved in the simulator's map format
 (:mod:`wurde_idl.mapfile`) with the place ``start``, so a poseModule can load it next run; a method
 that builds an occupancy grid also writes a map_server pair beside it (:mod:`wurde_idl.gridmap`).
-The README ("Navigation") gives ``slam/status`` and the options; docs/pluto-nav.md ("slamModule")
+docs/navigation.md ("Navigation") gives ``slam/status`` and the options; docs/pluto-nav.md ("slamModule")
 what it adds.
 """
 

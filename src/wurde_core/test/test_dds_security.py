@@ -1,6 +1,6 @@
-"""What the README says of DDS Security (issue 16) holds for this install: the Fast DDS library the
-ROS wheels bring has no builtin security plugins.  When a wheel with security comes, this test
-fails, and the README's section and a keystore set-up are due."""
+"""What the manual (docs/many-machines.md) says of DDS Security (issue 16) holds for this install:
+the Fast DDS library the ROS wheels bring has no builtin security plugins.  When a wheel with
+security comes, this test fails, and that section and a keystore set-up are due."""
 
 from __future__ import annotations
 
@@ -24,5 +24,5 @@ def test_the_wheels_fast_dds_has_no_dds_security() -> None:
     for library in libraries:
         data = library.read_bytes()
         assert not [name for name in PLUGINS if name in data], \
-            f'{library} has DDS Security built in: update the README section and add a keystore set-up'
+            f'{library} has DDS Security built in: update docs/many-machines.md and add a keystore set-up'
     assert any(b'security is disabled' in p.read_bytes() for p in libraries)

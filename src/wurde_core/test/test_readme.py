@@ -1,29 +1,19 @@
-"""The README's wurde_core examples run as written."""
+"""The manual's wurde_core examples (docs/programming.md) run as written."""
 
 from __future__ import annotations
 
 import pathlib
-import re
 
 from wurde_testing import ChildProcess
-
-README = pathlib.Path(__file__).resolve().parents[3] / 'README.md'
-
-
-def examples() -> dict[str, str]:
-    """``<!-- example: name -->`` followed by a python block, by name."""
-    text = README.read_text()
-    found = dict(re.findall(r'<!-- example: (\w+) -->\n```python\n(.*?)```', text, re.S))
-    assert {'foo_server', 'foo_client'} <= set(found), sorted(found)
-    return found
+from wurde_testing.manual import example
 
 
 def test_readme_foo_server_and_client_run_as_written(ros_domain: int,
                                                     tmp_path: pathlib.Path) -> None:
     paths = {}
-    for name, code in examples().items():
+    for name in ('foo_client', 'foo_server'):
         paths[name] = tmp_path / f'{name}.py'
-        paths[name].write_text(code)
+        paths[name].write_text(example(name, 'python'))
     with ChildProcess([str(paths['foo_client'])]) as client, \
             ChildProcess([str(paths['foo_server'])]) as server:
         client.expect('Info: MaxRange 8.0 angleMin 0.0 angleMax 3.141592653589793')

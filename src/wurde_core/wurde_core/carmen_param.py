@@ -8,7 +8,7 @@ The calls of "Programming with CARMEN", section 6, on ROS 2 parameters::
     flipped = params.get_onoff('laser_flipped')      # None, and a warning, if not defined
 
 The daemon serves ``module_variable`` of carmen.ini as its ROS 2 parameter ``module.variable``;
-here names are spelt as CARMEN spells them.  Where the seed is silent (the README, "CARMEN's
+here names are spelt as CARMEN spells them.  Where the seed is silent (docs/carmen.md, "CARMEN's
 parameters", has the user's side): a missing parameter is ``None``, a value that does not convert
 raises :class:`ParamTypeError` (a wrong carmen.ini); targets are ``(obj, 'attr')`` or
 ``(mapping, key)``, as Python has no pointers; changes are applied in the program's own thread by

@@ -13,7 +13,7 @@ Tunable ``name`` of module ``M`` is the CARMEN parameter ``M_name`` (:func:`carm
 carmen.ini has it, its value wins over the module's options, defaults and ``--params-file``, and
 later changes at the daemon are applied while the module runs (6.1); a value the tunable refuses
 is reported and the tunable keeps its value; one carmen.ini does not name keeps its own, without a
-warning (CARMEN's ``allow_unfound_variables``).  The README ("CARMEN's parameters") and
+warning (CARMEN's ``allow_unfound_variables``).  docs/carmen.md ("CARMEN's parameters") and
 docs/wurde-core.md have the rest.
 
 The link never blocks the module's loop: :meth:`DaemonTunables.poll`, called by the

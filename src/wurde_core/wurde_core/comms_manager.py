@@ -16,7 +16,7 @@ correct as printed: the module lives through the MCP's other states, Idle (no da
 Reset (forget what was taken in and not read) and Restart (re-execute the program in the same
 process).  :meth:`CommsManager.on_state` callbacks run in the loop's thread and replace the
 defaults of Reset and Restart; :meth:`CommsManager.set_return_states` hands the states to a loop
-that interprets them itself.  The README ("Programming with wurde_core") describes each state.
+that interprets them itself.  docs/programming.md ("Programming with wurde_core") describes each state.
 
 Before changing it: everything runs in the program's own thread (no executor: the node's services
 are served from the loop), and a quitting module's clean-up must end in bounded time even when DDS

@@ -3,7 +3,7 @@
 Every module's node serves parameters (``ros2 param list /PlutoLaser``), with one mapping for
 all modules, from what the guide's options and role configuration (5.1.1-5.1.4) gave it:
 ``wurde.module``, ``wurde.role_config``, ``wurde.<setting>`` for each getter's value,
-``wurde.option.<name>`` and ``wurde.module_option.<name>`` (the README, "Using it from ROS 2",
+``wurde.option.<name>`` and ``wurde.module_option.<name>`` (docs/ros2.md, "Using it from ROS 2",
 lists them).  These are read-only (their descriptors say so): they were read once at start, and
 the program went its way with them; a ``--params-file`` naming them is accepted and leaves them as
 they are, so that ``ros2 param dump`` gives a file the module takes back.  Option names that are

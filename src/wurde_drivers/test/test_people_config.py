@@ -23,6 +23,7 @@ from wurde_testing import ChildProcess, find_executable
 from wurde_drivers.sim.config import load_sim_config
 from wurde_drivers.sim.loading import load_sim
 from wurde_drivers.sim.person_config import PERSON_ATTRIBUTES
+from wurde_testing.manual import example
 
 #: A good person, to be spoiled one attribute at a time: across the corridor east of the start.
 GOOD = 'name="p" points="6,7.5 9,7.5" speed="1" radius="0.25" height="1.7"'
@@ -156,10 +157,8 @@ def test_config_pluto_people_is_config_pluto_plus_three_people_crossing_corridor
 
 
 def test_the_readmes_people_walk_the_office(tmp_path: pathlib.Path) -> None:
-    """The README's ``<person>`` example, in config/sim's office: two people, a disc and a box."""
-    text = (ROOT / 'README.md').read_text()
-    start = text.index('<!-- example: people -->')
-    block = re.compile(r'```xml\n(.*?)```', re.S).search(text, start).group(1)
+    """The manual's ``<person>`` example (docs/simulator.md), in config/sim's office: two people, a disc and a box."""
+    block = example('people', 'xml')
     people = [' '.join(element.split()) for element in re.findall(r'<person\b.*?/>', block, re.S)]
     path, lines = people_config(tmp_path, people)
     _, world, _ = load_sim(str(path))

@@ -1,5 +1,6 @@
-"""The README's examples run as written: the dummy robot (the MCP brings the dummies up, tour
-drives) and the Eye's camera (an ImageSource whose frames the Eye's page serves)."""
+"""The manual's examples run as written (docs/simulator.md, docs/vision.md): the dummy robot (the
+MCP brings the dummies up, tour drives) and the Eye's camera (an ImageSource whose frames the
+Eye's page serves)."""
 
 from __future__ import annotations
 
@@ -13,14 +14,13 @@ import cv2
 import numpy as np
 from eye_fixture import eye
 from wurde_testing import ChildProcess
+from wurde_testing.manual import example, section
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
 
 
 def test_readme_dummy_robot_example(ros_domain: int, tmp_path: pathlib.Path) -> None:
-    text = (ROOT / 'README.md').read_text()
-    start = text.index('<!-- example: dummy-robot -->')
-    block = re.compile(r'```bash\n(.*?)```', re.S).search(text, start).group(1)
+    block = example('dummy-robot', 'bash')
     assert block.startswith('source env.sh')
     env = dict(os.environ, WURDE_DATA_DIR=str(tmp_path), WURDE_LOG_DIRECTORY=str(tmp_path))
     result = subprocess.run(['bash', '-c', block], env=env, cwd=ROOT, capture_output=True, text=True,
@@ -29,12 +29,6 @@ def test_readme_dummy_robot_example(ros_domain: int, tmp_path: pathlib.Path) -> 
     assert result.returncode == 0, result.stderr[-3000:]
     assert (tmp_path / 'tour.png').read_bytes()[:4] == b'\x89PNG'
     assert (tmp_path / 'mcp-modules' / 'PlutoLaser.log').read_text().rstrip().endswith('--- exit code 0')
-
-
-def _block(marker: str, language: str) -> str:
-    text = (ROOT / 'README.md').read_text()
-    start = text.index(f'<!-- example: {marker} -->')
-    return re.compile(f'```{language}\\n(.*?)```', re.S).search(text, start).group(1)
 
 
 def test_readme_vision_operator_example_runs_as_a_plugin(tmp_path: pathlib.Path) -> None:
@@ -46,7 +40,7 @@ def test_readme_vision_operator_example_runs_as_a_plugin(tmp_path: pathlib.Path)
     from wurde_drivers.vision.registry import load_plugins, operator_class
     from wurde_drivers.vision.vision_config import load_vision_config
 
-    (tmp_path / 'my_operators.py').write_text(_block('vision-operator', 'python'))
+    (tmp_path / 'my_operators.py').write_text(example('vision-operator', 'python'))
     config = tmp_path / 'vision-config.xml'
     config.write_text('<?xml version="1.0"?>\n<vision-config>\n<module name="M"><camera name="c"/>\n'
                       '<operator name="Edges" type="EdgeCounter" camera="c"><option name="every" value="2"/>'
@@ -73,11 +67,11 @@ def test_readme_vision_operator_example_runs_as_a_plugin(tmp_path: pathlib.Path)
 
 
 def test_readme_vision_sim_example(ros_domain: int, tmp_path: pathlib.Path) -> None:
-    """The simulated robot's eyes as the README runs them: frames written that show walls."""
+    """The simulated robot's eyes as the manual runs them: frames written that show walls."""
     import cv2
     import numpy as np
 
-    block = _block('vision-sim', 'bash')
+    block = example('vision-sim', 'bash')
     assert block.startswith('source env.sh')
     env = dict(os.environ, WURDE_DATA_DIR=str(tmp_path), WURDE_LOG_DIRECTORY=str(tmp_path))
     result = subprocess.run(['bash', '-c', block], env=env, cwd=ROOT, capture_output=True, text=True,
@@ -93,14 +87,12 @@ def test_readme_vision_sim_example(ros_domain: int, tmp_path: pathlib.Path) -> N
 
 
 def test_readme_eye_camera_example(ros_domain: int, tmp_path: pathlib.Path) -> None:
-    """The README's ImageSource camera runs as written, and the Eye (no DISPLAY: its page) serves
+    """The manual's ImageSource camera runs as written, and the Eye (no DISPLAY: its page) serves
     its frames exactly: pixel (x, y) of frame k is ((x + 4k) % 256, y, 128)."""
-    text = (ROOT / 'README.md').read_text()
-    start = text.index('<!-- example: eye-camera -->')
-    block = re.compile(r'```python\n(.*?)```', re.S).search(text, start).group(1)
+    block = example('eye-camera', 'python')
     camera = tmp_path / 'camera.py'
     camera.write_text(block)
-    assert 'eye -i Camera' in text[start:text.index('## Navigation', start)]
+    assert 'eye -i Camera' in section('The Eye (`eye`, WURDE 7.8)')
     with ChildProcess([str(camera)]) as supplier, \
             eye(['-i', 'Camera', '-p', '0'], display=None) as child:
         url = re.search(r'http://127\.0\.0\.1:\d+/', child.expect('shows Camera on http://', 30))
@@ -122,9 +114,7 @@ def test_readme_teleop_example(ros_domain: int, tmp_path: pathlib.Path) -> None:
     test's directory (tests run side by side): the stick's input reaches blind_teleop, whose
     status line shows the relative goal it asked for and the robot's odometry going forward, and the
     quit button ends it with status 0."""
-    text = (ROOT / 'README.md').read_text()
-    start = text.index('<!-- example: teleop -->')
-    block = re.compile(r'```bash\n(.*?)```', re.S).search(text, start).group(1)
+    block = example('teleop', 'bash')
     assert block.startswith('source env.sh')
     config, fifo = tmp_path / 'config', str(tmp_path / 'js0')
     config.mkdir()

@@ -6,7 +6,6 @@ from __future__ import annotations
 import math
 import os
 import pathlib
-import re
 import textwrap
 
 import pytest
@@ -18,6 +17,7 @@ from wurde_drivers.rflex.config import load_rflex_config
 from wurde_drivers.rflex.module import limits_for
 from wurde_drivers.rflex.robots import ATRV2, ATRV_JR, B21IR, B21R, DriveKind
 from wurde_drivers.sim.config import load_sim_config
+from wurde_testing.manual import example
 
 #: Guide 10.1.5 as printed; only the XML declaration's OCR glyphs (``<?7xml ... 7>``) are undone.
 APPENDIX = '''<?xml version="1.0" encoding="UTF-8" ?>
@@ -43,8 +43,7 @@ def test_the_appendix_rflex_config_loads_as_a_b21r(tmp_path: pathlib.Path) -> No
 
 
 def test_the_readme_example_loads(tmp_path: pathlib.Path) -> None:
-    readme = (pathlib.Path(__file__).resolve().parents[3] / 'README.md').read_text()
-    block = re.search(r'<!-- example: rflex_types -->\n *```xml\n(.*?)```', readme, re.S).group(1)
+    block = example('rflex_types', 'xml')
     path = tmp_path / 'rflex-config.xml'
     path.write_text(textwrap.dedent(block))
     pluto, tom = load_rflex_config(path)

@@ -3,8 +3,8 @@
 ROS tools (RViz, Nav2, ``ros2 topic echo``) expect standard messages, so the device modules give
 them next to their WURDE streams: for a device module ``N``, ``/N/scan``, ``/N/odom``,
 ``/N/cmd_vel`` (in), ``/N/imu``, ``/N/fix``, ``/N/ground_truth/...``, ``/N/sonar``,
-``/N/bumpers``, ``/N/battery``, ``/N/joint_states`` and ``/tf_static``.  The README's table of
-standard topics ("The simulated robot and the drivers") says what each carries, in which frame
+``/N/bumpers``, ``/N/battery``, ``/N/joint_states`` and ``/tf_static``.  The table of standard
+topics of docs/simulator.md ("The simulated robot and the drivers") says what each carries, in which frame
 and with which covariance.  This module holds the scan, odometry, ground truth, cmd_vel, IMU and
 fix; :mod:`~wurde_drivers.ros_std_base`, :mod:`~wurde_drivers.ros_std_joints` and
 :mod:`~wurde_drivers.ros_std_frames` the others.

@@ -17,6 +17,7 @@ import sys
 
 import pytest
 from wurde_idl.safe_xml import parse_file
+from wurde_testing.manual import section
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
 PACKAGES = sorted(path.parent for path in (ROOT / 'src').glob('**/package.xml'))
@@ -163,9 +164,8 @@ def test_every_third_party_import_is_in_requirements_and_nothing_else_is():
 
 
 def test_the_readme_apt_lines_install_every_declared_python_dependency():
-    text = (ROOT / 'README.md').read_text()
-    section = text.split('### Building with ROS 2 Jazzy from apt', 1)[1].split('\n### ', 1)[0]
-    block = re.search(r'```bash\n(.*?)```', section, re.S).group(1).replace('\\\n', ' ')
+    text = section('Building with ROS 2 Jazzy from apt (Ubuntu 24.04)')
+    block = re.search(r'```bash\n(.*?)```', text, re.S).group(1).replace('\\\n', ' ')
     apt = set(re.findall(r'\bpython3-[\w-]+', ' '.join(line for line in block.splitlines() if 'apt' in line)))
     pip = set(' '.join(line.split('pip install', 1)[1] for line in block.splitlines() if 'pip install' in line).split())
     keys = set()
@@ -175,4 +175,4 @@ def test_the_readme_apt_lines_install_every_declared_python_dependency():
     by_key = {_rosdep_key(name): name for name in PIP_ONLY}
     missing = [key for key in sorted(keys)
                if (by_key[key] not in pip if key in by_key else key not in apt)]
-    assert not missing, f"the README's apt build lines lack {missing}"
+    assert not missing, f"the apt build lines (docs/setup.md) lack {missing}"

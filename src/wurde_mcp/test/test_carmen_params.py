@@ -15,9 +15,9 @@ import pytest
 from wurde_core import CommsManager
 from wurde_core.carmen_param import CarmenParams, Param, ParamExit, ParamType, ParamTypeError
 from wurde_testing import ChildProcess, find_executable
+from wurde_testing.manual import example
 from wurde_testing.parameters import ParameterTool
 
-README = pathlib.Path(__file__).resolve().parents[3] / 'README.md'
 OFFICE = pathlib.Path(__file__).resolve().parents[3] / 'config' / 'maps' / 'office.xml'
 #: Longest wait for a daemon to come up, a tool to finish or a change to arrive (loaded machine).
 DEADLINE = 30.0
@@ -255,13 +255,10 @@ def test_a_bad_map_or_resolution_is_refused(ros_domain: int, tmp_path: pathlib.P
 
 
 def test_readme_example_runs_against_a_daemon(ros_domain: int, tmp_path: pathlib.Path) -> None:
-    """The README's install_params example as a module: daemon values, a -name override, and a
-    subscribed change."""
-    code = re.search(r'<!-- example: carmen_params -->\n```python\n(.*?)```', README.read_text(),
-                     re.S)
-    assert code, 'README.md has no carmen_params example'
+    """The manual's install_params example (docs/carmen.md) as a module: daemon values, a -name
+    override, and a subscribed change."""
     script = tmp_path / 'carmen_example.py'
-    script.write_text(code.group(1))
+    script.write_text(example('carmen_params', 'python'))
     with daemon(tmp_path):
         with ChildProcess([str(script), '-safety_distance', '0.25']) as module:
             module.expect('max_t_vel 0.3 flipped True safety_distance 0.25', timeout=DEADLINE * 2)

@@ -8,7 +8,7 @@ on 127.0.0.1 only.
 foxglove-sdk 0.30.3 sends a channel's advertisement before it enters the channel in the client's
 table (``ConnectedClient::advertise_channels``): a subscription that comes back in between, which
 a loaded machine makes possible, is refused with the status ``Unknown channel ID: N``. The client
-here subscribes again then, as the README tells a viewer to."""
+here subscribes again then, as the manual (docs/ros2.md) tells a viewer to."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The README's MCP example (config/foo) runs as written: FooServer and FooClient come up."""
+"""The manual's MCP example (docs/mcp.md) (config/foo) runs as written: FooServer and FooClient come up."""
 
 from __future__ import annotations
 
@@ -10,17 +10,16 @@ import time
 from mcp_fixture import Table
 from wurde_core import StatusMode
 from wurde_testing import ChildProcess
+from wurde_testing.manual import section
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
 
 
 def test_readme_mcp_command_brings_up_the_foo_system(ros_domain: int, tmp_path) -> None:
-    text = (ROOT / 'README.md').read_text()
-    start = text.index('## The MCP')
-    block = re.compile(r'```bash\n(.*?)```', re.S).search(text, start).group(1)
+    block = re.search(r'```bash\n(.*?)```', section('The MCP (`wurde_mcp`)'), re.S).group(1)
     lines = [line for line in block.strip().splitlines() if line.strip()]
     assert lines[0] == 'source env.sh'
-    # Run the README's lines; exec the last so that stopping the shell stops the MCP itself.
+    # Run the page's lines; exec the last so that stopping the shell stops the MCP itself.
     script = '\n'.join(lines[:-1] + ['exec ' + lines[-1]])
     env = dict(os.environ, WURDE_LOG_DIRECTORY=str(tmp_path))
     table = Table()

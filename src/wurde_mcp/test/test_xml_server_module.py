@@ -14,10 +14,10 @@ from wurde_core import CommsManager, LockMode, Pose3D, ProcessLocale, ProcessTyp
 from wurde_core.interfaces import ActuatorState, LocalizationPose, SimpleControl
 from wurde_mcp.xml_server import VarError, XmlClient
 from wurde_testing import ChildProcess, find_executable
+from wurde_testing import manual
 from wurde_testing.sockets import LOOPBACK, listening_addresses
 
 DEADLINE = 30.0
-README = pathlib.Path(__file__).resolve().parents[3] / 'README.md'
 
 
 class Robot:
@@ -164,7 +164,7 @@ def _port(server: ChildProcess) -> int:
 
 def test_the_readme_client_example_reads_the_pose_and_follows_pushes(ros_domain: int,
                                                                      tmp_path: pathlib.Path) -> None:
-    code = re.search(r'<!-- example: xml_client -->\n```python\n(.*?)```', README.read_text(), re.S).group(1)
+    code = manual.example('xml_client', 'python')
     script = tmp_path / 'xml_client.py'
     script.write_text(code)
     robot = Robot()

@@ -3,16 +3,16 @@ Mobotware's server-to-server commands (AU Robot Servers, "Get value to another s
 ``module load=if alias=cam``, ``cam connect=localhost:PORT``, ``cam varpush struct=odoPose
 cmd="var odoPose copy"`` (copies into the structure ``var``), ``dest=`` and ``desc``, and
 ``camOnConnect``; the first server's odometry comes from this test's Dead-Reckoning stream.  Also
-the README's copy example, and ``utmPose``/``laserdata`` from GPS and laser streams."""
+the manual's copy example (docs/mobotware.md), and ``utmPose``/``laserdata`` from GPS and laser streams."""
 
 from __future__ import annotations
 
 import pathlib
-import re
 
-from test_xml_server_module import README, Robot, _port
+from test_xml_server_module import Robot, _port
 from wurde_core.interfaces import GPS, RangeFinder
 from wurde_testing import ChildProcess, find_executable
+from wurde_testing import manual
 
 from wurde_mcp.xml_server import VarError, XmlClient
 
@@ -84,7 +84,7 @@ def test_a_server_copies_another_servers_structure(ros_domain: int) -> None:
 
 
 def test_the_readme_copy_example_copies_the_pose(ros_domain: int, tmp_path: pathlib.Path) -> None:
-    code = re.search(r'<!-- example: xml_copy -->\n```python\n(.*?)```', README.read_text(), re.S).group(1)
+    code = manual.example('xml_copy', 'python')
     script = tmp_path / 'xml_copy.py'
     script.write_text(code)
     robot = Robot()

@@ -4,7 +4,7 @@ A base module named ``N`` supplies, as WURDE's RFlexServer (guide 7.6) and Pluto
 (Pluto 4: cmdFlags 0 only), ``NDrive`` (SynchroDrive for a synchro drive, RobotDrive for a skid
 steer), ``NCommand`` (ActuatorState), ``NMotion`` (Egomotion), ``NSonar``, ``NBumpers`` and
 ``NPower``, and the standard ROS topics beside them (:mod:`wurde_drivers.ros_std`,
-:mod:`wurde_drivers.ros_std_base`): the README's tables in "The simulated robot and the drivers".
+:mod:`wurde_drivers.ros_std_base`): the tables of docs/simulator.md ("The simulated robot and the drivers").
 Whatever backend moves the robot, consumers see the same streams, so no module can tell a dummy
 from the real base.
 

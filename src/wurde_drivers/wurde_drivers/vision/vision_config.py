@@ -8,7 +8,7 @@ attribute or ``<camera name>`` children, and its options in ``<option name value
 file (relative: from this file's directory); a WURDE C++ library (``.so``, as the appendix lists)
 is accepted and skipped with a notice, its operators being built in (:mod:`.registry`).
 
-The README ("Vision") describes the file and docs/wurde-drivers.md ("vision.vision_config") shows
+docs/vision.md ("Vision") describes the file and docs/wurde-drivers.md ("vision.vision_config") shows
 an example; config/vision/vision-config.xml is the guide appendix's, read by a test as shipped.
 Operator types are checked when the module loads them (:mod:`.registry`), with this file's line.
 Pure Python (lxml).

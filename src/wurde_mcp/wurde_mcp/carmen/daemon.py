@@ -7,7 +7,7 @@ rules: :mod:`.ini`) becomes the ROS 2 parameter ``module.variable`` of the node
 ``/param_daemon``, typed from its text (int, float, on/off as bool, else string), so ``ros2 param``
 and ``/parameter_events`` work and the client API (:mod:`wurde_core.carmen_param`, Programming
 with CARMEN 6) reads them.  A MAP is served as :mod:`map_server <wurde_mcp.carmen.map_server>`
-serves it, as CARMEN's daemon serves its map.  The README ("CARMEN's parameters") is the manual;
+serves it, as CARMEN's daemon serves its map.  docs/carmen.md ("CARMEN's parameters") is the manual;
 docs/wurde-mcp.md ("param_daemon") has the detail of sets, re-reads and where this daemon
 differs from CARMEN's.
 
