@@ -31,7 +31,13 @@ the EventsExecutor, and their totals.  Every process started is ended (SIGINT, t
 none may be left carrying the run's log directory.  DDS on loopback only, in a ROS domain of its
 own.
 
-Usage: ``make bench-footprint`` or ``python bench/footprint.py [--seconds 60] [--rate-seconds 20]``.
+``--containers 'NAME=module,module NAME=...'`` (or ``all``: one container ``robot`` of all twelve)
+runs those modules in ``<container>``s of the MCP config (:mod:`wurde_mcp.container`): the robot's
+rows are then its processes — the MCP, each container, each module left on its own — and the
+baseline stays one process per module.
+
+Usage: ``make bench-footprint`` or ``python bench/footprint.py [--seconds 60] [--rate-seconds 20]
+[--containers all]``.
 """
 
 from __future__ import annotations
@@ -175,6 +181,33 @@ class Traffic:
     publishers: dict[str, list[Endpoint]] = field(default_factory=dict)
     subscriptions: dict[str, list[Endpoint]] = field(default_factory=dict)
     unattributed: int = 0                  # messages on a shared topic whose publisher was not told
+
+
+def containers_of(text: str, modules: list[str]) -> dict[str, list[str]]:
+    """``--containers``' groups: ``all`` is one container ``robot`` of every module."""
+    if text.strip() == 'all':
+        return {'robot': list(modules)}
+    groups = {}
+    for group in text.split():
+        name, _, members = group.partition('=')
+        groups[name] = [m for m in members.split(',') if m]
+        unknown = sorted(set(groups[name]) - set(modules))
+        if unknown:
+            raise SystemExit(f'footprint: --containers names modules config/pluto has not: {unknown}')
+    return groups
+
+
+def contain(config: pathlib.Path, groups: dict[str, list[str]]) -> None:
+    """Rewrite the MCP config at ``config`` with ``groups``' modules in ``<container>``s."""
+    from lxml import etree
+    tree = etree.parse(str(config))
+    root = tree.getroot()
+    for name, members in groups.items():
+        container = etree.SubElement(root, 'container', name=name)
+        for module in root.findall('module'):
+            if module.get('name') in members:
+                container.append(module)
+    tree.write(str(config), xml_declaration=True, encoding='UTF-8')
 
 
 def qos_spec(profile: Any) -> dict[str, Any]:
@@ -362,8 +395,8 @@ def baseline_spec(traffic: Traffic) -> dict[str, Any]:
 
 # -- the runs ------------------------------------------------------------------------------------
 
-def run_robot(args: argparse.Namespace, domain_id: int, work: pathlib.Path, env: dict[str, str]
-              ) -> tuple[dict[str, Usage], Traffic, list[str]]:
+def run_robot(args: argparse.Namespace, domain_id: int, work: pathlib.Path, env: dict[str, str],
+              groups: dict[str, list[str]]) -> tuple[dict[str, Usage], Traffic, list[str]]:
     """config/pluto driving the route: its traffic surveyed, then its processes measured."""
     from wurde_core import CommsManager, RunState, StatusMode
     from wurde_core.interfaces import SimpleControl
@@ -402,7 +435,8 @@ def run_robot(args: argparse.Namespace, domain_id: int, work: pathlib.Path, env:
         traffic = survey(domain_id, list(dict.fromkeys([MCP, *rows, CLIENT])), args.rate_seconds, settle=3.0)
         time.sleep(5.0)                                    # the survey's node gone from the graph
         modules = {MCP: mcp.pid, **{module_name(pid): pid for pid in children(mcp.pid)}}
-        missing = sorted(set(rows) - set(modules))
+        contained = {member for members in groups.values() for member in members}
+        missing = sorted((set(rows) - contained | set(groups)) - set(modules))
         if missing:
             raise SystemExit(f'footprint: no process for {", ".join(missing)}')
         if mission.poll() is not None:
@@ -482,6 +516,7 @@ def main() -> int:
     parser.add_argument('--rate-seconds', type=float, default=20.0, help="the survey of the robot's traffic (s)")
     parser.add_argument('--warmup', type=float, default=10.0, help='driving before the survey (s)')
     parser.add_argument('--settle', type=float, default=10.0, help='the baseline up before its window (s)')
+    parser.add_argument('--containers', default='', help="'NAME=module,module ...', or all: modules in <container>s")
     args = parser.parse_args()
     require_loopback('footprint', 'make bench-footprint')
     from wurde_testing import claim_domain_id
@@ -493,12 +528,16 @@ def main() -> int:
     work = pathlib.Path(tempfile.mkdtemp(prefix='wurde-footprint-'))
     for path in PLUTO.iterdir():
         shutil.copy(path, work / path.name)                # map.xml: the file it links to
+    from wurde_mcp.config import read_mcp_config
+    groups = containers_of(args.containers, list(read_mcp_config(PLUTO / 'mcp-config.xml').modules)) \
+        if args.containers else {}
+    contain(work / 'mcp-config.xml', groups)
     marker = f'WURDE_LOG_DIRECTORY={work}'
     env = dict(os.environ, WURDE_CONFIG_DIR=str(work), WURDE_LOG_DIRECTORY=str(work), WURDE_DATA_DIR=str(work))
     print(f'footprint: {started}, {os.cpu_count()} cores, ROS_DOMAIN_ID={claim.domain_id}; files in {work}',
           flush=True)
     try:
-        robot, traffic, notes = run_robot(args, claim.domain_id, work, env)
+        robot, traffic, notes = run_robot(args, claim.domain_id, work, env, groups)
         spec = baseline_spec(traffic)
         spec_file = work / 'baseline-spec.json'
         spec_file.write_text(json.dumps(spec, indent=1))
@@ -531,13 +570,18 @@ def main() -> int:
           '| raw rclpy, EventsExecutor CPU % | raw rclpy, EventsExecutor PSS MB |\n|---|---|---|---|---|---|---|')
     robot_names = [name for name in names if name != CLIENT]
     for name in robot_names:
-        print(f'| {name} | {cell(robot.get(name))} | {cell(plain.get(name))} | {cell(events.get(name))} |')
+        where = next((f' (in container {c})' for c, members in groups.items() if name in members), '')
+        print(f'| {name}{where} | {cell(robot.get(name))} | {cell(plain.get(name))} | {cell(events.get(name))} |')
+    for name, members in groups.items():
+        print(f'| container {name}: {", ".join(members)} | {cell(robot.get(name))} | | |')
+    processes = [name for name in robot if name != CLIENT]
 
-    def total(usage: dict[str, Usage]) -> str:
-        return (f'{sum(usage[n].cpu for n in robot_names if n in usage):.1f} | '
-                f'{sum(usage[n].pss for n in robot_names if n in usage):.0f}')
+    def total(usage: dict[str, Usage], among: list[str]) -> str:
+        return (f'{sum(usage[n].cpu for n in among if n in usage):.1f} | '
+                f'{sum(usage[n].pss for n in among if n in usage):.0f}')
 
-    print(f'| **total ({len(robot_names)} processes)** | {total(robot)} | {total(plain)} | {total(events)} |')
+    print(f'| **total ({len(processes)} processes; baseline {len(robot_names)})** | {total(robot, processes)} | '
+          f'{total(plain, robot_names)} | {total(events, robot_names)} |')
     print(f'| {CLIENT} client (not in the total) | {cell(robot.get(CLIENT))} | {cell(plain.get(CLIENT))} | '
           f'{cell(events.get(CLIENT))} |')
     print('(load average as each window began: ' + ', '.join(f'{k} {v:.2f}' for k, v in LOADS.items()) + ')')

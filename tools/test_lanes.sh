@@ -12,9 +12,9 @@
 # four longest files (about 6 min: a whole robot each, or a calibration drive) and the rest; each
 # writes its own JUnit report (colcon test-result and tools/test_summary.py read them all).  The
 # lane of every other package is where a package added later goes.  wurde_drivers' README examples
-# (test_readme.py, about 100 s) run in that lane too, with their own report
-# (build/test-drivers-readme): a fresh clone on 2026-12-06 had wurde_drivers' lane at 15.9 min and
-# the others' at 13.3.  Arguments go to `colcon test`.
+# (test_readme.py, about 80 s) run after pluto_nav, with their own report (build/test-drivers-readme):
+# a fresh clone on 2026-12-06 had wurde_drivers' lane at 15.9 min, and with them moved out 14.3,
+# the lanes of pluto_motion's long files and pluto_nav 12.8.  Arguments go to `colcon test`.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 long_files=(test/test_demo.py test/test_odometry_calibration.py test/test_guide_avoider.py
@@ -68,10 +68,10 @@ others() { run rest --packages-select "${rest[@]}"; }
 
 COLCON_ARGS=("$@")
 pids=()
-lane long_motion nav & pids+=($!)
+lane long_motion nav drivers_readme & pids+=($!)
 lane rest_of_motion core & pids+=($!)
 lane drivers & pids+=($!)
-lane others drivers_readme & pids+=($!)
+lane others & pids+=($!)
 rc=0
 for pid in "${pids[@]}"; do
   wait "$pid" || { status=$?; (( rc )) || rc=$status; }

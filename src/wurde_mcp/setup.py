@@ -30,5 +30,6 @@ setup(
         'param_daemon = wurde_mcp.carmen.daemon:main',
         'param_tool = wurde_mcp.carmen.tool:main',
         'map_server = wurde_mcp.carmen.map_server:main',
+        'container = wurde_mcp.container.host:main',
     ]},
 )

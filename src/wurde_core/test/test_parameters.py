@@ -11,6 +11,7 @@ import pathlib
 
 import pytest
 from wurde_testing import ChildProcess, find_executable
+from wurde_testing.manual import example
 from wurde_testing.parameters import ParameterTool
 
 from wurde_core import RoleConfiguration
@@ -99,9 +100,8 @@ def test_a_module_serves_its_configuration_read_only_and_takes_its_dump_back(
 
 
 def test_readme_tunable_example_runs_as_written(ros_domain: int, tmp_path: pathlib.Path) -> None:
-    from test_readme import examples
     program = tmp_path / 'tuned.py'
-    program.write_text(examples()['tunable'])
+    program.write_text(example('tunable', 'python'))
     with ChildProcess([str(program)]) as tuned:
         tuned.expect('gain 1.5')
         tool = ParameterTool('/Tuned')

@@ -40,6 +40,7 @@ from typing import Any
 from rclpy.context import Context
 from rclpy.node import Node
 
+from . import module_context
 from . import options as _options
 from .enums import ConnectionStrategy, RunState
 from .errors import ConfigError, InvalidTypeError, InvalidValueError, OptionError, RegistrationError
@@ -146,6 +147,14 @@ class CommsManager:
         # From here on SIGINT/SIGTERM mean Quit, also while the node is being created (seconds on
         # a loaded machine: a module stopped then must still end cleanly, not by KeyboardInterrupt).
         self._install_signal_handlers()
+        # In a container (issue 39) the container stands for the process: it tells the module to
+        # quit instead of a signal, and owns the rclpy context and the process's exit.
+        self._contained = module_context.current()
+        if self._contained is not None:
+            with self._contained.lock:
+                self._contained.manager = self
+                if self._contained.quit_requested:
+                    self.state = RunState.QUIT
 
     @property
     def context(self) -> Context | None:
@@ -440,7 +449,8 @@ class CommsManager:
         node_name = stream_segment_path(self.name).replace('/', '_')
         self._context, self.node = open_node(node_name, self.options.ros_arguments,
                                              self._node_type)
-        atexit.register(self.clean_up)
+        if self._contained is None:
+            atexit.register(self.clean_up)
         declare_configuration(self.node, self.name, self.config)
         self._tunables.attach(self.node)
         self._entities = NodeEntities(self.node)
@@ -468,6 +478,12 @@ class CommsManager:
         self._signals += 1
         if self._signals > 1 and signum == signal.SIGINT:
             raise KeyboardInterrupt
+        self.state = RunState.QUIT
+
+    def request_quit(self) -> None:
+        """Quit, as SIGINT or SIGTERM asks a module process to (from any thread: a container
+        tells its module so, :mod:`.module_context`)."""
+        self._signals += 1
         self.state = RunState.QUIT
 
     def _start(self) -> None:
@@ -740,7 +756,9 @@ class CommsManager:
         self._closed = True
         ending = self.state == RunState.QUIT
         deadline = time.monotonic() + SLOW_CLEANUP_DUMP_S
-        if ending:
+        # A contained module shares the process: no exit timers, and the context is the container's.
+        process_wide = self._contained is None
+        if ending and process_wide:
             faulthandler.dump_traceback_later(SLOW_CLEANUP_DUMP_S, exit=True)
         abandon = None
         if self.node is not None:
@@ -758,11 +776,11 @@ class CommsManager:
                     self._daemon.close()
                 for obj in self._objects + self._system_objects:
                     obj._disconnect()
-                if ending and exiting:
+                if ending and exiting and process_wide:
                     abandon = _abandon_teardown_at(deadline)
                 self.node.destroy_node()
             finally:
-                if self._context is not None:
+                if self._context is not None and process_wide:
                     self._context.try_shutdown()
                 if abandon is not None:
                     abandon.cancel()
@@ -778,7 +796,7 @@ class CommsManager:
             signal.signal(signum, signal.SIG_IGN if ending else handler)
         self._previous_handlers.clear()
         atexit.unregister(self.clean_up)
-        if ending:
+        if ending and process_wide:
             faulthandler.cancel_dump_traceback_later()
 
     def _quit_was_commanded(self) -> bool:

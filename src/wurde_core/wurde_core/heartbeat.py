@@ -12,11 +12,11 @@ beat, and applies the state commands it returns.
 
 from __future__ import annotations
 
-import os
 import socket
 import time
 from collections.abc import Sequence
 
+from . import module_context
 from .enums import ProcessLocale, ProcessType, RunState
 from .interfaces import robot_object_class
 from .robot_object import SUPPLIER, RobotObject
@@ -46,7 +46,7 @@ MAX_BEAT_INTERVAL_S = 1.0
 def managed_state() -> ProcessType:
     """This process's managed state, as the MCP that started it told it (:data:`MANAGED_ENV`)."""
     try:
-        return ProcessType[os.environ[MANAGED_ENV]]
+        return ProcessType[module_context.getenv(MANAGED_ENV, 'UNMANAGED')]
     except KeyError:
         return ProcessType.UNMANAGED
 
@@ -54,7 +54,7 @@ def managed_state() -> ProcessType:
 def mcp_owner() -> str:
     """The MCP this process belongs to (:data:`MCP_ENV`); empty when none is named (started by
     hand under the seed's single MCP, which may then command it)."""
-    return os.environ.get(MCP_ENV, '').strip()
+    return module_context.getenv(MCP_ENV).strip()
 
 
 def mcp_name() -> str:
@@ -66,7 +66,7 @@ def restart_count() -> int:
     """How many times the MCP that started this process had started its module before
     (:data:`RESTART_ENV`); 0 for a first start or a module started by hand."""
     try:
-        return max(0, int(os.environ.get(RESTART_ENV, '0')))
+        return max(0, int(module_context.getenv(RESTART_ENV, '0')))
     except ValueError:
         return 0
 
@@ -107,7 +107,7 @@ class ModuleHeartbeat:
         info.managed.set_value(managed_state())
         info.locale.set_value(ProcessLocale.INTERNAL)
         info.state.set_value(state)
-        info.pid.set_value(os.getpid())
+        info.pid.set_value(module_context.process_id())
         info.host.set_value(socket.gethostname())
         info.mcp.set_value(mcp_owner())
         supplied = [o for o in objects if o.role == SUPPLIER]

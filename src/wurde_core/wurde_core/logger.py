@@ -17,6 +17,7 @@ import syslog
 import time
 from typing import Any, TextIO
 
+from . import module_context
 from .errors import InvalidValueError
 from .robot_object import RobotObject
 from .role_config import LOG_LEVELS, global_configuration
@@ -62,7 +63,10 @@ class ModuleLogger(RobotObject, interface='LoggerTransport'):
         if use_syslog:
             syslog.openlog(name, syslog.LOG_PID, syslog.LOG_LOCAL0)
         global _global
-        if _global is None:
+        if module_context.current() is not None:      # a contained module's own (issue 39)
+            if module_context.singleton('logger', None) is None:
+                module_context.set_singleton('logger', self)
+        elif _global is None:
             _global = self
 
     def level(self) -> int:
@@ -195,13 +199,14 @@ Logger = ModuleLogger
 
 
 def global_logger() -> ModuleLogger | None:
-    """The first Logger created in this process, if any."""
-    return _global
+    """The first Logger created in this process (in a container: by this module), if any."""
+    return module_context.singleton('logger', _global)
 
 
 def _global_log(level: int, message: Any) -> None:
-    if _global is not None:
-        _global.log(level, str(message))
+    logger = global_logger()
+    if logger is not None:
+        logger.log(level, str(message))
     else:
         print(f'[{LOG_LEVELS[level].upper()}] {message}', file=sys.stderr, flush=True)
 

@@ -19,6 +19,7 @@ import pathlib
 import time
 from typing import Any
 
+from . import module_context
 from .heartbeat import restart_count
 
 __all__ = ['STATE_ENV', 'ResumeState', 'replace_file', 'state_path']
@@ -44,7 +45,7 @@ def replace_file(path: str | os.PathLike[str], text: str) -> None:
 
 def state_path() -> pathlib.Path | None:
     """The state file the MCP gave this process (:data:`STATE_ENV`); None when started by hand."""
-    path = os.environ.get(STATE_ENV, '')
+    path = module_context.getenv(STATE_ENV)
     return pathlib.Path(path) if path else None
 
 

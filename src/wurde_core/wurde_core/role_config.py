@@ -22,6 +22,8 @@ from wurde_idl.errors import ConfigError
 from wurde_idl.safe_xml import parse_file
 from wurde_idl.xml_elements import checked_attributes
 
+from . import module_context
+
 #: Log levels, lowest first (guide 5.1.2); the default is debug.
 LOG_LEVELS = ('debug', 'info', 'notice', 'warn', 'error', 'fatal')
 #: Default file names (guide 5.1.1 and 6.1-6.2).
@@ -255,6 +257,12 @@ _global: RoleConfiguration | None = None
 def global_configuration() -> RoleConfiguration:
     """The process-wide configuration (the guide's ``g_globalConfiguration``)."""
     global _global
+    if module_context.current() is not None:       # a contained module's own (issue 39)
+        config = module_context.singleton('configuration', None)
+        if config is None:
+            config = RoleConfiguration()
+            module_context.set_singleton('configuration', config)
+        return config
     if _global is None:
         _global = RoleConfiguration()
     return _global
@@ -266,4 +274,5 @@ def set_global_configuration(config: RoleConfiguration) -> None:
     :param config: the configuration :func:`global_configuration` returns from now on.
     """
     global _global
-    _global = config
+    if not module_context.set_singleton('configuration', config):
+        _global = config

@@ -21,6 +21,8 @@ from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 
+from . import module_context
+
 
 def polled(_message: Any) -> None:
     """The callback of subscriptions that are drained by polling (never called).  Any other
@@ -31,12 +33,18 @@ def open_node(node_name: str, ros_arguments: Sequence[str],
               node_type: type[Node] = Node) -> tuple[Context, Node]:
     """A fresh context (no rclpy signal handlers: the manager has its own) and a node of
     ``node_type`` in it, with rclpy's parameter services (served by :class:`NodeEntities`).
+    In a container (:mod:`.module_context`) the node joins the container's context instead (one
+    DDS participant for all its modules), with ``ros_arguments`` as the node's own.
 
     :param node_name: the node's name (a legal ROS name).
     :param ros_arguments: the command line's ``--ros-args ...`` part (remappings, parameters).
     :param node_type: the rclpy node class, made as ``node_type(node_name, context=...)``.
     :returns: ``(context, node)``.
     """
+    contained = module_context.current()
+    if contained is not None and contained.rclpy_context is not None:
+        context = contained.rclpy_context
+        return context, node_type(node_name, context=context, cli_args=list(ros_arguments) or None)
     context = Context()
     rclpy.init(args=['wurde', *ros_arguments], context=context,
                signal_handler_options=SignalHandlerOptions.NO)

@@ -8,6 +8,7 @@ import pytest
 
 from wurde_core import ConfigError, ProcessLocale, ProcessType
 from wurde_idl import load_all
+from wurde_testing.manual import example
 from wurde_mcp.config import McpConfig, read_mcp_config, read_mcp_mappings, validate
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
@@ -100,6 +101,19 @@ def test_shipped_configs_load(name: str) -> None:
     ('<?xml version="1.0"?>\n<!DOCTYPE mcp-config [<!ENTITY a "aaaa">]>\n<mcp-config/>', 2,
      'internal subset'),
     ('<mcp-config>\n<module name="a" binary="b">\n</mcp-config>', 3, 'not well-formed'),
+    ('<mcp-config>\n<container name="c">\n<binary>b</binary>\n</container>\n</mcp-config>', 3,
+     'unknown tag <binary> in <container> (only <module>)'),
+    ('<mcp-config>\n<container name="c"/>\n</mcp-config>', 2, 'container "c" holds no <module>'),
+    ('<mcp-config>\n<container name="c">\n<module name="a" binary="/usr/bin/a"/>\n</container>\n'
+     '</mcp-config>', 3, 'module "a" of container "c" must be internal'),
+    ('<mcp-config>\n<container name="c">\n<module name="a"/>\n</container>\n</mcp-config>', 3,
+     'module "a" of container "c" must be internal'),
+    ('<mcp-config>\n<container name="c">\n<module name="a" binary="p/a"/>\n</container>\n'
+     '<container name="c">\n<module name="b" binary="p/b"/>\n</container>\n</mcp-config>', 5, 'defined twice'),
+    ('<mcp-config>\n<module name="c" binary="p/c"/>\n<container name="c">\n<module name="a" binary="p/a"/>\n'
+     '</container>\n</mcp-config>', 3, 'container "c" has the name of a module'),
+    ('<mcp-config>\n<container name="c" size="2">\n<module name="a" binary="p/a"/>\n</container>\n'
+     '</mcp-config>', 2, 'unknown attribute(s) size on <container>'),
 ])
 def test_bad_config_is_refused(tmp_path: pathlib.Path, text: str, line: int, reason: str) -> None:
     path = write(tmp_path, text)
@@ -179,3 +193,31 @@ def test_wiring_names_both_types() -> None:
         '"RFlexMotion", but module "RFlex" supplies that stream as RangeFinder')
     assert consumer_conflict(mapping, [('Egomotion', 'EgoClient')]) is None
     assert 'declares "EgoClient" as PTUnit' in consumer_conflict(mapping, [('PTUnit', 'EgoClient')])
+
+
+def test_a_container_holds_its_modules(tmp_path: pathlib.Path) -> None:
+    path = write(tmp_path, '<mcp-config>\n<module name="alone" binary="p/x"/>\n<container name="box">\n'
+                           '<module name="a" binary="wurde_drivers/dummy_base"><options>-n a</options></module>\n'
+                           '<module name="b" binary="my_robot.modules:main"/>\n</container>\n</mcp-config>')
+    config = read_mcp_config(path)
+    assert {name: spec.container for name, spec in config.modules.items()} == {'alone': '', 'a': 'box', 'b': 'box'}
+    assert config.modules['a'].args == ['-n', 'a'] and config.containers == {'box': f'{path}:3'}
+
+
+def test_pluto_container_is_config_pluto_in_one_container() -> None:
+    """config/pluto-container runs the modules of config/pluto, as configured there, in one container."""
+    alone = read_mcp_config(ROOT / 'config' / 'pluto' / 'mcp-config.xml')
+    contained = read_mcp_config(ROOT / 'config' / 'pluto-container' / 'mcp-config.xml')
+    assert list(contained.containers) == ['robot']
+    assert {spec.container for spec in contained.modules.values()} == {'robot'}
+    assert [(s.name, s.binary, s.args, s.managed) for s in contained.modules.values()] == \
+        [(s.name, s.binary, s.args, s.managed) for s in alone.modules.values()]
+
+
+def test_the_manuals_container_example_loads(tmp_path: pathlib.Path) -> None:
+    """docs/mcp.md's ``<container>`` example: two dummies in one container, the localModule alone."""
+    path = write(tmp_path, example('container_config', 'xml'))
+    config = read_mcp_config(path)
+    assert {name: spec.container for name, spec in config.modules.items()} == \
+        {'PlutoBase': 'sensors', 'PlutoLaser': 'sensors', 'localModule': ''}
+    assert config.modules['PlutoBase'].managed == ProcessType.CRITICAL

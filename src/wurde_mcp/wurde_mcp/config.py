@@ -16,11 +16,18 @@ named only there is external, with a warning naming file and line (chapter 1's f
 printed, map BlindTeleop without listing it).  Everything else — unknown tags or attributes,
 unknown interfaces in mappings, one stream mapped as two interfaces, hostile XML — is refused
 with file, line and reason before anything starts.
+
+Ours (issue 39): ``<container name="C">`` holds ``<module>`` elements that run in one process (one
+interpreter, one DDS participant; :mod:`wurde_mcp.container`) instead of one process each.  A
+contained module must be internal with a binary ``package/executable`` (a Python console script:
+the container calls its ``main(argv)``) or ``python.module:function``; a container's name is not a
+module's.
 """
 
 from __future__ import annotations
 
 import os
+import re
 import shlex
 from collections.abc import Iterable, Set
 from dataclasses import dataclass, field
@@ -32,6 +39,10 @@ from lxml import etree
 from wurde_core import ConfigError, ProcessLocale, ProcessType
 from wurde_idl.safe_xml import parse_file
 from wurde_idl.xml_elements import checked_attributes
+
+
+#: A contained module's binary: ``package/executable`` or ``python.module:function``.
+CONTAINED_BINARY = re.compile(r'[\w-]+/[\w.-]+|[\w.]+:\w+')
 
 
 @dataclass(frozen=True)
@@ -58,6 +69,8 @@ class ModuleSpec:
     managed: ProcessType = ProcessType.MANAGED
     path: str = ''
     line: int = 0
+    #: The ``<container>`` the module runs in (empty: a process of its own).
+    container: str = ''
 
 
 @dataclass
@@ -66,6 +79,8 @@ class McpConfig:
 
     modules: dict[str, ModuleSpec] = field(default_factory=dict)
     mappings: list[Mapping] = field(default_factory=list)
+    #: Containers by name: where each was declared (``file:line``).
+    containers: dict[str, str] = field(default_factory=dict)
     #: Warnings from :func:`validate`, each starting with ``file:line:``.
     warnings: list[str] = field(default_factory=list)
 
@@ -146,11 +161,41 @@ def read_mcp_config(path: str | os.PathLike[str], config: McpConfig | None = Non
         root = found[0]
     _attributes(path, root, set())
     for node in _elements(path, root):
+        if _local(node.tag) == 'container':
+            _read_container(path, node, config)
+            continue
         if _local(node.tag) != 'module':
-            raise ConfigError(path, node.sourceline,
-                              f'unknown tag <{_local(node.tag)}> in <mcp-config> (only <module>)')
+            raise ConfigError(path, node.sourceline, f'unknown tag <{_local(node.tag)}> in <mcp-config> '
+                              '(only <module> and <container>)')
         _read_module(path, node, config)
+    for name, where in config.containers.items():
+        if name in config.modules:
+            raise ConfigError(path, int(where.rsplit(':', 1)[1]), f'container "{name}" has the name of '
+                              'a module')
     return config
+
+
+def _read_container(path: str, node: etree._Element, config: McpConfig) -> None:
+    """``<container name="C">`` and its ``<module>`` elements, each a module of container C."""
+    name = _attributes(path, node, {'name'}, {'name'})['name']
+    if name in config.containers:
+        raise ConfigError(path, node.sourceline, f'container "{name}" is defined twice (first at '
+                          f'{config.containers[name]})')
+    config.containers[name] = f'{path}:{node.sourceline or 0}'
+    members = list(_elements(path, node))
+    if not members:
+        raise ConfigError(path, node.sourceline, f'container "{name}" holds no <module>')
+    for child in members:
+        if _local(child.tag) != 'module':
+            raise ConfigError(path, child.sourceline,
+                              f'unknown tag <{_local(child.tag)}> in <container> (only <module>)')
+        _read_module(path, child, config)
+        spec = config.modules[child.get('name')]
+        if spec.locale != ProcessLocale.INTERNAL or not CONTAINED_BINARY.fullmatch(spec.binary):
+            raise ConfigError(path, child.sourceline, f'module "{spec.name}" of container "{name}" '
+                              'must be internal, its binary "package/executable" (a Python program) '
+                              'or "python.module:function"')
+        spec.container = name
 
 
 def _read_module(path: str, node: etree._Element, config: McpConfig) -> None:

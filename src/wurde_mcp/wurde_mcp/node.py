@@ -43,6 +43,10 @@ from .supervisor import MAX_RESTARTS, RESTART_WINDOW_S, Supervisor
 
 #: How long the registration pass waits for the binaries started with -r.
 REGISTRATION_TIMEOUT_S = 15.0
+#: More for each module of the largest container: its modules start in one interpreter, taking
+#: turns at its imports and its GIL (config/pluto-container's twelve ended 15 s apart on a quiet
+#: 2-core machine, config/pluto's twelve processes 4 s apart).
+CONTAINED_REGISTRATION_S = 2.5
 #: Keeps the MCP unconfigured until a lifecycle transition (without it the MCP starts the system).
 LIFECYCLE_FLAG = '--lifecycle'
 
@@ -147,7 +151,9 @@ class Mcp:
                 if module.internal and supervisor.start(module.name, argv_extra=('-r',)):
                     module.wanted = False  # it is meant to exit: no restart
                     started.append(module)
-            deadline = time.monotonic() + REGISTRATION_TIMEOUT_S
+            sizes = [sum(m.spec.container == c for m in supervisor.modules.values())
+                     for c in supervisor.config.containers]
+            deadline = time.monotonic() + REGISTRATION_TIMEOUT_S + CONTAINED_REGISTRATION_S * max(sizes, default=0)
             while time.monotonic() < deadline and any(
                     m.process is not None and m.process.running() for m in started):
                 self.manager.step()

@@ -34,7 +34,7 @@ import time
 
 #: Default wait between escalation steps (s).
 STOP_STEP_S = 3.0
-_ESCALATION = (signal.SIGINT, signal.SIGTERM, signal.SIGKILL)
+ESCALATION = (signal.SIGINT, signal.SIGTERM, signal.SIGKILL)
 
 #: Run as ``python -I -c _LAUNCHER MCP_PID EXEC_FD COMMAND...``: SIGKILL when the MCP's spawning
 #: thread ends (prctl PR_SET_PDEATHSIG = 1, kept across exec), exit 1 if the MCP is already gone
@@ -51,6 +51,18 @@ _LAUNCHER = (
     'except OSError as error:\n'
     '    sys.stderr.write(f"cannot start {sys.argv[3]}: {error}\\n")\n'
     '    os._exit(127)\n')
+def escalation(step_s: float, grace_s: float, current: list[tuple[float, signal.Signals]]
+               ) -> list[tuple[float, signal.Signals]]:
+    """The stop escalation's steps from now, ``(monotonic time, signal)``: SIGINT after ``grace_s``,
+    then SIGTERM and SIGKILL ``step_s`` apart; with ``current`` steps already asked for, each step
+    the earlier of the two (a second stop only brings them forward)."""
+    now = time.monotonic()
+    steps = [(now + grace_s + i * step_s, sig) for i, sig in enumerate(ESCALATION)]
+    if current:
+        steps = [(min(a[0], b[0]), a[1]) for a, b in zip(current, steps)]
+    return steps
+
+
 #: The child's own process group, set by subprocess without Python code in the child.
 _GROUP = {'process_group': 0} if sys.version_info >= (3, 11) else {'start_new_session': True}
 
@@ -59,7 +71,7 @@ class ModuleProcess:
     """A running (or finished) module process and the thread that owns it."""
 
     def __init__(self, name: str, argv: list[str], log_directory: str,
-                 environment: dict[str, str] | None = None) -> None:
+                 environment: dict[str, str] | None = None, pass_fds: tuple[int, ...] = ()) -> None:
         """Start ``argv``, logging to ``<log_directory>/<name>.log``, with ``environment`` added
         to this process's environment.
 
@@ -68,6 +80,7 @@ class ModuleProcess:
             no shell.
         :param log_directory: the directory of the log (made if missing); output is appended.
         :param environment: variables added to this process's environment (None: none).
+        :param pass_fds: file descriptors the process inherits (a container's control socket).
         :raises OSError: the binary is not an executable file, or the process cannot be started.
         """
         self.name = name
@@ -89,7 +102,7 @@ class ModuleProcess:
             self.popen = subprocess.Popen([sys.executable, '-I', '-c', _LAUNCHER, str(os.getpid()), str(exec_w),
                                            *command],
                                           stdin=subprocess.DEVNULL, stdout=self._log, stderr=subprocess.STDOUT,
-                                          close_fds=True, pass_fds=(exec_w,), env=env, **_GROUP)
+                                          close_fds=True, pass_fds=(exec_w, *pass_fds), env=env, **_GROUP)
         except OSError:
             self._log.close()
             os.close(exec_r)
@@ -154,12 +167,8 @@ class ModuleProcess:
         :param step_s: the wait between two signals (s).
         :param grace_s: the wait before SIGINT (s), for a module already told to Quit.
         """
-        now = time.monotonic()
-        steps = [(now + grace_s + i * step_s, sig) for i, sig in enumerate(_ESCALATION)]
         with self._request_lock:
-            if self._schedule:
-                steps = [(min(a[0], b[0]), a[1]) for a, b in zip(self._schedule, steps)]
-            self._schedule = steps
+            self._schedule = escalation(step_s, grace_s, self._schedule)
         self._wake()
 
     def wait(self, timeout: float | None = None) -> int | None:
@@ -180,7 +189,7 @@ class ModuleProcess:
         :raises subprocess.TimeoutExpired: not even SIGKILL ended it within seconds.
         """
         self.stop(step_s, grace_s)
-        code = self.wait(grace_s + len(_ESCALATION) * step_s + 5.0)
+        code = self.wait(grace_s + len(ESCALATION) * step_s + 5.0)
         if code is None:  # SIGKILL did not end it within seconds: uninterruptible sleep
             raise subprocess.TimeoutExpired(self.argv, grace_s + 3 * step_s)
         return code

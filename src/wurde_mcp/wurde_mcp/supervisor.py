@@ -28,6 +28,7 @@ from wurde_core.resume import STATE_ENV
 from .binaries import find_binary
 from .clock import REVIEW_S, SupervisionClock
 from .config import McpConfig, ModuleSpec
+from .container.member import CONTAINER_BINARY, ContainedProcess, Container
 from .process import ModuleProcess
 from .progress import process_state, where_threads_wait
 from .streams import StreamDesk
@@ -78,7 +79,7 @@ class Module:
     spec: ModuleSpec
     heartbeat: Any
     status: StatusMode = StatusMode.UNKNOWN
-    process: ModuleProcess | None = None
+    process: ModuleProcess | ContainedProcess | None = None
     wanted: bool = False
     #: Supervision-clock time of the last beat (TTLs are judged on it), and monotonic time.
     last_beat: float | None = None
@@ -189,13 +190,18 @@ class Supervisor:
         self.wall_late = 0
         for spec in config.modules.values():
             self._watch(spec)
+        #: The config's containers (issue 39), each started when a module of it starts.
+        self.containers: dict[str, Container] = {}
         #: Set by the MCP node during its registration pass (every internal module runs with -r
         #: and exits by itself); suppliers asked for meanwhile start with the others.
         self.registering = False
         self.streams = StreamDesk(self.mcp, config, self.modules, self._start_on_demand)
 
     def close(self) -> None:
-        """Release the MCP's streams and the modules' heartbeat channels (after :meth:`quit_all`)."""
+        """Release the MCP's streams and the modules' heartbeat channels, and end the containers
+        (after :meth:`quit_all`)."""
+        for container in self.containers.values():
+            container.close()
         for obj in [self.mcp, self.control, *(m.heartbeat for m in self.modules.values())]:
             self.manager.unregister(obj)
 
@@ -240,21 +246,23 @@ class Supervisor:
         if process is not None:  # ended, and the loop has not looked yet: started anew here
             g_info(f'MCP: {name} exited with code {process.exit_code}')
         module.start_on_exit = False
-        binary = find_binary(module.spec.binary, self.bin_directory)
+        entry = module.spec.container and ':' in module.spec.binary     # python.module:function
+        binary = module.spec.binary if entry else find_binary(module.spec.binary, self.bin_directory)
         if binary is None:
             g_error(f'MCP: binary "{module.spec.binary}" of {name} not found (absolute path, '
                     'bin-directory, ament index lib/<pkg>/<exe>, PATH)')
             self._failed_start(module)
             return False
+        argv = [binary, *module.spec.args, *argv_extra, *self._ros_arguments()]
+        environment = {MANAGED_ENV: module.spec.managed.name, MCP_ENV: self.name,
+                       RESTART_ENV: str(module.starts),
+                       STATE_ENV: os.path.join(self.log_directory, f'{name}.resume')}
         try:
-            module.process = ModuleProcess(name, [binary, *module.spec.args, *argv_extra,
-                                                  *self._ros_arguments()],
-                                           self.log_directory,
-                                           {MANAGED_ENV: module.spec.managed.name,
-                                            MCP_ENV: self.name,
-                                            RESTART_ENV: str(module.starts),
-                                            STATE_ENV: os.path.join(self.log_directory,
-                                                                    f'{name}.resume')})
+            if module.spec.container:
+                module.process = self._container(module.spec.container).start_module(
+                    name, module.spec.binary, argv, environment)
+            else:
+                module.process = ModuleProcess(name, argv, self.log_directory, environment)
         except OSError as exc:
             g_error(f'MCP: cannot start {name} ({binary}): {exc}')
             self._failed_start(module)
@@ -267,6 +275,19 @@ class Supervisor:
         self._changed = True
         g_info(f'MCP: started {name} (pid {module.pid})')
         return True
+
+    def _container(self, name: str) -> Container:
+        """The container ``name`` (made at its first module's start).
+
+        :raises OSError: the container program is not installed.
+        """
+        if name not in self.containers:
+            binary = find_binary(CONTAINER_BINARY, self.bin_directory)
+            if binary is None:
+                raise FileNotFoundError(f'the container program "{CONTAINER_BINARY}" is not installed')
+            self.containers[name] = Container(name, binary, self.log_directory, {MCP_ENV: self.name},
+                                              self._ros_arguments())
+        return self.containers[name]
 
     def _ros_arguments(self) -> list[str]:
         """What the MCP's own node was started with, its modules get: its namespace (``-r
@@ -419,6 +440,8 @@ class Supervisor:
                 module.process = None
                 module.pid = 0
                 module.status = StatusMode.DEAD
+        for container in self.containers.values():     # their modules have ended: now the process
+            container.close(wait_s=max(1.0, deadline - time.monotonic()))
         self._changed = True
 
     # -- the loop ------------------------------------------------------------------------------
@@ -508,7 +531,7 @@ class Supervisor:
         if process is not None and not process.running():
             self._ended(module, process, now)
 
-    def _ended(self, module: Module, process: ModuleProcess, now: float) -> None:
+    def _ended(self, module: Module, process: ModuleProcess | ContainedProcess, now: float) -> None:
         """The owner has reaped ``process``: record it, restart when wanted."""
         code = process.exit_code
         module.dead_pids.add(process.pid)
