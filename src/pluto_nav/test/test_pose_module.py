@@ -113,9 +113,15 @@ def test_pose_module_localizes_finds_the_wall_and_takes_a_pose_set_by_hand(
             # Set the pose by hand 0.3 m and 5 degrees off the truth; the module starts from there
             # and brings the Pose back onto the truth.
             truth = watcher.events['PlutoBaseTruth'][-1].location
+            # The module's Pose (setter 1) back on the truth after Poses it did not set (0 while
+            # stopped, -1 as set by hand): a Pose of before the set, still on the truth, must not
+            # pass for it.
+            set_at = len(watcher.events[POSE])
             answer = _reply(pose_i, f'set {truth.x + 0.3} {truth.y - 0.1} {truth.theta + math.radians(5)}')
             assert answer.startswith('ok set'), answer
-            watcher.until(lambda: _error_now(watcher)[0] < 0.05, 'the Pose back on the truth', timeout=60)
+            watcher.until(lambda: any(p.cmd_flags != 1 for p in watcher.events[POSE][set_at:])
+                          and watcher.events[POSE][-1].cmd_flags == 1 and _error_now(watcher)[0] < 0.05,
+                          'the Pose back on the truth', timeout=60)
             assert re.match(r'ok pose \S+ \S+ \S+ setter 1 ', _reply(pose_i, 'pose'))
             pose_i.send('quit')
             assert pose_i.process.wait(timeout=30) == 0

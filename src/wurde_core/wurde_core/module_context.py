@@ -56,7 +56,10 @@ def current() -> ModuleContext | None:
 
 
 def enter(context: ModuleContext) -> None:
-    """Make ``context`` this thread's (the container, at the start of a module's thread)."""
+    """Make ``context`` this thread's (the container, at the start of a module's thread).
+
+    :param context: the module's context; its :attr:`~ModuleContext.thread_id` is set here.
+    """
     context.thread_id = threading.get_native_id()
     _local.context = context
 
@@ -67,7 +70,11 @@ def leave() -> None:
 
 
 def getenv(key: str, default: str = '') -> str:
-    """``key`` from the module's environment: its context's, else the process's."""
+    """``key`` from the module's environment: its context's, else the process's.
+
+    :param key: the variable's name.
+    :param default: what a variable set in neither gives.
+    """
     context = current()
     if context is not None and key in context.environment:
         return context.environment[key]
@@ -82,8 +89,12 @@ def process_id() -> int:
 
 
 def singleton(key: str, default: Any) -> Any:
-    """The module's ``key`` singleton in a container (``default`` where none was set), or
-    ``default`` outside one (the caller's process-wide value)."""
+    """The module's ``key`` singleton in a container (None where none was set), or ``default``
+    outside one.
+
+    :param key: the singleton's name (``'configuration'``, ``'logger'``).
+    :param default: the caller's process-wide value, returned outside a container.
+    """
     context = current()
     if context is None:
         return default
@@ -92,7 +103,11 @@ def singleton(key: str, default: Any) -> Any:
 
 def set_singleton(key: str, value: Any) -> bool:
     """Keep ``value`` as the module's ``key`` singleton; False outside a container (the caller
-    keeps it process-wide)."""
+    keeps it process-wide).
+
+    :param key: the singleton's name.
+    :param value: the module's own value.
+    """
     context = current()
     if context is None:
         return False
