@@ -35,9 +35,6 @@ __all__ = ['DEFAULT_EXCLUDE', 'DISCOVER_S', 'TopicTap', 'message_class', 'run_ta
 DEFAULT_EXCLUDE = r'^/(rosout|parameter_events)$'
 #: How often the graph is looked at for new topics (s).
 DISCOVER_S = 0.5
-#: At a stop, at most this many rounds of 10 ms take what is still waiting.
-DRAIN_ROUNDS = 50
-
 #: Opens the sink's channel: (topic, type name, definition, metadata) -> the channel.
 OpenChannel = Callable[[str, str, str, dict[str, str]], Any]
 #: Takes one message: (channel, CDR bytes).
@@ -106,6 +103,22 @@ class TopicTap:
                 return None
         return self._definitions[type_name]
 
+    def drain(self) -> int:
+        """Take what waits in every subscription, without the executor; how many were taken.
+
+        A message acknowledged to its publisher may still wait in the subscription when the stop
+        comes; the executor's spin takes one ready entity per call and may run something else, so
+        only taking until each subscription says it is empty proves that nothing was left."""
+        before = self.count
+        for subscription in self._subscriptions:
+            while True:
+                with subscription.handle:
+                    taken = subscription.handle.take_message(subscription.msg_type, subscription.raw)
+                if taken is None:
+                    break
+                subscription.callback(taken[0])
+        return self.count - before
+
     def _take(self, channel: Any, data: bytes, topic: str) -> None:
         self.write(channel, data)
         self.count += 1
@@ -148,10 +161,4 @@ def run_tap(tap: TopicTap, executor: SingleThreadedExecutor, done: Callable[[], 
             for topic in tap.discover():
                 print(f'{tap.program}: {topic}', flush=True)
         executor.spin_once(timeout_sec=0.05)
-    # What had arrived when the stop came is taken too (a message acknowledged to its publisher
-    # may still wait in the subscription): until a round takes nothing, at most DRAIN_ROUNDS.
-    for _ in range(DRAIN_ROUNDS):
-        before = tap.count
-        executor.spin_once(timeout_sec=0.01)
-        if tap.count == before:
-            break
+    tap.drain()                              # what had arrived when the stop came is taken too
