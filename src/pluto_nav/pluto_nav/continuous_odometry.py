@@ -8,9 +8,11 @@ wrong frame: in a CI run the MCP restarted a starved base 1.2 m into a 5 m move,
 drove on to a goal 1.6 m off its true one.
 
 The rule is the localModule's (:mod:`pluto_nav.dead_reckoning`): the first sample of a new base
-process (another ``header.session``, :class:`wurde_core.sender_watch.SenderWatch`), or an
-increment no robot could make, is a restart of the odometry and counts as no motion.  The poses
-of the new process are composed onto the last pose of the old one, so that the consumer's frame
+process (another ``header.session``, :class:`wurde_core.sender_watch.SenderWatch`) is a restart of
+the odometry, which the new process counts from zero where the old one left the robot (as no
+motion if its reading is further than the robot could have gone since the last sample); an
+increment no robot could make is a restart that counts as no motion.  The poses of the new
+process are composed onto the last pose of the old one, so that the consumer's frame
 stays the one it started in.
 """
 
@@ -21,7 +23,7 @@ from typing import Any
 
 from wurde_core.sender_watch import SenderWatch
 
-from .dead_reckoning import MAX_SPEED, MAX_TURN_RATE
+from .dead_reckoning import possible
 from .geometry import compose, inverse, relative
 
 __all__ = ['ContinuousOdometry']
@@ -50,8 +52,11 @@ class ContinuousOdometry:
         new_sender = self._sender.take(data.ros_message().header)
         stamp = float(data.timestamp.get_seconds())
         if self._raw is not None and self.pose is not None and (new_sender or self._jumped(raw, stamp)):
-            # Where the new process's zero is in this frame: the robot has not moved meanwhile.
-            self._offset = tuple(compose(self.pose, inverse(raw)))
+            # Where the new process's zero is in this frame: where the old one left the robot,
+            # if it could have driven to its first reading since (the dead reckoning's rule);
+            # else the robot has not moved meanwhile.
+            from_zero = new_sender and possible(raw, max(stamp - self._stamp, 1e-6))
+            self._offset = self.pose if from_zero else tuple(compose(self.pose, inverse(raw)))
             self.resets += 1
             self.bridge = (self.pose, raw)
         self._raw, self._stamp = raw, stamp
@@ -61,9 +66,7 @@ class ContinuousOdometry:
 
     def _jumped(self, raw: tuple[float, float, float], stamp: float) -> bool:
         assert self._raw is not None  # called once a sample was taken
-        dx, dy, dtheta = relative(self._raw, raw)
-        dt = max(stamp - self._stamp, 1e-6)
-        return math.hypot(dx, dy) > MAX_SPEED * dt + 0.05 or abs(dtheta) > MAX_TURN_RATE * dt + 0.05
+        return not possible(relative(self._raw, raw), max(stamp - self._stamp, 1e-6))
 
     def describe_bridge(self) -> str:
         """The last restart bridged, for a log line: where the old frame ended, where the new began."""

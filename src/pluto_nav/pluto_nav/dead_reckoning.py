@@ -9,8 +9,11 @@ Pluto 3: the localization service fuses "the odometer and inertial data".  The r
   change when it is not (no DMU, or its latest sample is older than ``dmu_stale_s``).  Pitch and
   roll come from the DMU when fresh, else 0 (flat floor).
 - An odometry increment no robot could make (faster than ``MAX_SPEED`` / ``MAX_TURN_RATE``) is
-  the base's odometry starting again from zero (its module restarted): it counts as no motion; so
-  does the first sample of a new base process however slow the jump (the caller says so).
+  the base's odometry starting again from zero (its module restarted): it counts as no motion.
+  The first sample of a new base process (the caller says so) counts as the motion from the new
+  process's zero, where the old one left the robot (a base driver counts from zero where it
+  starts), if the robot could have made it since the last sample; else as no motion.  The robot
+  may have moved unheard meanwhile: such a step adds ``RESET_SIGMA`` to the covariance.
 - An odometry sample waits (at most ``dmu_stale_s`` of odometry time) for the DMU to cover it, so
   both sources are used at the same instants.
 
@@ -28,19 +31,40 @@ import bisect
 import collections
 import dataclasses
 import math
+import time
+from collections.abc import Callable
 
 import numpy as np
 
 from .geometry import compose, compose_jacobians, interpolate, relative, wrap
 from .odometry_model import OdometryNoiseModel, increment_covariance
 
-__all__ = ['DeadReckoning', 'DrSample']
+__all__ = ['RESET_SIGMA', 'DeadReckoning', 'DrSample', 'possible']
 
 #: Seconds of history kept for interpolation at scan times and past Post_Pose stamps.
 HISTORY_S = 5.0
+#: Wall seconds a sample is kept at least, however much newer odometry came after it: a loaded
+#: machine's backlog of odometry, worked through in one step, would otherwise trim the history
+#: past the scans whose timing messages arrive a step later (a CI run placed 14 of 24 such scans).
+HISTORY_WALL_S = 2.0
+#: Most samples kept (a bound on memory only: 400 s of odometry at 50 Hz).
+MAX_HISTORY = 20000
 #: An odometry increment faster than this (m/s, rad/s) is a reset of the odometry, not motion.
 MAX_SPEED = 5.0
 MAX_TURN_RATE = 10.0
+#: Standard deviations (m, m, rad) of the motion a reset of the odometry may hide, added to that
+#: step's covariance: what the old base process reported last but nobody heard (its last message
+#: or so: a tenth of a second at Pluto's base rate of 10 Hz, at up to 1 m/s and 1.5 rad/s).  Taken
+#: with the covariance of no motion, a reset made the poseModule sure of a wrong pose (issue 38).
+#: The heading part is not added when the DMU covers the step: it measured the turn.
+RESET_SIGMA = (0.1, 0.1, 0.15)
+
+
+def possible(increment: np.ndarray | tuple[float, float, float], dt: float) -> bool:
+    """Whether a robot could move by ``increment`` (x, y, theta in its frame) in ``dt`` seconds:
+    within ``MAX_SPEED`` and ``MAX_TURN_RATE``, with 5 cm and 0.05 rad to spare."""
+    return bool(math.hypot(increment[0], increment[1]) <= MAX_SPEED * dt + 0.05
+                and abs(increment[2]) <= MAX_TURN_RATE * dt + 0.05)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -55,6 +79,7 @@ class DrSample:
     dmu_used: bool
     increment: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))   # from the sample before
     increment_cov: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((3, 3)))
+    received: float = 0.0     # the wall clock (monotonic) when it was reckoned
 
 
 class DeadReckoning:
@@ -69,13 +94,18 @@ class DeadReckoning:
     :param resume_odometry: ``(stamp, (x, y, theta))``, the odometry reading at which the robot was
         at ``start`` (a restarted module resuming a saved state); None: ``start`` is where the
         first odometry sample finds the robot.
+    :param clock: the wall clock (monotonic seconds) that keeps a sample :data:`HISTORY_WALL_S`;
+        None: the history is trimmed by the odometry's time alone (a recording replayed offline,
+        where every sample comes at once and no scan is late).
     """
 
     def __init__(self, start: tuple[float, float, float], *, start_covariance: np.ndarray | None = None,
                  noise: OdometryNoiseModel | None = None, dmu_sigma: float = 0.002,
                  dmu_stale_s: float = 0.25,
-                 resume_odometry: tuple[float, tuple[float, float, float]] | None = None) -> None:
+                 resume_odometry: tuple[float, tuple[float, float, float]] | None = None,
+                 clock: Callable[[], float] | None = time.monotonic) -> None:
         self.noise = noise or OdometryNoiseModel()
+        self._clock = clock
         self.dmu_sigma = dmu_sigma
         self.dmu_stale_s = dmu_stale_s
         self.start = np.asarray(start, dtype=float)
@@ -91,6 +121,8 @@ class DeadReckoning:
         self._dmu: collections.deque[tuple[float, float, float, float]] = collections.deque()
         self._dmu_unwrapped = 0.0
         self._dmu_theta: float | None = None
+        #: Whether :attr:`history` still holds every step since ``start``.
+        self._history_from_start = True
         self.odometry_samples = 0
         self.odometry_resets = 0
         self.dmu_steps = 0
@@ -147,7 +179,8 @@ class DeadReckoning:
         if self._last_odometry is None and self._resume is None:
             self._last_odometry = (stamp, odo)
             phi, psi = self._attitude(stamp) if use_dmu else (0.0, 0.0)
-            sample = DrSample(stamp, self.start.copy(), phi, psi, self._initial_cov.copy(), use_dmu)
+            sample = DrSample(stamp, self.start.copy(), phi, psi, self._initial_cov.copy(), use_dmu,
+                              received=self._now())
             self.history.append(sample)
             return sample
         if self._last_odometry is None:       # resumed: ``start`` was the robot at this reading
@@ -159,14 +192,20 @@ class DeadReckoning:
         self._last_odometry = (stamp, odo)
         increment = relative(last_odo, odo)
         dt = max(stamp - last_stamp, 1e-6)
-        if stamp in self._restarts_at or math.hypot(increment[0], increment[1]) > MAX_SPEED * dt + 0.05 \
-                or abs(increment[2]) > MAX_TURN_RATE * dt + 0.05:
+        new_base = stamp in self._restarts_at
+        reset = new_base or not possible(increment, dt)
+        if reset:
             self._restarts_at.discard(stamp)
             # The base's odometry jumped (its module restarted and counts from zero again): no
-            # robot moves like that.  Dead reckoning never jumps: take it as no motion.
+            # robot moves like that.  Dead reckoning never jumps: a new base process's reading is
+            # the motion since it started at zero where the old one left the robot, if the robot
+            # could have made it since the last reading; anything else is no motion.  Either is
+            # as uncertain as RESET_SIGMA says.
             self.odometry_resets += 1
-            increment = np.zeros(3)
+            increment = odo.copy() if new_base and possible(odo, dt) else np.zeros(3)
         q = increment_covariance(increment, self.noise)
+        if reset:
+            q = q + np.diag(np.square(RESET_SIGMA))
         dmu_turn = self._dmu_turn(last_stamp, stamp) if use_dmu else None
         if dmu_turn is not None:
             increment = increment.copy()
@@ -181,11 +220,18 @@ class DeadReckoning:
         j_pose, j_increment = compose_jacobians(previous_pose, increment)
         cov = j_pose @ previous_cov @ j_pose.T + j_increment @ q @ j_increment.T
         phi, psi = self._attitude(stamp) if dmu_turn is not None else (0.0, 0.0)
-        sample = DrSample(stamp, pose, phi, psi, 0.5 * (cov + cov.T), dmu_turn is not None, increment, q)
+        now = self._now()
+        sample = DrSample(stamp, pose, phi, psi, 0.5 * (cov + cov.T), dmu_turn is not None, increment, q, now)
         self.history.append(sample)
-        while len(self.history) > 2 and self.history[1].stamp < stamp - HISTORY_S:
+        while len(self.history) > 2 and self.history[1].stamp < stamp - HISTORY_S and (
+                self._clock is None or self.history[1].received < now - HISTORY_WALL_S
+                or len(self.history) > MAX_HISTORY):
             self.history.popleft()
+            self._history_from_start = False
         return sample
+
+    def _now(self) -> float:
+        return 0.0 if self._clock is None else self._clock()
 
     def _dmu_value(self, stamp: float) -> tuple[float, float, float] | None:
         """Unwrapped heading, pitch, roll of the DMU interpolated at ``stamp``."""
@@ -239,6 +285,29 @@ class DeadReckoning:
         cov = a.covariance + f * (b.covariance - a.covariance)
         return DrSample(stamp, pose, a.phi + f * (b.phi - a.phi), a.psi + f * (b.psi - a.psi), cov,
                         b.dmu_used)
+
+    def increment_since_start(self, t1: float) -> tuple[np.ndarray, np.ndarray] | None:
+        """The relative pose from ``start`` to the robot at ``t1`` and its covariance, accumulated
+        over every step since (for a resumed dead reckoning, the step from the saved reading
+        first: the gap while no localModule ran, with the odometry's heading); None when the
+        history no longer reaches back to the start, or does not reach ``t1``.
+
+        A restarted localModule's first laser increment: the estimator's last scan was the old
+        process's, just before the saved reading, so this is the increment it predicts with, and
+        its covariance is what the gap is not known to (taken as zero, a heading a few degrees
+        off after a restart was held as sure for seconds, issue 38)."""
+        end = self.at(t1)
+        if end is None or not self._history_from_start:
+            return None
+        cov = np.zeros((3, 3))
+        relative_pose = np.zeros(3)
+        for sample in self.history:
+            if sample.stamp > t1:
+                break
+            j_pose, j_increment = compose_jacobians(relative_pose, sample.increment)
+            cov = j_pose @ cov @ j_pose.T + j_increment @ sample.increment_cov @ j_increment.T
+            relative_pose = compose(relative_pose, sample.increment)
+        return relative(self.start, end.pose), 0.5 * (cov + cov.T)
 
     def increment_between(self, t0: float, t1: float) -> tuple[np.ndarray, np.ndarray] | None:
         """The relative pose from the robot at ``t0`` to the robot at ``t1`` (in the frame at ``t0``)

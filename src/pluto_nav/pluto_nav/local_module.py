@@ -243,7 +243,8 @@ class LocalModule:
             robot = self.dr.at(stamp)
             if robot is None:      # older than the history: nothing to interpolate
                 continue
-            since = None if self.last_scan_stamp is None else self.dr.increment_between(self.last_scan_stamp, stamp)
+            since = self.dr.increment_since_start(stamp) if self.last_scan_stamp is None \
+                else self.dr.increment_between(self.last_scan_stamp, stamp)
             self.last_scan_stamp = stamp
             self.held_scans.append((stamp, robot, since))
 

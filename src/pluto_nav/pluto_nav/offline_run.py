@@ -70,7 +70,7 @@ def run_offline(log: RobotLog, method: Method, *, start: tuple[float, float, flo
     if not log.odometry:
         raise ValueError(f'{log.path}: no odometry: neither odometry records nor odometry in the laser lines')
     first = log.odometry[0]
-    dr = DeadReckoning(first.pose if start is None else start)
+    dr = DeadReckoning(first.pose if start is None else start, clock=None)   # every sample at once, none late
     inputs = _inputs(log, imu)
     cycle = ScanCycle(method)
     covariance = np.zeros((3, 3)) if start_covariance is None else start_covariance

@@ -61,6 +61,19 @@ def test_a_new_process_is_known_by_its_session_whatever_its_count() -> None:
     assert blind.resets == 0
 
 
+def test_a_new_base_heard_after_it_moved_counts_its_motion_from_zero() -> None:
+    """The new base was matched late: its first sample heard says it drove 0.3 m since it started
+    at zero where the old one left the robot; a first reading further than the robot could have
+    gone since the last sample is no motion."""
+    odometry = ContinuousOdometry()
+    odometry.take(_sample((1.0, 0.0, math.pi / 2), 1.0, 5, session=3))
+    assert odometry.take(_sample((0.3, 0.0, 0.0), 4.0, 30, session=4)) == pytest.approx((1.0, 0.3, math.pi / 2))
+    far = ContinuousOdometry()
+    far.take(_sample((1.0, 0.0, math.pi / 2), 1.0, 5, session=3))
+    assert far.take(_sample((3.0, 0.0, 0.0), 1.2, 30, session=4)) == pytest.approx((1.0, 0.0, math.pi / 2))
+    assert odometry.resets == far.resets == 1
+
+
 def test_a_jump_no_robot_could_make_is_a_restart_too() -> None:
     """A base whose numbering did not start again (another driver on the same stream) but whose
     odometry jumped 3 m in 0.1 s."""
@@ -78,12 +91,13 @@ poses = st.tuples(st.floats(-50, 50), st.floats(-50, 50), st.floats(-3.1, 3.1))
 @settings(max_examples=60, deadline=None)
 @given(before=poses, restart_at=poses, motion=st.tuples(st.floats(-2, 2), st.floats(-2, 2), st.floats(-3, 3)))
 def test_motion_after_a_restart_is_the_same_motion_in_the_old_frame(before, restart_at, motion) -> None:
-    """Whatever the old and the new process reported, the robot's motion after the restart is
-    seen unchanged (as seen from the robot) in the consumer's frame."""
+    """Whatever the old and the new process reported, the new process's zero is where the old
+    one left the robot (its first reading, 99 s later, is within reach), and the robot's motion
+    after the restart is seen unchanged (as seen from the robot) in the consumer's frame."""
     odometry = ContinuousOdometry()
     last = odometry.take(_sample(before, 1.0, 5))
     first = odometry.take(_sample(restart_at, 100.0, 1))
-    assert first == pytest.approx(last, abs=1e-9)
+    assert first == pytest.approx(tuple(compose(last, restart_at)), abs=1e-9)
     moved = tuple(compose(restart_at, motion))
     after = odometry.take(_sample(moved, 200.0, 2))
     assert relative(first, after) == pytest.approx(relative(restart_at, moved), abs=1e-6)

@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from pluto_nav.adjustment import Adjuster
-from pluto_nav.dead_reckoning import DeadReckoning
+from pluto_nav.dead_reckoning import HISTORY_WALL_S, RESET_SIGMA, DeadReckoning
 from pluto_nav.geometry import compose, relative
 from pluto_nav.streams import LocPose
 
@@ -60,8 +60,10 @@ def test_an_odometry_sample_waits_for_the_dmu_but_not_for_ever() -> None:
 @settings(max_examples=50, deadline=None)
 @given(t=st.floats(6.0, 10.0))
 def test_interpolation_stays_between_the_samples_of_the_history(t: float) -> None:
-    dr = DeadReckoning((0.0, 0.0, 0.0))
+    wall = [0.0]
+    dr = DeadReckoning((0.0, 0.0, 0.0), clock=lambda: wall[0])
     for stamp, (x, y, theta), _ in _arc(100, 0.1, 0.4, 0.3):
+        wall[0] = stamp                              # odometry as it comes, in real time
         dr.add_odometry(stamp, x, y, theta)
     sample = dr.at(t)
     assert sample is not None
@@ -170,3 +172,63 @@ def test_a_resumed_dead_reckoning_whose_base_restarted_meanwhile_takes_no_motion
     dr = DeadReckoning((10.0, 5.0, 0.0), resume_odometry=(100.0, (12.0, 0.0, 0.0)))
     dr.add_odometry(103.0, 0.0, 0.0, 0.0)
     assert dr.latest.pose[0] == pytest.approx(-2.0)
+
+
+def test_a_reset_step_is_as_uncertain_as_the_motion_it_may_hide() -> None:
+    """The motion lost with a restarted base is not known to be none: the reset step's covariance
+    holds RESET_SIGMA (the heading's only when no DMU measured the turn), and so does the
+    increment a scan spanning it gets; the steps around it keep odometry's small ones."""
+    dr = DeadReckoning((2.0, 3.0, 0.5))
+    for k in range(41):
+        dr.add_odometry(0.1 * k, 0.05 * k, 0.0, 0.0)
+    dr.add_odometry(4.1, 0.0, 0.0, 0.0, restarted=True)
+    reset = dr.latest
+    variances = np.diag(reset.increment_cov)
+    assert np.all(variances >= np.square(RESET_SIGMA)) and np.all(variances < 1.01 * np.square(RESET_SIGMA))
+    dr.add_odometry(4.2, 0.05, 0.0, 0.0)
+    assert np.all(np.sqrt(np.diag(dr.latest.increment_cov)) < 0.05)
+    _, spanning = dr.increment_between(4.05, 4.15)
+    assert np.sqrt(spanning[0, 0]) == pytest.approx(RESET_SIGMA[0], rel=0.02)
+    _, after = dr.increment_between(4.15, 4.2)
+    assert np.sqrt(after[0, 0]) < 0.05
+
+    with_dmu = DeadReckoning((0.0, 0.0, 0.0))
+    for k in range(11):
+        with_dmu.add_dmu(0.1 * k, 0.0, 0.0, 0.0)
+        with_dmu.add_odometry(0.1 * k, 0.05 * k, 0.0, 0.0)
+    with_dmu.add_dmu(1.1, 0.0, 0.0, 0.0)
+    with_dmu.add_odometry(1.1, 0.0, 0.0, 0.0, restarted=True)
+    q = with_dmu.latest.increment_cov
+    assert with_dmu.latest.dmu_used and q[0, 0] >= RESET_SIGMA[0] ** 2 and q[2, 2] < 1e-4
+
+
+def test_a_new_base_heard_after_it_moved_counts_its_motion_from_zero() -> None:
+    """The new base process was heard 2 s after it started at zero where the old one left the
+    robot, having driven 0.3 m: that is the motion (not none); a first reading further than the
+    robot could have gone since the last sample is no motion."""
+    dr = DeadReckoning((2.0, 3.0, math.pi / 2))
+    for k in range(11):
+        dr.add_odometry(0.1 * k, 0.05 * k, 0.0, 0.0)
+    before = dr.latest.pose.copy()
+    dr.add_odometry(4.0, 0.3, 0.0, 0.0, restarted=True)
+    assert dr.odometry_resets == 1 and relative(before, dr.latest.pose) == pytest.approx([0.3, 0.0, 0.0])
+    dr.add_odometry(4.1, 0.35, 0.0, 0.0)
+    assert relative(before, dr.latest.pose) == pytest.approx([0.35, 0.0, 0.0])
+    far = DeadReckoning((2.0, 3.0, math.pi / 2))
+    far.add_odometry(0.0, 0.0, 0.0, 0.0)
+    far.add_odometry(0.1, 3.0, 0.0, 0.0, restarted=True)       # 3 m in 0.1 s
+    assert far.odometry_resets == 1 and far.latest.pose == pytest.approx([2.0, 3.0, math.pi / 2])
+
+
+def test_a_backlog_worked_through_at_once_keeps_its_history_for_late_scans() -> None:
+    """12 s of odometry taken in one step of a loaded machine: a scan timed at its start, whose
+    timing message comes a step later, still finds the history; once the wall clock has moved on
+    HISTORY_WALL_S, the odometry's own HISTORY_S trims it."""
+    wall = [100.0]
+    dr = DeadReckoning((0.0, 0.0, 0.0), clock=lambda: wall[0])
+    for k in range(121):
+        dr.add_odometry(0.1 * k, 0.01 * k, 0.0, 0.0)
+    assert dr.at(0.25).pose == pytest.approx([0.025, 0.0, 0.0])
+    wall[0] += HISTORY_WALL_S + 0.1
+    dr.add_odometry(12.1, 0.121, 0.0, 0.0)
+    assert dr.at(0.25) is None and dr.at(7.25).pose == pytest.approx([0.725, 0.0, 0.0])

@@ -11,6 +11,7 @@ import pytest
 
 from pluto_nav.dead_reckoning import DeadReckoning
 from pluto_nav.geometry import compose, relative
+from pluto_nav.odometry_model import increment_covariance
 from pluto_nav.resume import ResumeState, read_resume, to_json, write_resume
 
 COV = np.array([[0.01, 0.002, 0.0], [0.002, 0.02, 0.001], [0.0, 0.001, 0.003]])
@@ -110,3 +111,26 @@ def test_resumed_dead_reckoning_applies_the_motion_made_since_the_saved_reading(
     fresh = DeadReckoning((4.0, 7.0, 1.0))
     [first] = fresh.add_odometry(101.0, *now_odo)
     np.testing.assert_allclose(first.pose, (4.0, 7.0, 1.0))
+
+
+def test_a_resumed_dead_reckoning_s_first_scan_increment_spans_the_gap_with_its_covariance() -> None:
+    """The restarted localModule's first laser increment goes from the saved reading, and its
+    covariance is the gap's odometry's (a turn of 0.6 rad with no DMU: heading sigma 0.05 per
+    radian and 0.02 per metre), not zero; once the history no longer reaches back, None."""
+    saved_odo = np.array([1.0, 2.0, 0.5])
+    gap = (0.8, 0.1, 0.6)
+    wall = [0.0]
+    dr = DeadReckoning((4.0, 7.0, 1.0), start_covariance=COV, resume_odometry=(100.0, tuple(saved_odo)),
+                       clock=lambda: wall[0])
+    dr.add_odometry(102.0, *compose(saved_odo, gap))
+    dr.add_odometry(102.1, *compose(saved_odo, compose(gap, (0.05, 0.0, 0.0))))
+    increment, covariance = dr.increment_since_start(102.05)
+    np.testing.assert_allclose(increment, compose(gap, (0.025, 0.0, 0.0)), atol=1e-9)
+    expected = increment_covariance(np.array(gap))
+    assert math.sqrt(covariance[2, 2]) == pytest.approx(math.sqrt(expected[2, 2]), rel=0.01)
+    assert math.sqrt(covariance[2, 2]) > 0.05 * 0.6
+    assert dr.increment_since_start(99.0) is None and dr.increment_since_start(103.0) is None
+    for k in range(1, 80):                                   # 8 s on: the history is trimmed
+        wall[0] += 0.1
+        dr.add_odometry(102.1 + 0.1 * k, *compose(saved_odo, compose(gap, (0.05 + 0.01 * k, 0.0, 0.0))))
+    assert dr.increment_since_start(dr.latest.stamp) is None
