@@ -88,8 +88,7 @@ class LocalModule:
             self.dr = DeadReckoning(start)
         else:
             self.dr = DeadReckoning(resume.dead_reckoning, start_covariance=resume.dead_reckoning_covariance,
-                                    resume_odometry=(resume.odometry_stamp, resume.odometry),
-                                    resume_dmu=resume.dmu)
+                                    resume_odometry=(resume.odometry_stamp, resume.odometry))
             self.adjuster.offset = compose(resume.pose, inverse(resume.dead_reckoning))
             self.adjuster.covariance = None if resume.pose_covariance is None else resume.pose_covariance.copy()
             self.adjuster.setter, self.adjuster.holder = resume.setter, resume.holder
@@ -130,10 +129,9 @@ class LocalModule:
         self.stale = True                     # no odometry yet
         self.resets_seen = 0
         # Who sends the DMU's and the base's messages: a new process starts its count again
-        # (wurde_core.sender_watch); a base or DMU restarted while this module was down is told
-        # from the one it last heard by what its resume state saved.
-        self.dmu_sender = SenderWatch() if resume is None or resume.dmu is None else SenderWatch(
-            resume.dmu_session, resume.dmu_sequence)
+        # (wurde_core.sender_watch); a base restarted while this module was down is told from
+        # the one it last heard by what its resume state saved.
+        self.dmu_sender = SenderWatch()
         self.odometry_sender = SenderWatch() if resume is None else SenderWatch(
             resume.odometry_session, resume.odometry_sequence)
         self._publish_start(start, resume)
@@ -207,8 +205,7 @@ class LocalModule:
                             pose=tuple(self.adjuster.pose(latest)),
                             pose_covariance=self.adjuster.covariance, setter=self.adjuster.setter,
                             holder=self.adjuster.holder, odometry_sequence=self.odometry_sender.sequence,
-                            odometry_session=self.odometry_sender.session, dmu=self.dr.dmu_at(latest.stamp),
-                            dmu_session=self.dmu_sender.session, dmu_sequence=self.dmu_sender.sequence)
+                            odometry_session=self.odometry_sender.session)
         try:
             write_resume(self.resume_file, state)
         except OSError as error:
