@@ -124,16 +124,17 @@ def pointer(subscription: Any) -> int:
 
 
 def take(subscription: Any, limit: int = -1) -> Iterator[Any]:
-    """Take the messages ``subscription`` holds, without an executor.
+    """Take the messages ``subscription`` holds, without an executor (the CDR bytes for a raw
+    subscription).
 
     :param subscription: an rclpy subscription.
     :param limit: the most taken; < 0: all.
     """
-    handle, msg_type = subscription.handle, subscription.msg_type
+    handle, msg_type, raw = subscription.handle, subscription.msg_type, bool(subscription.raw)
     with handle:
         while limit:
             limit -= 1
-            result = handle.take_message(msg_type, False)
+            result = handle.take_message(msg_type, raw)
             if result is None:
                 return
             yield result[0]

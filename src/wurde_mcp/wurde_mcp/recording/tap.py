@@ -25,6 +25,7 @@ from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
+from wurde_core import ros_adaptor
 
 from .message_types import message_class
 from .qos import offered_profile, offered_qos_yaml
@@ -111,12 +112,8 @@ class TopicTap:
         only taking until each subscription says it is empty proves that nothing was left."""
         before = self.count
         for subscription in self._subscriptions:
-            while True:
-                with subscription.handle:
-                    taken = subscription.handle.take_message(subscription.msg_type, subscription.raw)
-                if taken is None:
-                    break
-                subscription.callback(taken[0])
+            for data in ros_adaptor.take(subscription):
+                subscription.callback(data)
         return self.count - before
 
     def _take(self, channel: Any, data: bytes, topic: str) -> None:
