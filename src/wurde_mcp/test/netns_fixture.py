@@ -3,8 +3,9 @@
 Each host is a network namespace of its own with a loopback and one end of a veth pair, on an
 address block of the test's choosing (``10.231.<domain>.0/24``); nothing of it touches the
 machine's own interfaces.  DDS inside them discovers over that link only: the namespaces have no
-other interface, discovery is by multicast on the link plus the other host's address as a static
-peer, and Fast DDS's shared-memory transport is off (both namespaces share /dev/shm, which would
+other interface, discovery stays LOCALHOST (as everywhere else) and reaches the other host only as
+its static peer (``ROS_STATIC_PEERS``, which the range does not restrict), and Fast DDS's
+shared-memory transport is off (both namespaces share /dev/shm, which would
 let the two "hosts" talk without the link).  Each process also gets a UTS namespace with the
 host's own name, so the MCP's table shows where each module runs.  Needs root (``ip netns``).
 """
@@ -41,11 +42,10 @@ class Host:
         self.name, self.namespace, self.device, self.address = name, namespace, device, address
 
     def command(self, argv: Sequence[str]) -> list[str]:
-        """``argv`` run inside this host (its network namespace, its host name).  DDS discovery on
-        the subnet is set here, inside the namespace the test made, whose only link is the veth
-        pair: nowhere else does a test leave loopback."""
+        """``argv`` run inside this host (its network namespace, its host name); the DDS settings
+        are :meth:`TwoHosts.env`'s."""
         return ['ip', 'netns', 'exec', self.namespace, 'unshare', '--uts', 'sh', '-c',
-                f'hostname {self.name} && exec env ROS_AUTOMATIC_DISCOVERY_RANGE=SUBNET "$@"',
+                f'hostname {self.name} && exec "$@"',
                 'sh', *argv]
 
     def start(self, argv: Sequence[str], env: dict[str, str]) -> ChildProcess:
@@ -83,7 +83,7 @@ class TwoHosts:
 
     def env(self, host: Host, domain: int, **extra: str) -> dict[str, str]:
         """The environment of a process on ``host``, in ``domain``, the other host its static peer.
-        Discovery stays LOCALHOST here; :meth:`Host.command` widens it inside the namespace only."""
+        Discovery stays LOCALHOST: the other host is reached as the static peer only."""
         peer = self.b if host is self.a else self.a
         return dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST',
                     ROS_STATIC_PEERS=peer.address, FASTDDS_BUILTIN_TRANSPORTS='UDPv4', **extra)
