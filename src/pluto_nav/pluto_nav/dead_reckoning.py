@@ -297,15 +297,20 @@ class DeadReckoning:
         end = self.at(t1)
         if end is None or not self._history_from_start:
             return None
+        cov = self._steps_covariance(-math.inf, t1)
+        return relative(self.start, end.pose), 0.5 * (cov + cov.T)
+
+    def _steps_covariance(self, t0: float, t1: float) -> np.ndarray:
+        """The covariance of the steps stamped in (``t0``, ``t1``], composed in order."""
         cov = np.zeros((3, 3))
         relative_pose = np.zeros(3)
         for sample in self.history:
-            if sample.stamp > t1:
-                break
+            if sample.stamp <= t0 or sample.stamp > t1:
+                continue
             j_pose, j_increment = compose_jacobians(relative_pose, sample.increment)
             cov = j_pose @ cov @ j_pose.T + j_increment @ sample.increment_cov @ j_increment.T
             relative_pose = compose(relative_pose, sample.increment)
-        return relative(self.start, end.pose), 0.5 * (cov + cov.T)
+        return cov
 
     def increment_between(self, t0: float, t1: float) -> tuple[np.ndarray, np.ndarray] | None:
         """The relative pose from the robot at ``t0`` to the robot at ``t1`` (in the frame at ``t0``)
@@ -315,14 +320,7 @@ class DeadReckoning:
         if a is None or b is None:
             return None
         increment = relative(a.pose, b.pose)
-        cov = np.zeros((3, 3))
-        relative_pose = np.zeros(3)
-        for sample in self.history:
-            if sample.stamp <= t0 or sample.stamp > t1:
-                continue
-            j_pose, j_increment = compose_jacobians(relative_pose, sample.increment)
-            cov = j_pose @ cov @ j_pose.T + j_increment @ sample.increment_cov @ j_increment.T
-            relative_pose = compose(relative_pose, sample.increment)
+        cov = self._steps_covariance(t0, t1)
         if not np.any(cov):     # both times between the same two samples: a share of that step
             cov = increment_covariance(increment, self.noise)
         return increment, 0.5 * (cov + cov.T)
