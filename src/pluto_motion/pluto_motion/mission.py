@@ -72,6 +72,8 @@ STOP_REASONS = {GOAL_REACHED: 'reached', USER_STOPPED: 'stopped by the user',
 START_TIMEOUT_S = 120.0
 #: Seconds between sends of a goal the navigator's status does not show it driving to.
 RESEND_S = 2.0
+#: Seconds without a Pose that make the mission say what it hears (a view that stopped is stale).
+STALL_S = 10.0
 HELP = ('  -m MAP       the map file (default map.xml of the config directory)\n'
         f'  -P PLACES    comma-separated place names, explore:NAME explores the room of place NAME\n'
         f'               (default {",".join(DEFAULT_PLACES)})\n'
@@ -109,6 +111,8 @@ class Mission:
         self.modules: dict[str, str] = {}
         self._sampled = -math.inf
         self.start = time.monotonic()
+        self._heard = (-1, self.start)          # Poses received, and since when that many
+        self._stall_said = False
 
     def take(self) -> None:
         """Take in the truth and the MCP's table; a sample every :data:`SAMPLE_S`."""
@@ -132,10 +136,28 @@ class Mission:
                 self.log.last_scan = scan_points(list(self.laser.data.ranges),
                                                  (pose.pose[0], pose.pose[1], pose.pose[3]), self.geometry)
         now = time.monotonic()
+        self._watch_stall(now)
         if pose is not None and now - self._sampled >= SAMPLE_S:
             self._sampled = now
             self.log.add(Sample(now - self.start, (pose.pose[0], pose.pose[1], pose.pose[3]),
                                 pose.covariance, self.latest_truth, self.truths.at(pose.stamp)))
+
+    def _watch_stall(self, now: float) -> None:
+        """Say once per stall when no Pose came for :data:`STALL_S`: what each stream has
+        received and how many writers it has matched, so a view gone stale is not taken for the
+        robot's (a soak's mission once heard nothing for minutes while the navigator drove)."""
+        heard = self.loc.streams[POSE].received()
+        if heard != self._heard[0]:
+            self._heard, self._stall_said = (heard, now), False
+            return
+        if self._stall_said or now - self._heard[1] < STALL_S:
+            return
+        self._stall_said = True
+        objects = [self.loc.streams[POSE], self.nav, self.truth, self.table]
+        heard_of = '; '.join(f'{obj.object_name}: {obj.received()} received, {obj.peers("data")} writers'
+                             for obj in objects if obj is not None)
+        self.manager.log_warning(f'no Pose for {now - self._heard[1]:.0f} s ({heard_of}; '
+                                 f'run state {RunState(self.manager.state).name})')
 
     def view(self, goal: Goal | None) -> Group:
         """The live view: the goal's line and the modules' states."""
