@@ -47,6 +47,10 @@ HISTORY_S = 5.0
 HISTORY_WALL_S = 2.0
 #: Most samples kept (a bound on memory only: 400 s of odometry at 50 Hz).
 MAX_HISTORY = 20000
+#: Wall seconds a resumed dead reckoning's first odometry sample waits at most for the DMU that ran
+#: on (its subscription is matched in its own time: 1 s was too short on a loaded machine); after
+#: that the gap's turn is the odometry's (:attr:`DeadReckoning.dmu_not_come` counts it).
+RESUME_DMU_WAIT_S = 5.0
 #: An odometry increment faster than this (m/s, rad/s) is a reset of the odometry, not motion.
 MAX_SPEED = 5.0
 MAX_TURN_RATE = 10.0
@@ -92,6 +96,10 @@ class DeadReckoning:
     :param resume_odometry: ``(stamp, (x, y, theta))``, the odometry reading at which the robot was
         at ``start`` (a restarted module resuming a saved state); None: ``start`` is where the
         first odometry sample finds the robot.
+    :param resume_dmu: the DMU's (unwrapped heading, pitch, roll) at ``resume_odometry``'s reading,
+        from the same DMU process as the samples to come: the turn since is taken from the DMU
+        (a restarted localModule's gap is otherwise reckoned with the odometry's heading, 5 %
+        of a turn off: 8 degrees after the robot turned 2.5 rad while no localModule ran).
     :param clock: the wall clock (monotonic seconds) that keeps a sample :data:`HISTORY_WALL_S`;
         None: the history is trimmed by the odometry's time alone (a recording replayed offline,
         where every sample comes at once and no scan is late).
@@ -101,6 +109,7 @@ class DeadReckoning:
                  noise: OdometryNoiseModel | None = None, dmu_sigma: float = 0.002,
                  dmu_stale_s: float = 0.25,
                  resume_odometry: tuple[float, tuple[float, float, float]] | None = None,
+                 resume_dmu: tuple[float, float, float] | None = None,
                  clock: Callable[[], float] | None = time.monotonic) -> None:
         self.noise = noise or OdometryNoiseModel()
         self._clock = clock
@@ -119,10 +128,21 @@ class DeadReckoning:
         self._dmu: collections.deque[tuple[float, float, float, float]] = collections.deque()
         self._dmu_unwrapped = 0.0
         self._dmu_theta: float | None = None
+        #: Resumed with the DMU's reading and no sample of it yet: -1 until odometry waits for
+        #: one, then the wall time it began to wait; None: not waiting.
+        self._awaiting_dmu: float | None = None
+        if self._resume is not None and resume_dmu is not None:
+            heading, phi, psi = (float(v) for v in resume_dmu)
+            self._dmu.append((self._resume[0], heading, phi, psi))
+            self._dmu_unwrapped = self._dmu_theta = heading
+            self._awaiting_dmu = None if clock is None else -1.0
         #: Whether :attr:`history` still holds every step since ``start``.
         self._history_from_start = True
         self.odometry_samples = 0
         self.odometry_resets = 0
+        #: Whether a resumed dead reckoning gave up waiting for the DMU (the gap's turn is the
+        #: odometry's).
+        self.dmu_not_come = False
         self.dmu_steps = 0
         self.odometry_steps = 0
 
@@ -151,6 +171,7 @@ class DeadReckoning:
             self._dmu.clear()
         elif self._dmu and stamp <= self._dmu[-1][0]:
             return []
+        self._awaiting_dmu = None
         last = theta if restarted else self._dmu_theta
         self._dmu_unwrapped = theta if last is None else self._dmu_unwrapped + wrap(theta - last)
         self._dmu_theta = theta
@@ -167,6 +188,15 @@ class DeadReckoning:
             covered = bool(self._dmu) and self._dmu[-1][0] >= stamp
             newest = self._pending[-1][0]
             stale = not self._dmu or newest - self._dmu[-1][0] > self.dmu_stale_s
+            if not covered and stale and self._awaiting_dmu is not None:
+                # Resumed with the DMU's reading: its own samples are seconds past it, so wait
+                # (RESUME_DMU_WAIT_S of wall time) for the DMU that ran on to cover the gap.
+                if self._awaiting_dmu < 0.0:
+                    self._awaiting_dmu = self._now()
+                if self._now() - self._awaiting_dmu < RESUME_DMU_WAIT_S:
+                    break
+                self._awaiting_dmu = None
+                self.dmu_not_come = True
             if not covered and not stale:
                 break
             self._pending.popleft()
@@ -206,6 +236,9 @@ class DeadReckoning:
             q = q + np.diag(np.square(RESET_SIGMA))
         dmu_turn = self._dmu_turn(last_stamp, stamp) if use_dmu else None
         if dmu_turn is not None:
+            # The DMU's heading is known modulo a turn across a long step (a resumed gap): the
+            # turn nearest the odometry's.
+            dmu_turn += math.tau * round((increment[2] - dmu_turn) / math.tau)
             increment = increment.copy()
             increment[2] = dmu_turn
             q = q.copy()
@@ -228,12 +261,26 @@ class DeadReckoning:
             self._history_from_start = False
         return sample
 
+    def dmu_at(self, stamp: float) -> tuple[float, float, float] | None:
+        """The DMU's (heading, pitch, roll) interpolated at ``stamp``, the heading in the DMU's own
+        terms (what it reported, unwrapped from there); None when its samples do not cover it.
+        What the resume file keeps (:mod:`pluto_nav.resume`): a new process takes the DMU's next
+        reports as turns from it.  This process's own unwrapped heading is not that after a
+        restart of the DMU, whose new count it continued (a localModule resumed from it once
+        turned a robot that stood still by 138 degrees, issue 38)."""
+        value = self._dmu_value(stamp)
+        if value is None or self._dmu_theta is None:
+            return None
+        return (value[0] - (self._dmu_unwrapped - self._dmu_theta), value[1], value[2])
+
     def _now(self) -> float:
         return 0.0 if self._clock is None else self._clock()
 
     def _dmu_value(self, stamp: float) -> tuple[float, float, float] | None:
         """Unwrapped heading, pitch, roll of the DMU interpolated at ``stamp``."""
         stamps = [s[0] for s in self._dmu]
+        if not stamps:
+            return None
         i = bisect.bisect_left(stamps, stamp)
         if i == 0:
             return None if stamps[0] > stamp else self._dmu[0][1:]

@@ -41,7 +41,7 @@ from wurde_core.module_loop import config_file, exit_on_config_error, run_loop, 
 from wurde_idl.errors import ConfigError
 
 from .adjustment import Adjuster
-from .dead_reckoning import DeadReckoning, DrSample
+from .dead_reckoning import RESUME_DMU_WAIT_S, DeadReckoning, DrSample
 from .geometry import compose, compose_jacobians, inverse
 from .odometry_model import laser_increment
 from .resume import ResumeState, read_resume, write_resume
@@ -88,7 +88,8 @@ class LocalModule:
             self.dr = DeadReckoning(start)
         else:
             self.dr = DeadReckoning(resume.dead_reckoning, start_covariance=resume.dead_reckoning_covariance,
-                                    resume_odometry=(resume.odometry_stamp, resume.odometry))
+                                    resume_odometry=(resume.odometry_stamp, resume.odometry),
+                                    resume_dmu=resume.dmu)
             self.adjuster.offset = compose(resume.pose, inverse(resume.dead_reckoning))
             self.adjuster.covariance = None if resume.pose_covariance is None else resume.pose_covariance.copy()
             self.adjuster.setter, self.adjuster.holder = resume.setter, resume.holder
@@ -128,10 +129,12 @@ class LocalModule:
         self.last_status_wall = -np.inf
         self.stale = True                     # no odometry yet
         self.resets_seen = 0
+        self.dmu_wait_said = False
         # Who sends the DMU's and the base's messages: a new process starts its count again
-        # (wurde_core.sender_watch); a base restarted while this module was down is told from
-        # the one it last heard by what its resume state saved.
-        self.dmu_sender = SenderWatch()
+        # (wurde_core.sender_watch); a base or DMU restarted while this module was down is told
+        # from the one it last heard by what its resume state saved.
+        self.dmu_sender = SenderWatch() if resume is None or resume.dmu is None else SenderWatch(
+            resume.dmu_session, resume.dmu_sequence)
         self.odometry_sender = SenderWatch() if resume is None else SenderWatch(
             resume.odometry_session, resume.odometry_sequence)
         self._publish_start(start, resume)
@@ -176,6 +179,10 @@ class LocalModule:
             completed += self.dr.add_odometry(d.timestamp.get_seconds(), location.x(), location.y(),
                                               location.theta(), restarted=restarted)
             self._place_scans()
+        if self.dr.dmu_not_come and not self.dmu_wait_said:
+            self.dmu_wait_said = True
+            self.logger.warn(f'{self.manager.name}: resumed without the DMU: none of its samples came within '
+                             f'{RESUME_DMU_WAIT_S:g} s, so the turn while no localModule ran is the odometry\'s')
         if self.dr.odometry_resets != self.resets_seen:
             self.resets_seen = self.dr.odometry_resets
             self.logger.warn(f'{self.manager.name}: the odometry jumped (its base restarted?): taken as no '
@@ -205,7 +212,8 @@ class LocalModule:
                             pose=tuple(self.adjuster.pose(latest)),
                             pose_covariance=self.adjuster.covariance, setter=self.adjuster.setter,
                             holder=self.adjuster.holder, odometry_sequence=self.odometry_sender.sequence,
-                            odometry_session=self.odometry_sender.session)
+                            odometry_session=self.odometry_sender.session, dmu=self.dr.dmu_at(latest.stamp),
+                            dmu_session=self.dmu_sender.session, dmu_sequence=self.dmu_sender.sequence)
         try:
             write_resume(self.resume_file, state)
         except OSError as error:

@@ -9,7 +9,8 @@ The file is one JSON object, format ``pluto_nav.resume`` version 1 (docs/pluto-n
 resume file", shows it): the base's odometry reading the poses correspond to, with the number and
 the sender's session of the last odometry message taken (so that a restarted localModule knows
 whether the base restarted too, :class:`wurde_core.sender_watch.SenderWatch`), stream (0)'s
-dead-reckoned pose and stream (3)'s pose with its setter and holder; metres, radians, seconds,
+dead-reckoned pose and stream (3)'s pose with its setter and holder, and the DMU's heading,
+pitch and roll at that reading with its sender's session (``dmu``, null without a DMU); metres, radians, seconds,
 covariances 3x3 over (x, y, theta) row by row.  It is written to a temporary file beside it
 (``<file>.<pid>.tmp``) and renamed over it (``os.replace``), so a reader (or a process killed
 while writing) never sees half a file.  :func:`read_resume` refuses anything else with a reason.
@@ -48,6 +49,12 @@ class ResumeState:
     odometry_sequence: int = 0
     #: The base process's header.session (0: not known).
     odometry_session: int = 0
+    #: The DMU's integrated heading (unwrapped), pitch and roll at the odometry reading (None:
+    #: no DMU), and its process's header.session and last sequence: a restarted localModule whose
+    #: DMU did not restart takes the heading turned meanwhile from the DMU, not the odometry.
+    dmu: tuple[float, float, float] | None = None
+    dmu_session: int = 0
+    dmu_sequence: int = 0
 
 
 class _Refused(Exception):
@@ -77,7 +84,10 @@ def to_json(state: ResumeState) -> str:
                              'session': int(state.odometry_session)},
                 'dead_reckoning': {**_xyt(state.dead_reckoning),
                                    'covariance': _matrix(state.dead_reckoning_covariance)},
-                'pose': pose}
+                'pose': pose,
+                'dmu': None if state.dmu is None else {
+                    'theta': float(state.dmu[0]), 'phi': float(state.dmu[1]), 'psi': float(state.dmu[2]),
+                    'sequence': int(state.dmu_sequence), 'session': int(state.dmu_session)}}
     return json.dumps(document) + '\n'
 
 
@@ -149,13 +159,33 @@ def _parse(text: str) -> ResumeState:
     session = odometry.get('session', 0)
     if isinstance(session, bool) or not isinstance(session, int) or session < 0:
         raise _Refused(f'odometry.session: not a session number ({session!r})')
+    dmu, dmu_session, dmu_sequence = _dmu(document)
     return ResumeState(
         odometry_stamp=_number(odometry, 'stamp', 'odometry'), odometry=_pose(odometry, 'odometry'),
         dead_reckoning=_pose(dead, 'dead_reckoning'),
         dead_reckoning_covariance=_covariance(dead, 'dead_reckoning'),
         pose=_pose(pose, 'pose'),
         pose_covariance=None if pose.get('covariance') is None else _covariance(pose, 'pose'),
-        setter=setter, holder=holder, odometry_sequence=sequence, odometry_session=session)
+        setter=setter, holder=holder, odometry_sequence=sequence, odometry_session=session,
+        dmu=dmu, dmu_session=dmu_session, dmu_sequence=dmu_sequence)
+
+
+def _count(section: dict, key: str, where: str) -> int:
+    value = section.get(key, 0)
+    if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+        raise _Refused(f'{where}.{key}: not a count ({value!r})')
+    return value
+
+
+def _dmu(document: dict) -> tuple[tuple[float, float, float] | None, int, int]:
+    """The optional ``dmu`` object (absent or null in a file of a localModule without a DMU)."""
+    section = document.get('dmu')
+    if section is None:
+        return None, 0, 0
+    if not isinstance(section, dict):
+        raise _Refused('"dmu" is not an object')
+    angles = tuple(_number(section, key, 'dmu') for key in ('theta', 'phi', 'psi'))
+    return angles, _count(section, 'session', 'dmu'), _count(section, 'sequence', 'dmu')  # type: ignore[return-value]
 
 
 def read_resume(path: str | os.PathLike[str]) -> tuple[ResumeState | None, str]:

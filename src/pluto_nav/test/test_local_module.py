@@ -11,7 +11,6 @@ import time
 
 import numpy as np
 import pytest
-from lxml import etree
 from nav_fixture import (EXACT, Watcher, angle_error, interpolate_truth, module, pluto_config, processes,
                          seconds)
 
@@ -249,14 +248,12 @@ def test_a_restarted_local_module_goes_on_where_the_killed_one_was(
     robot is, not the map's start, although the robot drove on while no localModule ran.
 
     Its first Pose must be the dead process's last Pose advanced by the odometry between the two
-    stamps (what the old process would have published had it lived), within 2 cm and 0.02 rad
-    (plus the odometry's drift over the gap: the new process's DMU has none):
-    both are the same odometry, so the only difference is the heading of the path since the last
-    save (at most 0.1 s: RESUME_PERIOD_S) coming from the odometry rather than the DMU (the DMU's
-    history of the dead process is gone), turning the path driven in the gap: a few millimetres.  With
-    exact odometry (EXACT) dead reckoning equals the truth, so the resumed Pose must be the truth too,
-    within the 2 cm and 0.02 rad dead reckoning is held to above; with config/pluto's noisy odometry dead reckoning
-    has drifted from the truth before the kill, so only the odometry check applies."""
+    stamps (what the old process would have published had it lived) within 2 cm, and have turned
+    as the robot turned within 2 degrees: the turn comes from the DMU, which ran on (its reading at
+    the save is in the resume file).  With exact odometry (EXACT) dead reckoning equals the truth,
+    so the resumed Pose must be the truth too, within 2 cm and 0.02 rad; with config/pluto's noisy
+    odometry dead reckoning has drifted from the truth before the kill, so only those two checks
+    apply."""
     directory = pluto_config(tmp_path, elements=EXACT if noise == 'exact' else None)
     resume_file = directory / 'localModule.resume'
     watcher = _watcher()
@@ -308,11 +305,15 @@ def test_a_restarted_local_module_goes_on_where_the_killed_one_was(
     print(f'{noise}: resumed Pose {100 * error:.2f} cm, {heading_error:.4f} rad from the old Pose + odometry; '
           f'{100 * true_error:.2f} cm, {angle_error(new_first.pose.theta, true1[2]):.4f} rad from the truth; '
           f'{gap:.2f} m driven in {t1 - t0:.2f} s without a localModule')
-    # The new process's later steps take their heading from its DMU, the expectation from the
-    # odometry, whose steady drift (config/pluto: rad per metre driven; 0 when exact) the DMU
-    # does not share: up to that much more over the path driven in the gap.
-    drift = float(etree.parse(str(directory / 'sim-config.xml')).find('.//odometry-noise').get('drift', 0.0))
-    assert error < 0.02 and heading_error < 0.02 + drift * gap, (error, heading_error)
+    # The heading turned in the gap comes from the DMU, which ran on (its reading at the saved
+    # one is in the resume file), not from the odometry, whose steady drift (config/pluto: rad
+    # per metre driven) the DMU does not share: the turn is the truth's.
+    # Within the issue's 2 degrees: the DMU's filtered heading lags a changing turn rate by up to
+    # its time constant times the rate (32 ms x 0.5 rad/s, 0.016 rad), which its delayed stamps
+    # make up for only at a steady rate.  The odometry's turn was 0.03-0.06 rad off.
+    turned = angle_error(new_first.pose.theta - old_last.pose.theta, true1[2] - true0[2])
+    assert 'resumed without the DMU' not in new.stderr
+    assert error < 0.02 and turned < math.radians(2.0), (error, turned, heading_error)
     if noise == 'exact':        # where the robot is
         assert true_error < 0.02
         assert angle_error(new_first.pose.theta, true1[2]) < 0.02

@@ -1,10 +1,10 @@
 """A localModule killed while the robot drives, restarted after the robot drove on without it:
-the poseModule brings the Pose back within 0.1 m and 2 degrees of the truth within a few scans
-(issue 38).  The new process reckons the gap from the odometry alone (the dead process's DMU
-history is gone); the odometry's heading drifts (here 0.05 rad per metre, steady), so the gap
-comes back a few degrees off, and the poseModule can mend it only if the first laser increment
-says how uncertain the gap is.  With that increment's covariance taken as zero, the filter's
-gates refused every line and the wrong heading stayed (up to 12 s in the soak)."""
+the Pose is within 0.1 m and 2 degrees of the truth within a few scans of the poseModule (issue
+38).  The new process reckons the gap from the saved readings: the turn from the DMU that ran on,
+the path from the odometry (here drifting steadily, 0.05 rad per metre), and its first laser
+increment carries the gap's covariance, so the poseModule's gates open as far as the gap is
+unknown.  Before, the gap's turn came from the odometry and the increment was taken as sure: a
+heading a few degrees off stayed up to 12 s in the soak."""
 
 from __future__ import annotations
 
