@@ -579,8 +579,9 @@ class Supervisor:
         if module.status == StatusMode.STARTING and module.process is not None:
             if now - module.process.started <= START_TIMEOUT_S:
                 return
+            threads = where_threads_wait(module.process.pid)
             g_warn(f'MCP: {module.name} sent no heartbeat within {START_TIMEOUT_S:.0f} s of its '
-                   'start: zombie')
+                   'start: zombie' + (f'; its threads (name, state, kernel wait): {threads}' if threads else ''))
         elif not self._overdue(module, now, watched) or self._working(module, now):
             return
         else:
