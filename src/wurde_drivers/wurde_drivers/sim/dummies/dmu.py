@@ -27,6 +27,9 @@ from ..loading import read_sim_config
 
 #: Seconds between two truth samples (one every 20 ms simulation step) that are a gap to fill.
 TRUTH_GAP_S = 0.1
+#: Most samples a gap is filled with: 10 s at 50 Hz.  A longer gap's are further apart (the turn is
+#: the same), so that a gap of minutes is not thousands of messages at once.
+MAX_FILLS = 500
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -72,7 +75,7 @@ def main(argv: list[str] | None = None) -> int:
             now = (d.timestamp.get_seconds(), d.location.x(), d.location.y(), d.location.theta())
             if last is not None and now[0] > last[0]:
                 gap = now[0] - last[0]
-                fills = int(gap / period + 1e-6) - 1 if gap > TRUTH_GAP_S else 0
+                fills = min(int(gap / period + 1e-6) - 1, MAX_FILLS) if gap > TRUTH_GAP_S else 0
                 if fills > 0:       # the truth's mean motion over the gap, at the DMU's rate
                     dt = gap / (fills + 1)
                     tv = math.dist(now[1:3], last[1:3]) / gap
