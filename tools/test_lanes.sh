@@ -14,7 +14,10 @@
 # lane of every other package is where a package added later goes.  wurde_drivers' README examples
 # (test_readme.py, about 80 s) run after pluto_nav, with their own report (build/test-drivers-readme):
 # a fresh clone on 2026-12-06 had wurde_drivers' lane at 15.9 min, and with them moved out 14.3,
-# the lanes of pluto_motion's long files and pluto_nav 12.8.  Arguments go to `colcon test`.
+# the lanes of pluto_motion's long files and pluto_nav 12.8.  They run after the other packages'
+# since 2026-12-07: a fresh clone took 20 min 10 s with the lanes at 15:56 (pluto_motion's long
+# files 7:31, pluto_nav 7:05, the README examples), 14:43, 15:05 (wurde_drivers) and 13:43 (the
+# others, wurde_mcp 11:39).  Arguments go to `colcon test`.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 long_files=(test/test_demo.py test/test_odometry_calibration.py test/test_guide_avoider.py
@@ -68,10 +71,10 @@ others() { run rest --packages-select "${rest[@]}"; }
 
 COLCON_ARGS=("$@")
 pids=()
-lane long_motion nav drivers_readme & pids+=($!)
+lane long_motion nav & pids+=($!)
 lane rest_of_motion core & pids+=($!)
 lane drivers & pids+=($!)
-lane others & pids+=($!)
+lane others drivers_readme & pids+=($!)
 rc=0
 for pid in "${pids[@]}"; do
   wait "$pid" || { status=$?; (( rc )) || rc=$status; }
