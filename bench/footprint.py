@@ -34,10 +34,12 @@ own.
 ``--containers 'NAME=module,module NAME=...'`` (or ``all``: one container ``robot`` of all twelve)
 runs those modules in ``<container>``s of the MCP config (:mod:`wurde_mcp.container`): the robot's
 rows are then its processes — the MCP, each container, each module left on its own — and the
-baseline stays one process per module.
+baseline stays one process per module; a contained module's own row gives its thread's CPU (its
+PSS is the container's), which the total does not count again.
 
 Usage: ``make bench-footprint`` or ``python bench/footprint.py [--seconds 60] [--rate-seconds 20]
-[--containers all]``.
+[--containers all] [--robot-only]``; ``--robot-only`` leaves the baselines out (their cells
+empty), to compare two versions of the robot quickly.
 """
 
 from __future__ import annotations
@@ -127,11 +129,30 @@ class Usage:
     ended: bool = False                    # the process ended within the window
 
 
-def measure(pids: dict[str, int], seconds: float) -> dict[str, Usage]:
-    """CPU and PSS of each process over ``seconds`` of wall time (this process sleeps meanwhile)."""
+def thread_seconds(pid: int) -> dict[str, float]:
+    """CPU seconds of ``pid``'s threads by their kernel name (a container names each module's
+    thread after it, :func:`wurde_mcp.container.host.name_os_thread`)."""
+    found: dict[str, float] = defaultdict(float)
+    for task in pathlib.Path(f'/proc/{pid}/task').iterdir():
+        try:
+            fields = (task / 'stat').read_text().rsplit(')', 1)[1].split()
+            comm = (task / 'comm').read_text().strip()
+        except OSError:
+            continue
+        found[comm] += (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
+    return found
+
+
+def measure(pids: dict[str, int], seconds: float,
+            contained: dict[str, list[str]] | None = None) -> dict[str, Usage]:
+    """CPU and PSS of each process over ``seconds`` of wall time (this process sleeps meanwhile);
+    with ``contained`` (container name: its modules), each contained module's CPU too, from its
+    thread (its PSS is the container's: nan)."""
     start: dict[str, float] = {}
     for name, pid in pids.items():
         start[name] = cpu_seconds(pid)
+    contained = {c: members for c, members in (contained or {}).items() if c in pids}
+    threads_before = {c: thread_seconds(pids[c]) for c in contained}
     samples: dict[str, list[float]] = defaultdict(list)
     ended: set[str] = set()
     began = time.monotonic()
@@ -158,6 +179,16 @@ def measure(pids: dict[str, int], seconds: float) -> dict[str, Usage]:
             ended.add(name)
         pss = sum(samples[name]) / len(samples[name]) if samples[name] else math.nan
         usage[name] = Usage(cpu, pss, name in ended)
+    for container, members in contained.items():
+        try:
+            after = thread_seconds(pids[container])
+        except OSError:
+            continue
+        for member in members:
+            comm = member.encode()[:15].decode(errors='ignore')
+            if comm in after:
+                used = after[comm] - threads_before[container].get(comm, 0.0)
+                usage[member] = Usage(100 * used / elapsed, math.nan, False)
     return usage
 
 
@@ -444,7 +475,7 @@ def run_robot(args: argparse.Namespace, domain_id: int, work: pathlib.Path, env:
             mission = start_mission(work, env, ROUTE)
         LOADS['robot'] = os.getloadavg()[0]
         print(f'footprint: the robot for {args.seconds:.0f} s (load average {LOADS["robot"]:.2f})', flush=True)
-        usage = measure({**modules, CLIENT: mission.pid}, args.seconds)
+        usage = measure({**modules, CLIENT: mission.pid}, args.seconds, groups)
         if mission.poll() is not None:
             notes.append('the mission ended within the window')
         after = {MCP: mcp.pid, **{module_name(pid): pid for pid in children(mcp.pid)}}
@@ -507,7 +538,8 @@ def cell(usage: Usage | None) -> str:
     if usage is None:
         return ' | '
     flag = ' (ended)' if usage.ended else ''
-    return f'{usage.cpu:.1f}{flag} | {usage.pss:.0f}'
+    pss = '-' if math.isnan(usage.pss) else f'{usage.pss:.0f}'
+    return f'{usage.cpu:.1f}{flag} | {pss}'
 
 
 def main() -> int:
@@ -517,6 +549,8 @@ def main() -> int:
     parser.add_argument('--warmup', type=float, default=10.0, help='driving before the survey (s)')
     parser.add_argument('--settle', type=float, default=10.0, help='the baseline up before its window (s)')
     parser.add_argument('--containers', default='', help="'NAME=module,module ...', or all: modules in <container>s")
+    parser.add_argument('--robot-only', action='store_true',
+                        help='measure the robot only, not the raw rclpy baselines (to compare two versions of it)')
     args = parser.parse_args()
     require_loopback('footprint', 'make bench-footprint')
     from wurde_testing import claim_domain_id
@@ -542,10 +576,13 @@ def main() -> int:
         spec_file = work / 'baseline-spec.json'
         spec_file.write_text(json.dumps(spec, indent=1))
         names = list(spec)
-        plain, more = run_baseline('default', spec_file, names, args.seconds, args.settle, work, env)
-        notes += more
-        events, more = run_baseline('events', spec_file, names, args.seconds, args.settle, work, env)
-        notes += more
+        plain: dict[str, Usage] = {}
+        events: dict[str, Usage] = {}
+        if not args.robot_only:
+            plain, more = run_baseline('default', spec_file, names, args.seconds, args.settle, work, env)
+            notes += more
+            events, more = run_baseline('events', spec_file, names, args.seconds, args.settle, work, env)
+            notes += more
     finally:
         left = [pid for pid, _ in orphans(marker)]
         for pid in left:
@@ -574,7 +611,8 @@ def main() -> int:
         print(f'| {name}{where} | {cell(robot.get(name))} | {cell(plain.get(name))} | {cell(events.get(name))} |')
     for name, members in groups.items():
         print(f'| container {name}: {", ".join(members)} | {cell(robot.get(name))} | | |')
-    processes = [name for name in robot if name != CLIENT]
+    # A contained module's row is its thread's CPU, already in its container's: not counted again.
+    processes = [name for name in robot if name != CLIENT and not any(name in m for m in groups.values())]
 
     def total(usage: dict[str, Usage], among: list[str]) -> str:
         return (f'{sum(usage[n].cpu for n in among if n in usage):.1f} | '

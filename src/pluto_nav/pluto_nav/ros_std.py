@@ -16,7 +16,8 @@ each device module publishes its own on ``tf_static`` from its config (one home 
 All three are relative names, so they follow the node's namespace (``/tf`` for a robot started
 plainly, ``/robot1/tf`` in ``/robot1``: the namespaced-TF convention of multi-robot ROS 2);
 covariances are the streams' (x, y, theta) ones placed in the 6x6 ROS layout (z, roll and pitch
-marked unknown-large).
+marked unknown-large).  Each is built and sent only while something subscribes to it
+(:func:`wurde_core.ros_adaptor.watched`, issue 39).
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from geometry_msgs.msg import PoseWithCovarianceStamped, TransformStamped
 from nav_msgs.msg import Odometry
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from tf2_msgs.msg import TFMessage
+from wurde_core.ros_adaptor import watched
 from wurde_core.ros_messages import quaternion, set_stamp
 
 __all__ = ['LocalizationPublisher', 'covariance6']
@@ -89,13 +91,16 @@ class LocalizationPublisher:
 
     def publish(self, stamp: float, dead_reckoning: np.ndarray, dr_cov: np.ndarray, tv: float, rv: float,
                 adjustment: np.ndarray, pose: np.ndarray, pose_cov: np.ndarray) -> None:
-        odom = self._odom
-        _fill(odom, odom.pose, dead_reckoning, dr_cov, stamp)
-        odom.twist.twist.linear.x, odom.twist.twist.angular.z = float(tv), float(rv)
-        self.odom.publish(odom)
-        _fill(self._pose, self._pose.pose, pose, pose_cov, stamp)
-        self.pose.publish(self._pose)
-        to_odom, to_base = self._tf.transforms
-        _set_transform(to_odom, adjustment, stamp)
-        _set_transform(to_base, dead_reckoning, stamp)
-        self.tf.publish(self._tf)
+        if watched(self.odom):
+            odom = self._odom
+            _fill(odom, odom.pose, dead_reckoning, dr_cov, stamp)
+            odom.twist.twist.linear.x, odom.twist.twist.angular.z = float(tv), float(rv)
+            self.odom.publish(odom)
+        if watched(self.pose):
+            _fill(self._pose, self._pose.pose, pose, pose_cov, stamp)
+            self.pose.publish(self._pose)
+        if watched(self.tf):
+            to_odom, to_base = self._tf.transforms
+            _set_transform(to_odom, adjustment, stamp)
+            _set_transform(to_base, dead_reckoning, stamp)
+            self.tf.publish(self._tf)

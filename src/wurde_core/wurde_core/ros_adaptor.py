@@ -115,6 +115,17 @@ def publish(publisher: Any, message: Any) -> None:
         handle.publish(message)
 
 
+def watched(publisher: Any) -> bool:
+    """Whether any subscription is matched with ``publisher`` now.  A volatile message sent while
+    none is reaches nobody, so the standard mirrors are built and sent only then (issue 39): an
+    unwatched robot pays nothing for them; a reader that comes (RViz, Foxglove, ``record``) gets
+    the next one once discovery has matched it.
+
+    :param publisher: an rclpy publisher.
+    """
+    return publisher.get_subscription_count() > 0
+
+
 def pointer(subscription: Any) -> int:
     """The identity a wait set reports ``subscription`` ready by (:meth:`SubscriptionWaiter.ready`).
 

@@ -27,7 +27,7 @@ from nav_msgs.msg import Odometry
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import Imu, LaserScan, NavSatFix, NavSatStatus
 from wurde_core.naming import stream_segment_path
-from wurde_core.ros_adaptor import polled, take
+from wurde_core.ros_adaptor import polled, take, watched
 from wurde_core.ros_messages import quaternion, set_stamp
 
 from .ros_std_covariance import ImuCovariance, ImuNoise, OdometryCovariance, fix_covariance
@@ -37,13 +37,6 @@ __all__ = ['watched', 'FixPublisher', 'ImuPublisher', 'OdometryPublisher', 'Scan
            'ground_truth_publisher', 'std_topic']
 
 _QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
-
-
-def watched(publisher: Any) -> bool:
-    """Whether anyone subscribes to ``publisher``'s topic now.  The standard mirrors are built and
-    sent only then (issue 39): an unwatched robot pays nothing for them; a subscriber that comes
-    (RViz, Foxglove, ``record``) gets the next message once discovery has matched it."""
-    return publisher.get_subscription_count() > 0
 
 
 def std_topic(stream: str, leaf: str) -> str:

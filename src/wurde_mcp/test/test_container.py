@@ -85,6 +85,9 @@ def test_a_module_that_raises_and_a_killed_container_come_back_with_their_state(
         box = _container_of(a_tid)
         assert box == _container_of(b_tid) != a_tid != b_tid, 'two threads of one process'
         assert b'container' in pathlib.Path(f'/proc/{box}/cmdline').read_bytes()
+        # Each module's thread carries its name for top -H, ps -L and bench/footprint.py.
+        assert [pathlib.Path(f'/proc/{box}/task/{tid}/comm').read_text().strip() for tid in (a_tid, b_tid)] == \
+            ['CountA', 'CountB']
         counts.until(lambda seen: min(map(len, seen.values())) >= 5, 'five counts of each')
 
         # CountA's work raises: restarted inside the same container, from its saved count.
