@@ -72,6 +72,7 @@ bench: build
 	$(IN_ENV) python bench/mcp_supervision.py
 	$(IN_ENV) python bench/mcp_load.py
 	$(IN_ENV) python bench/raycast.py
+	$(IN_ENV) python bench/sim_step.py
 	$(IN_ENV) python bench/sick_driver.py
 	$(IN_ENV) python bench/nav_speed.py
 	$(IN_ENV) python bench/nav_offline.py

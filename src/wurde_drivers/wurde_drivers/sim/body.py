@@ -68,8 +68,8 @@ class BumperRing:
                 at: float | None = None) -> tuple[bool, bool]:
         """(front, back): which bumper touches the nearest wall, or (``at``: a stamp) a person
         then, at this pose."""
-        dist, point, _ = world.nearest_wall((x, y))
-        touches = [point] if dist <= self.reach else []
+        wall = world.wall_within((x, y), self.reach)
+        touches = [] if wall is None else [wall]
         if at is not None:
             touches += [closest for _, closest in world.people_within((x, y), self.reach, at)]
         aheads = [(p[0] - x) * math.cos(theta) + (p[1] - y) * math.sin(theta) for p in touches]

@@ -26,8 +26,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from wurde_idl.mapfile import Bounds, MapData, Place, polygon_area
 
+from .wall_budget import WallBudget
 from .people import People
-from .raycast import Segments
+from .raycast import EPSILON, Segments
 from .shapes import Shapes
 
 __all__ = ['Bounds', 'Place', 'World', 'points_in_polygon', 'polygon_area']
@@ -74,6 +75,7 @@ class World:
         if np.any(lengths == 0.0):
             raise ValueError(f'wall {int(np.argmin(lengths))} has zero length')
         self._segments = Segments(segments)
+        self._walls_budget = WallBudget(self._segments)
         self.walls: NDArray = self._segments.walls
         self.places: dict[str, Place] = {}
         for place_name, pose in (places or {}).items():
@@ -174,6 +176,16 @@ class World:
         """
         return self._segments.nearest(point)
 
+    def wall_within(self, point: ArrayLike, reach: float) -> NDArray | None:
+        """The closest point of the nearest wall if it is within ``reach`` of ``point``, else None
+        (a bumper's question, asked at every simulation step: answered from the clearance
+        budget, :mod:`.wall_budget`, while the robot is in open space)."""
+        xy = np.asarray(point, dtype=np.float64).reshape(2)
+        if self._walls_budget.clear([xy], reach, refresh=False):
+            return None
+        distance, closest, _ = self._walls_budget.nearest(xy)
+        return closest if distance <= reach else None
+
     # -- motion ----------------------------------------------------------------------------------
 
     def circle_collides(self, center: ArrayLike, radius: float) -> bool:
@@ -196,7 +208,11 @@ class World:
         """
         if radius < 0:
             raise ValueError(f'radius must not be negative, got {radius}')
-        free = self._segments.sweep_circle(start, end, radius)
+        ends = np.asarray(start, dtype=np.float64).reshape(2), np.asarray(end, dtype=np.float64).reshape(2)
+        # A move that stays clear of every wall by more than sweep_circle's touching tolerance is
+        # free without sweeping it against each wall (:mod:`.wall_budget`).
+        free = 1.0 if self._walls_budget.clear(ends, radius + 4 * EPSILON) \
+            else self._segments.sweep_circle(*ends, radius)
         if at is not None and len(self.people) and free > 0.0:
             free = min(free, self.shapes_at(at).sweep_circle(start, end, radius))
         return free
