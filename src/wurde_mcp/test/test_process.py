@@ -10,6 +10,8 @@ import pytest
 from wurde_mcp.clock import SupervisionClock
 from wurde_mcp.process import ModuleProcess
 
+from mcp_fixture import wait_file
+
 STUBBORN = ['/bin/sh', '-c', 'trap "echo got INT" INT; trap "echo got TERM" TERM; '
             'echo ready; while :; do sleep 0.01; done']
 
@@ -18,6 +20,9 @@ STUBBORN = ['/bin/sh', '-c', 'trap "echo got INT" INT; trap "echo got TERM" TERM
 def test_stop_escalates_in_the_background_to_sigkill(tmp_path: pathlib.Path) -> None:
     process = ModuleProcess('Stubborn', STUBBORN, str(tmp_path))
     try:
+        # Its traps are set once it says so: a SIGINT before that (a loaded machine starts a
+        # shell slowly) ends it at once, as it should, and there is nothing to escalate.
+        wait_file(tmp_path / 'Stubborn.log', 'ready\n')
         started = time.monotonic()
         process.stop(step_s=0.3, grace_s=0.2)
         assert time.monotonic() - started < 0.1  # asking never waits for the escalation
@@ -29,6 +34,10 @@ def test_stop_escalates_in_the_background_to_sigkill(tmp_path: pathlib.Path) -> 
         process.wait(10.0)
     log = (tmp_path / 'Stubborn.log').read_text()
     assert 'got INT' in log and 'got TERM' in log and log.endswith('--- exit code -9\n')
+    # Each signal of the stop is said in the log with where the threads waited (a stuck module's
+    # last words).
+    said = [line.split()[1] for line in log.splitlines() if ' s after the stop was asked; its threads: ' in line]
+    assert said == ['SIGINT', 'SIGTERM', 'SIGKILL'], log
     process.signal(signal.SIGKILL)  # after the end: a no-op, never a reused pid
     assert not process.stopping()
 

@@ -22,6 +22,7 @@ session on Python 3.10).
 from __future__ import annotations
 
 import errno
+import math
 import os
 import pathlib
 import select
@@ -31,6 +32,8 @@ import subprocess
 import sys
 import threading
 import time
+
+from .progress import where_threads_wait
 
 #: Default wait between escalation steps (s).
 STOP_STEP_S = 3.0
@@ -89,6 +92,7 @@ class ModuleProcess:
         log_dir.mkdir(parents=True, exist_ok=True)
         self.log_path = log_dir / f'{name}.log'
         self._log = open(self.log_path, 'ab')  # noqa: SIM115 - closed by the owner thread
+        self._stop_asked = math.nan
         self._log.write(f'--- {time.strftime("%Y-%m-%d %H:%M:%S")} start: {argv}\n'.encode())
         self._log.flush()
         command = argv
@@ -168,6 +172,8 @@ class ModuleProcess:
         :param grace_s: the wait before SIGINT (s), for a module already told to Quit.
         """
         with self._request_lock:
+            if not self._schedule:
+                self._stop_asked = time.monotonic()
             self._schedule = escalation(step_s, grace_s, self._schedule)
         self._wake()
 
@@ -195,6 +201,15 @@ class ModuleProcess:
         return code
 
     # -- the owner thread ------------------------------------------------------------------------
+    def _note_signal(self, signum: int, now: float) -> None:
+        """Say in the module's log which signal of a stop it gets, and where its threads wait:
+        a module that does not end when asked shows what it was stuck in (its last words before
+        a SIGKILL are otherwise lost)."""
+        where = where_threads_wait(self.popen.pid)
+        self._log.write(f'--- {signal.Signals(signum).name} {now - self._stop_asked:.1f} s after the stop '
+                        f'was asked; its threads: {where or "gone"}\n'.encode())
+        self._log.flush()
+
     def _executed(self) -> None:
         """The launcher exec'd the module (or ended): send what was asked for meanwhile."""
         with self._fd_lock:
@@ -230,6 +245,7 @@ class ModuleProcess:
                 with self._request_lock:
                     while self._schedule and self._schedule[0][0] <= now:
                         _, sig = self._schedule.pop(0)
+                        self._note_signal(sig, now)
                         self.signal(sig)
         finally:
             self.ended = time.monotonic()
