@@ -9,10 +9,10 @@ false zombies under load came from.
 So the MCP judges silence against its own loop lag.  This clock advances with the monotonic
 clock while the supervision loop runs at its pace, but one gap between two looks counts at most
 ``max_gap_s``: the rest of a longer gap is the MCP's own stall (with the loop running every
-10 ms, a gap past 50 ms means the MCP did not run), and is *watched time* no module is charged
-for.  It also tells how long the MCP has been looking steadily since its last stall.  The
-supervisor (:meth:`wurde_mcp.supervisor.Supervisor.tick`) calls a module a zombie only when it
-is silent past its TTL by the monotonic clock, and either
+20 ms, :data:`wurde_mcp.node.LOOP_S`, a gap past 50 ms means the MCP did not run), and is
+*watched time* no module is charged for.  It also tells how long the MCP has been looking
+steadily since its last stall.  The supervisor (:meth:`wurde_mcp.supervisor.Supervisor.tick`)
+calls a module a zombie only when it is silent past its TTL by the monotonic clock, and either
 
 - silent past its TTL in watched time too, or
 - the MCP has been looking steadily for :data:`REVIEW_S` since its last stall — long enough to
