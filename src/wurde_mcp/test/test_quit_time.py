@@ -10,6 +10,8 @@ off by the signals.
 from __future__ import annotations
 
 import pathlib
+import re
+import signal
 import time
 
 from mcp_fixture import NOTICED, start_mcp, wait_file, wait_output, worker, write_config
@@ -38,5 +40,23 @@ def test_the_mcp_waits_the_quit_time_a_module_asked_for(tmp_path, table) -> None
 
 
 def _last_run(log: pathlib.Path) -> str:
-    """The part of a module's log written by its last process."""
-    return log.read_text().rsplit('--- ', 2)[-2]
+    """The part of a module's log written by its last process (after its last start line; the
+    MCP's lines of its stop, ``--- SIGINT ...``, are part of it)."""
+    return re.split(r'^--- \d{4}-\d\d-\d\d [\d:]+ start: .*$', log.read_text(), flags=re.M)[-1]
+
+
+def test_a_quit_nobody_could_hear_yet_is_told_again_once_they_can(tmp_path) -> None:
+    """The MCP ends while a module is still starting (its command channel has no reader yet, as
+    right after a start on a loaded machine): the Quit reached no one, so the module's grace
+    starts with the first Quit it can hear, and it ends cleanly, not by the SIGINT that would
+    have come 2 s after the first Quit."""
+    config, mappings = write_config(tmp_path, worker('Late', extra='-d 2.5'))
+    with start_mcp(tmp_path, config, mappings, '-a') as mcp:
+        wait_output(mcp, r'MCP: started Late')
+        mcp.process.send_signal(signal.SIGINT)
+        ended = wait_output(mcp, r'MCP: Late ended (?P<after>[0-9.]+) s after Quit \(exit code (?P<code>-?\d+); '
+                            r'(?P<readers>\d+) readers', timeout=60)
+    log = (tmp_path / 'mcp-modules' / 'Late.log').read_text()
+    assert ended['readers'] == '0'
+    assert ended['code'] == '0' and float(ended['after']) > 2.0, log
+    assert '--- SIGINT' not in log, log

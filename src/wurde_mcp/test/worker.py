@@ -7,7 +7,9 @@ only SIGKILL ends it (the whole stop escalation runs).  SIGUSR1 makes it spin on
 for a minute without one (hung, though not stopped).  It prints ``<name>: idle`` on entering Idle
 and ``<name>: running again`` on returning to Run (its state hooks).  ``-w S`` makes it work S s
 after Quit before it ends (printing ``saving`` and ``saved``, as a slamModule saving its map);
-``-q S`` asks the MCP for S s to end after Quit (``CommsManager.set_quit_time``).
+``-q S`` asks the MCP for S s to end after Quit (``CommsManager.set_quit_time``); ``-d S`` sleeps S s
+before it makes its node, so that nothing of it is on the graph until then (a module slow to
+start).
 """
 
 import os
@@ -20,8 +22,10 @@ from wurde_core.heartbeat import restart_count
 from wurde_core.resume import STATE_ENV
 from wurde_core.interfaces import Foo
 
+if '-d' in sys.argv[:-1] and '-r' not in sys.argv:  # before its node: nothing of it on the graph yet
+    time.sleep(float(sys.argv[sys.argv.index('-d') + 1]))
 manager = CommsManager('Worker')
-manager.parse_options(sys.argv, 't:sw:q:')
+manager.parse_options(sys.argv, 't:sw:q:d:')
 manager.set_sleep(0.5)  # TTL 1 s: no false zombies on a loaded 2-core machine
 config = global_configuration()
 if config.have_option('t'):

@@ -37,6 +37,11 @@ from .streams import StreamDesk
 BACKOFF_S = (0.0, 0.5, 1.0, 2.0, 4.0)
 #: Least time between two state commands to a module that does not report the state it was told.
 RECOMMAND_S = 1.0
+#: How often a module told to Quit at the MCP's end is told again while it runs (s).
+QUIT_REPEAT_S = 0.25
+#: The longest a module whose command channel has no reader yet is waited for at the MCP's end
+#: before its stop escalation starts without a Quit it could hear (s).
+DEAF_WAIT_S = 5.0
 #: Restarts of one module within :data:`RESTART_WINDOW_S` before the MCP gives up on it: a module
 #: that keeps failing at once is given up on, one that dies now and then in a long run never is.
 MAX_RESTARTS = 5
@@ -417,6 +422,9 @@ class Supervisor:
         grace_s = min(STOP_GRACE_S, wait_s / 5)
         quit_at = time.monotonic()
         longest = wait_s
+        # Who could hear the Quit: the readers of each module's command channel (in the log below).
+        readers = {name: module.heartbeat.peers('request') for name, module in self.modules.items()}
+        deaf: dict[str, float] = {}
         for module in self.modules.values():
             module.wanted = False
             module.start_on_exit = False
@@ -424,9 +432,13 @@ class Supervisor:
             self.command_state(module.name, RunState.QUIT)
             if module.process is not None:
                 grace = module.quit_grace(grace_s)
-                module.process.stop(step_s=step_s, grace_s=grace)
+                if readers[module.name] or not self.owns(module):
+                    module.process.stop(step_s=step_s, grace_s=grace)
+                else:       # not matched yet: its grace starts when it can hear (_repeat_quit)
+                    deaf[module.name] = grace
                 longest = max(longest, wait_s - grace_s + grace)
-        deadline = time.monotonic() + longest
+        deadline = time.monotonic() + longest + (DEAF_WAIT_S if deaf else 0.0)
+        self._repeat_quit(deadline, deaf, step_s, quit_at)
         for module in self.modules.values():
             process = module.process
             if process is not None:
@@ -436,13 +448,38 @@ class Supervisor:
                 else:
                     assert process.ended is not None  # the owner sets it before the exit code
                     g_info(f'MCP: {module.name} ended {process.ended - quit_at:.2f} s after '
-                           f'Quit (exit code {code})')
+                           f'Quit (exit code {code}; {readers[module.name]} readers of its commands)')
                 module.process = None
                 module.pid = 0
                 module.status = StatusMode.DEAD
         for container in self.containers.values():     # their modules have ended: now the process
             container.close(wait_s=max(1.0, deadline - time.monotonic()))
         self._changed = True
+
+    def _repeat_quit(self, deadline: float, deaf: dict[str, float], step_s: float, quit_at: float) -> None:
+        """Tell each module still running to Quit again every :data:`QUIT_REPEAT_S` until it has
+        ended (or ``deadline``; the stop escalation runs meanwhile).  A module whose command
+        channel had no reader yet (``deaf``: its name and quit grace; one started a moment
+        before, discovery not done on a loaded machine) heard nothing: its escalation starts with
+        the first Quit it can hear, or after :data:`DEAF_WAIT_S` without one.  Fresh clones'
+        logs showed such modules still in their loop 2 s after the Quit, ended by the SIGINT,
+        their goodbye's wait then meeting the SIGKILL."""
+        while True:
+            running = [(m, m.process) for m in self.modules.values()
+                       if m.process is not None and m.process.poll() is None]
+            if not running or time.monotonic() >= deadline:
+                return
+            running[0][1].wait(min(QUIT_REPEAT_S, max(0.0, deadline - time.monotonic())))
+            for module, process in running:
+                if process.poll() is not None:
+                    continue
+                self.command_state(module.name, RunState.QUIT)
+                if module.name in deaf:
+                    if module.heartbeat.peers('request'):
+                        process.stop(step_s=step_s, grace_s=deaf.pop(module.name))
+                    elif time.monotonic() - quit_at >= DEAF_WAIT_S:
+                        del deaf[module.name]
+                        process.stop(step_s=step_s, grace_s=0.0)
 
     # -- the loop ------------------------------------------------------------------------------
     def tick(self) -> None:
