@@ -135,11 +135,9 @@ def thread_seconds(pid: int) -> dict[str, float]:
     found: dict[str, float] = defaultdict(float)
     for task in pathlib.Path(f'/proc/{pid}/task').iterdir():
         try:
-            fields = (task / 'stat').read_text().rsplit(')', 1)[1].split()
-            comm = (task / 'comm').read_text().strip()
+            found[(task / 'comm').read_text().strip()] += cpu_seconds(pid, int(task.name))
         except OSError:
             continue
-        found[comm] += (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
     return found
 
 

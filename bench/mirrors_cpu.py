@@ -27,8 +27,10 @@ DUMMIES = [('dummy_base', 'PlutoBase'), ('dummy_sick', 'PlutoLaser'), ('dummy_wr
            ('dummy_dmu', 'PlutoDMU'), ('dummy_gps', 'PlutoGPS')]
 
 
-def cpu_seconds(pid: int) -> float:
-    fields = pathlib.Path(f'/proc/{pid}/stat').read_text().rsplit(')', 1)[1].split()
+def cpu_seconds(pid: int, tid: int | None = None) -> float:
+    """User + system CPU seconds of process ``pid``, or of its thread ``tid``."""
+    stat = pathlib.Path(f'/proc/{pid}/stat' if tid is None else f'/proc/{pid}/task/{tid}/stat')
+    fields = stat.read_text().rsplit(')', 1)[1].split()
     return (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
 
 

@@ -26,10 +26,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from wurde_idl.mapfile import Bounds, MapData, Place, polygon_area
 
-from .wall_budget import WallBudget
 from .people import People
 from .raycast import EPSILON, Segments
 from .shapes import Shapes
+from .wall_budget import WallBudget
 
 __all__ = ['Bounds', 'Place', 'World', 'points_in_polygon', 'polygon_area']
 
