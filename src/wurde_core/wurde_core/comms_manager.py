@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import atexit
 import faulthandler
+import gc
 import math
 import os
 import signal
@@ -94,6 +95,17 @@ def _abandon_teardown_at(deadline: float) -> ExitTimer | None:
         return None
     faulthandler.dump_traceback_later(left, exit=False)
     return timer
+
+
+def _skip_final_collection() -> None:
+    """Spare an ending program the interpreter's last garbage collection: ``gc.freeze`` moves
+    every object into the generation collections never visit, so the finalization frees them by
+    reference counts only.  A module's last collection walks every object of rclpy, numpy and
+    its own (about 0.1 s of CPU, 60 % of its exit); every module of an MCP stopping at once on a
+    loaded machine paid it together, and ended 2 s after the Quit.  What the collection would
+    still run, ``__del__`` of objects in reference cycles, Python does not promise at exit
+    either; the module's device, log file and DDS entities are closed before this."""
+    gc.freeze()
 
 
 class CommsManager:
@@ -798,6 +810,8 @@ class CommsManager:
         atexit.unregister(self.clean_up)
         if ending and process_wide:
             faulthandler.cancel_dump_traceback_later()
+            if exiting:
+                _skip_final_collection()
 
     def _quit_was_commanded(self) -> bool:
         """Whether a Quit command came, also one still waiting in the heartbeat's reader: a
