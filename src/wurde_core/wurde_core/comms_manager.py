@@ -97,14 +97,15 @@ def _abandon_teardown_at(deadline: float) -> ExitTimer | None:
     return timer
 
 
-def _skip_final_collection() -> None:
+def skip_final_collection() -> None:
     """Spare an ending program the interpreter's last garbage collection: ``gc.freeze`` moves
     every object into the generation collections never visit, so the finalization frees them by
     reference counts only.  A module's last collection walks every object of rclpy, numpy and
     its own (about 0.1 s of CPU, 60 % of its exit); every module of an MCP stopping at once on a
     loaded machine paid it together, and ended 2 s after the Quit.  What the collection would
     still run, ``__del__`` of objects in reference cycles, Python does not promise at exit
-    either; the module's device, log file and DDS entities are closed before this."""
+    either; the module's device, log file and DDS entities are closed before this.  For a
+    program that ends right after it (a module's clean-up, a container's end)."""
     gc.freeze()
 
 
@@ -811,7 +812,7 @@ class CommsManager:
         if ending and process_wide:
             faulthandler.cancel_dump_traceback_later()
             if exiting:
-                _skip_final_collection()
+                skip_final_collection()
 
     def _quit_was_commanded(self) -> bool:
         """Whether a Quit command came, also one still waiting in the heartbeat's reader: a

@@ -41,6 +41,7 @@ import rclpy
 from rclpy.context import Context
 from rclpy.signals import SignalHandlerOptions
 from wurde_core import module_context
+from wurde_core.comms_manager import skip_final_collection
 
 #: The longest wait for the modules to end after a quit of the whole container (s).
 QUIT_WAIT_S = 20.0
@@ -245,6 +246,7 @@ def main(argv: list[str] | None = None) -> int:
     host.serve()
     ended = host.wait_all(QUIT_WAIT_S)
     host.context.try_shutdown()
+    skip_final_collection()     # the last collection walked every module's objects: 0.15 s of CPU
     return 0 if ended else 1
 
 
