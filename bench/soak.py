@@ -23,8 +23,10 @@ goals.  Exit status 0 when every figure holds (see ``verdict``).
 Usage: ``make soak [SOAK_SECONDS=600]`` or
 ``python bench/soak.py [--seconds 600] [--kill-every 10] [--seed 1] [--victims A,B] [--signals STOP]``
 (``--victims``/``--signals``: only those modules, those signals — one failure at a time).  The
-Pose and the truth seen are written to ``pose.csv`` and ``truth.csv`` (stamp, x, y, theta) in the
-soak's directory.
+Pose, the dead reckoning (stream 0) and the truth seen are written to ``pose.csv``,
+``dead-reckoning.csv`` and ``truth.csv`` (stamp, x, y, theta) in the soak's directory, and the
+DMU's integrated heading to ``dmu.csv`` (stamp, 0, 0, theta): where to look when a restart's Pose
+was off.
 """
 
 from __future__ import annotations
@@ -46,7 +48,7 @@ from dataclasses import dataclass, field
 
 from lxml import etree
 
-from nav_run import PLUTO, POSE_STREAM, Track, compare, write_config
+from nav_run import DR_STREAM, PLUTO, POSE_STREAM, Track, compare, write_config
 
 HERE = pathlib.Path(__file__).resolve().parent
 COUNTER = HERE / 'soak_counter.py'
@@ -251,7 +253,7 @@ def main() -> int:
         parser.error('--signals: one or more of KILL, STOP, TERM')
     require_loopback('soak', 'make soak')
     from wurde_core import CommsManager, RunState, StatusMode
-    from wurde_core.interfaces import Egomotion, Foo, LocalizationPose, SimpleControl
+    from wurde_core.interfaces import DMUState, Egomotion, Foo, LocalizationPose, SimpleControl
     from wurde_core.mcp_client import control_stream
     from wurde_testing import claim_domain_id
 
@@ -270,12 +272,13 @@ def main() -> int:
     table = SimpleControl(control_stream())
     count = Foo(COUNT_STREAM)
     truth_obj, pose_obj = Egomotion('PlutoBaseTruth'), LocalizationPose(POSE_STREAM)
-    for obj in (table, count, truth_obj, pose_obj):
+    dr_obj, dmu_obj = LocalizationPose(DR_STREAM), DMUState('PlutoDMU')
+    for obj in (table, count, truth_obj, pose_obj, dr_obj, dmu_obj):
         obj.set_queue_mode(True)
         manager.register_consumer(obj)
     rows: dict[str, tuple[StatusMode, RunState, int, int]] = {}
     counted = Counted()
-    truth, pose = Track(), Track()
+    truth, pose, dead_reckoning, dmu = Track(), Track(), Track(), Track()
     kills: list[Kill] = []
 
     def take() -> None:
@@ -292,6 +295,11 @@ def main() -> int:
         while pose_obj.get_next_data():
             p = pose_obj.data.pose
             pose.add(pose_obj.data.timestamp.get_seconds(), p.x(), p.y(), p.theta())
+        while dr_obj.get_next_data():
+            p = dr_obj.data.pose
+            dead_reckoning.add(dr_obj.data.timestamp.get_seconds(), p.x(), p.y(), p.theta())
+        while dmu_obj.get_next_data():
+            dmu.add(dmu_obj.data.timestamp.get_seconds(), 0.0, 0.0, dmu_obj.data.theta)
         now = time.monotonic()
         for kill in kills:
             if kill.recovered_s is None and kill.name in rows:
@@ -363,7 +371,8 @@ def main() -> int:
         manager.clean_up()
         claim.release()
     left = orphans(marker)
-    for track, name in ((pose, 'pose.csv'), (truth, 'truth.csv')):
+    for track, name in ((pose, 'pose.csv'), (truth, 'truth.csv'), (dead_reckoning, 'dead-reckoning.csv'),
+                        (dmu, 'dmu.csv')):
         (work / name).write_text(''.join(f'{s:.4f},{x:.4f},{y:.4f},{th:.5f}\n'
                                          for s, (x, y, th) in zip(track.stamps, track.poses)))
     errors = compare(pose, truth)
