@@ -12,8 +12,9 @@ Pluto 3: the localization service fuses "the odometer and inertial data".  The r
   odometry: no motion.  A new base process's first sample (the caller says so) is the motion from
   its zero, where the old one left the robot, if the robot could have made it; else no motion.
   Either adds ``RESET_SIGMA`` to the covariance (the robot may have moved unheard).
-- An odometry sample waits (at most ``dmu_stale_s`` of odometry time) for the DMU to cover it, so
-  both sources are used at the same instants.
+- An odometry sample waits for the DMU to cover it, so both sources are used at the same instants:
+  while the DMU is at most ``dmu_stale_s`` of odometry time behind, or was heard within
+  ``DMU_HEARD_S`` of wall time (late, not gone).
 
 The pose starts at ``start`` and never jumps: it is the continuous estimate of stream (0).  A
 dead reckoning resumed from a saved state (``resume_odometry``, see :mod:`pluto_nav.resume`)
@@ -37,7 +38,7 @@ import numpy as np
 from .geometry import compose, compose_jacobians, interpolate, relative, wrap
 from .odometry_model import OdometryNoiseModel, increment_covariance
 
-__all__ = ['RESET_SIGMA', 'DeadReckoning', 'DrSample', 'possible']
+__all__ = ['DMU_HEARD_S', 'RESET_SIGMA', 'DeadReckoning', 'DrSample', 'possible']
 
 #: Seconds of history kept for interpolation at scan times and past Post_Pose stamps.
 HISTORY_S = 5.0
@@ -51,6 +52,12 @@ MAX_HISTORY = 20000
 #: on (its subscription is matched in its own time: 1 s was too short on a loaded machine); after
 #: that the gap's turn is the odometry's (:attr:`DeadReckoning.dmu_not_come` counts it).
 RESUME_DMU_WAIT_S = 5.0
+#: Wall seconds since the DMU was last heard within which an odometry sample it has not covered
+#: waits for it however far the odometry's stamps are ahead (``dmu_stale_s``): a DMU heard a moment
+#: ago is late, not gone.  A soak caught the DMU process 0.3 s behind the odometry just after the
+#: base's restart (the machine loaded by the new process); three steps of a 1 rad/s turn then took
+#: the odometry's turn, 2.6 degrees off together.  Only with a wall clock (offline, stamps alone).
+DMU_HEARD_S = 1.0
 #: An odometry increment faster than this (m/s, rad/s) is a reset of the odometry, not motion.
 MAX_SPEED = 5.0
 MAX_TURN_RATE = 10.0
@@ -92,7 +99,7 @@ class DeadReckoning:
     :param noise: the odometry error model (tunable).
     :param dmu_sigma: rad/sqrt(s), heading random walk of the DMU's integrated heading.
     :param dmu_stale_s: s of odometry time after which a DMU that has not covered a sample is
-        considered absent for it.
+        considered absent for it, unless it was heard within :data:`DMU_HEARD_S` of wall time.
     :param resume_odometry: ``(stamp, (x, y, theta))``, the odometry reading at which the robot was
         at ``start`` (a restarted module resuming a saved state); None: ``start`` is where the
         first odometry sample finds the robot.
@@ -126,6 +133,8 @@ class DeadReckoning:
         #: Stamps of odometry samples that are a restarted base's first.
         self._restarts_at: set[float] = set()
         self._dmu: collections.deque[tuple[float, float, float, float]] = collections.deque()
+        #: The wall time the last DMU sample came (None: none yet, or no wall clock).
+        self._dmu_heard: float | None = None
         self._dmu_unwrapped = 0.0
         self._dmu_theta: float | None = None
         #: Resumed with the DMU's reading and no sample of it yet: -1 until odometry waits for
@@ -172,6 +181,7 @@ class DeadReckoning:
         elif self._dmu and stamp <= self._dmu[-1][0]:
             return []
         self._awaiting_dmu = None
+        self._dmu_heard = None if self._clock is None else self._now()
         last = theta if restarted else self._dmu_theta
         self._dmu_unwrapped = theta if last is None else self._dmu_unwrapped + wrap(theta - last)
         self._dmu_theta = theta
@@ -187,7 +197,7 @@ class DeadReckoning:
             stamp, odo = self._pending[0]
             covered = bool(self._dmu) and self._dmu[-1][0] >= stamp
             newest = self._pending[-1][0]
-            stale = not self._dmu or newest - self._dmu[-1][0] > self.dmu_stale_s
+            stale = (not self._dmu or newest - self._dmu[-1][0] > self.dmu_stale_s) and not self._dmu_late()
             if not covered and stale and self._awaiting_dmu is not None:
                 # Resumed with the DMU's reading: its own samples are seconds past it, so wait
                 # (RESUME_DMU_WAIT_S of wall time) for the DMU that ran on to cover the gap.
@@ -272,6 +282,10 @@ class DeadReckoning:
         if value is None or self._dmu_theta is None:
             return None
         return (value[0] - (self._dmu_unwrapped - self._dmu_theta), value[1], value[2])
+
+    def _dmu_late(self) -> bool:
+        """Whether the DMU was heard within :data:`DMU_HEARD_S` of wall time: late, not gone."""
+        return self._dmu_heard is not None and self._now() - self._dmu_heard <= DMU_HEARD_S
 
     def _now(self) -> float:
         return 0.0 if self._clock is None else self._clock()

@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from pluto_nav.adjustment import Adjuster
-from pluto_nav.dead_reckoning import HISTORY_WALL_S, RESET_SIGMA, DeadReckoning
+from pluto_nav.dead_reckoning import DMU_HEARD_S, HISTORY_WALL_S, RESET_SIGMA, DeadReckoning
 from pluto_nav.geometry import compose, relative
 from pluto_nav.streams import LocPose
 
@@ -46,15 +46,47 @@ def test_rotation_comes_from_the_dmu_when_fresh_and_from_odometry_when_not() -> 
 
 
 def test_an_odometry_sample_waits_for_the_dmu_but_not_for_ever() -> None:
-    dr = DeadReckoning((1.0, 2.0, 0.0), dmu_stale_s=0.25)
+    wall = [0.0]
+    dr = DeadReckoning((1.0, 2.0, 0.0), dmu_stale_s=0.25, clock=lambda: wall[0])
     dr.add_dmu(0.0, 0.0, 0.0, 0.0)
     assert len(dr.add_odometry(0.0, 0.0, 0.0, 0.0)) == 1
     assert dr.add_odometry(0.1, 0.1, 0.0, 0.0) == []          # the DMU has not reached 0.1 yet
     assert len(dr.add_dmu(0.12, 0.0, 0.0, 0.0)) == 1           # now it has
     assert dr.add_odometry(0.2, 0.2, 0.0, 0.0) == []
-    done = dr.add_odometry(0.5, 0.5, 0.0, 0.0)                  # the DMU went quiet: 0.38 s > 0.25 s
+    # 0.38 s of odometry ahead of the DMU, but the DMU was heard a moment ago: late, not gone.
+    assert dr.add_odometry(0.5, 0.5, 0.0, 0.0) == []
+    wall[0] = DMU_HEARD_S + 0.01                               # the DMU went quiet
+    done = dr.add_odometry(0.6, 0.6, 0.0, 0.0)
+    assert [s.stamp for s in done] == [0.2, 0.5, 0.6] and not done[-1].dmu_used
+    assert dr.latest.pose == pytest.approx([1.6, 2.0, 0.0])
+
+
+def test_without_a_wall_clock_the_dmu_is_waited_for_by_the_stamps_alone() -> None:
+    dr = DeadReckoning((1.0, 2.0, 0.0), dmu_stale_s=0.25, clock=None)      # a recording replayed
+    dr.add_dmu(0.0, 0.0, 0.0, 0.0)
+    assert len(dr.add_odometry(0.0, 0.0, 0.0, 0.0)) == 1
+    assert dr.add_odometry(0.2, 0.2, 0.0, 0.0) == []
+    done = dr.add_odometry(0.5, 0.5, 0.0, 0.0)                  # 0.38 s > 0.25 s: absent
     assert [s.stamp for s in done] == [0.2, 0.5] and not done[-1].dmu_used
-    assert dr.latest.pose == pytest.approx([1.5, 2.0, 0.0])
+
+
+def test_a_dmu_behind_a_backlog_of_odometry_still_gives_every_turn() -> None:
+    """The soak's case: just after a base restart the DMU process fell 0.3 s behind the odometry
+    while the robot turned at 1 rad/s; its samples came late, and the turn must be theirs."""
+    wall = [0.0]
+    dr = DeadReckoning((0.0, 0.0, 0.0), dmu_stale_s=0.25, clock=lambda: wall[0])
+    dr.add_dmu(0.0, 0.0, 0.0, 0.0)
+    dr.add_odometry(0.0, 0.0, 0.0, 0.0)
+    done = []
+    for k in range(1, 6):                          # the odometry's turn is 20 % too much
+        done += dr.add_odometry(0.1 * k, 0.0, 0.0, 0.12 * k)
+    assert done == []                              # 0.5 s ahead of a DMU heard a moment ago
+    wall[0] = 0.4
+    for k in range(1, 27):                         # the DMU's late samples, 50 Hz, the true turn
+        done += dr.add_dmu(0.02 * k, 0.1 * 0.2 * k, 0.0, 0.0)
+    assert [s.stamp for s in done] == pytest.approx([0.1, 0.2, 0.3, 0.4, 0.5])
+    assert all(s.dmu_used for s in done)
+    assert dr.latest.pose[2] == pytest.approx(0.5, abs=1e-9)
 
 
 @settings(max_examples=50, deadline=None)
