@@ -170,9 +170,15 @@ def test_the_limits_are_tunables_set_while_running_and_from_a_params_file(
                 dump = tool.dump()
             finally:
                 tool.close()
-            first = len(driver.statuses)
-            driver.until(lambda: any(len(m.data) == 2 and m.data[0] > 0.19 for m in driver.statuses[first:]),
-                         'driving at the new limit', every=lambda: d.velocity(0.5, 0.0))
+            first, first_base = len(driver.statuses), len(driver.base_states)
+
+            def at_the_limit() -> bool:
+                # Both the drive's status and the base's command state (a separate topic, which
+                # a loaded machine may deliver later than the status) show the new limit.
+                return (any(len(m.data) == 2 and m.data[0] > 0.19 for m in driver.statuses[first:])
+                        and any(s.velocity[0] > 0.19 for s in driver.base_states[first_base:]))
+
+            driver.until(at_the_limit, 'driving at the new limit', every=lambda: d.velocity(0.5, 0.0))
             statuses = driver.statuses[first:]
             assert max(m.data[0] for m in statuses if len(m.data) == 2) <= 0.2 + 1e-6   # float32 on the wire
             assert max(s.velocity[0] for s in driver.base_states) <= 0.2 + 1e-6   # float32 on the wire
