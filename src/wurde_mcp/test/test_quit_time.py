@@ -16,7 +16,7 @@ import time
 
 from mcp_fixture import NOTICED, start_mcp, wait_file, wait_output, worker, write_config
 from wurde_core import StatusMode
-from wurde_mcp.supervisor import CMD_STOP
+from wurde_mcp.supervisor import CMD_STOP, START_TIMEOUT_S
 
 
 def test_the_mcp_waits_the_quit_time_a_module_asked_for(tmp_path, table) -> None:
@@ -60,3 +60,21 @@ def test_a_quit_nobody_could_hear_yet_is_told_again_once_they_can(tmp_path) -> N
     assert ended['readers'] == '0'
     assert ended['code'] == '0' and float(ended['after']) > 2.0, log
     assert '--- SIGINT' not in log, log
+
+
+def test_a_module_asleep_before_it_can_hear_is_stopped_without_a_quit(tmp_path) -> None:
+    """A module that sleeps before it makes its node (waiting for a device, say) makes no
+    progress: after 5 s of that (DEAF_WAIT_S) its stop begins without a Quit it could hear, and
+    the MCP does not wait out the 30 s a starting module is given."""
+    config, mappings = write_config(tmp_path, worker('Sleeper', extra='-d 120'))
+    with start_mcp(tmp_path, config, mappings, '-a') as mcp:
+        wait_output(mcp, r'MCP: started Sleeper')
+        mcp.process.send_signal(signal.SIGINT)
+        wait_output(mcp, r'MCP: Sleeper never came to hear its Quit \((?P<since>[0-9.]+) s after its start\)',
+                    timeout=60)
+        ended = wait_output(mcp, r'MCP: Sleeper ended (?P<after>[0-9.]+) s after Quit \(exit code (?P<code>-?\d+); '
+                            r'(?P<readers>\d+) readers', timeout=60)
+    log = (tmp_path / 'mcp-modules' / 'Sleeper.log').read_text()
+    assert ended['readers'] == '0'
+    assert 5.0 <= float(ended['after']) < START_TIMEOUT_S, log
+    assert '--- SIGINT' in log, log

@@ -39,8 +39,10 @@ BACKOFF_S = (0.0, 0.5, 1.0, 2.0, 4.0)
 RECOMMAND_S = 1.0
 #: How often a module told to Quit at the MCP's end is told again while it runs (s).
 QUIT_REPEAT_S = 0.25
-#: The longest a module whose command channel has no reader yet is waited for at the MCP's end
-#: before its stop escalation starts without a Quit it could hear (s).
+#: How long a module whose command channel has no reader yet is waited for at the MCP's end while
+#: its process makes no progress (asleep, no CPU used), before its stop escalation starts without
+#: a Quit it could hear (s).  One still starting (runnable or using CPU) is waited for until it can
+#: hear, up to :data:`START_TIMEOUT_S` from its start, when the MCP would take it as hung anyway.
 DEAF_WAIT_S = 5.0
 #: Restarts of one module within :data:`RESTART_WINDOW_S` before the MCP gives up on it: a module
 #: that keeps failing at once is given up on, one that dies now and then in a long run never is.
@@ -147,6 +149,25 @@ class Module:
     @property
     def internal(self) -> bool:
         return self.spec.locale == ProcessLocale.INTERNAL
+
+
+class _Deaf:
+    """A module told to Quit at the MCP's end before anyone read its command channel: its quit
+    grace, and when its process last made progress (runnable or using CPU)."""
+
+    __slots__ = ('grace', 'progress_at', 'cpu_s')
+
+    def __init__(self, grace: float, now: float) -> None:
+        self.grace, self.progress_at, self.cpu_s = grace, now, -1.0
+
+    def stalled(self, pid: int, now: float) -> bool:
+        """Whether the process has made no progress for :data:`DEAF_WAIT_S`."""
+        state = process_state(pid)
+        if state is None:
+            return False
+        if state.runnable or state.cpu_s > self.cpu_s:
+            self.progress_at, self.cpu_s = now, state.cpu_s
+        return now - self.progress_at >= DEAF_WAIT_S
 
 
 class Supervisor:
@@ -424,7 +445,7 @@ class Supervisor:
         longest = wait_s
         # Who could hear the Quit: the readers of each module's command channel (in the log below).
         readers = {name: module.heartbeat.peers('request') for name, module in self.modules.items()}
-        deaf: dict[str, float] = {}
+        deaf: dict[str, _Deaf] = {}
         for module in self.modules.values():
             module.wanted = False
             module.start_on_exit = False
@@ -435,10 +456,9 @@ class Supervisor:
                 if readers[module.name] or not self.owns(module):
                     module.process.stop(step_s=step_s, grace_s=grace)
                 else:       # not matched yet: its grace starts when it can hear (_repeat_quit)
-                    deaf[module.name] = grace
+                    deaf[module.name] = _Deaf(grace, quit_at)
                 longest = max(longest, wait_s - grace_s + grace)
-        deadline = time.monotonic() + longest + (DEAF_WAIT_S if deaf else 0.0)
-        self._repeat_quit(deadline, deaf, step_s, quit_at)
+        deadline = self._repeat_quit(time.monotonic() + longest, deaf, step_s, wait_s - grace_s)
         for module in self.modules.values():
             process = module.process
             if process is not None:
@@ -456,30 +476,46 @@ class Supervisor:
             container.close(wait_s=max(1.0, deadline - time.monotonic()))
         self._changed = True
 
-    def _repeat_quit(self, deadline: float, deaf: dict[str, float], step_s: float, quit_at: float) -> None:
+    def _repeat_quit(self, deadline: float, deaf: dict[str, _Deaf], step_s: float, escalation_s: float) -> float:
         """Tell each module still running to Quit again every :data:`QUIT_REPEAT_S` until it has
         ended (or ``deadline``; the stop escalation runs meanwhile).  A module whose command
-        channel had no reader yet (``deaf``: its name and quit grace; one started a moment
-        before, discovery not done on a loaded machine) heard nothing: its escalation starts with
-        the first Quit it can hear, or after :data:`DEAF_WAIT_S` without one.  Fresh clones'
-        logs showed such modules still in their loop 2 s after the Quit, ended by the SIGINT,
-        their goodbye's wait then meeting the SIGKILL."""
+        channel had no reader yet (``deaf``: one started a moment before, discovery not done on
+        a loaded machine) heard nothing: its escalation starts with the first Quit it can hear,
+        or when it stops making progress for :data:`DEAF_WAIT_S` (asleep, no CPU used), or
+        :data:`START_TIMEOUT_S` after its start; the deadline then grows by ``escalation_s`` and
+        its quit grace.  Fresh clones' logs showed such modules still in their loop 2 s after the
+        Quit, ended by the SIGINT, their goodbye's wait then meeting the SIGKILL; and a module
+        whose start took over 5 s on a loaded machine ended by a SIGINT it need not have had.
+
+        :returns: the deadline for the modules' ends.
+        """
         while True:
             running = [(m, m.process) for m in self.modules.values()
                        if m.process is not None and m.process.poll() is None]
-            if not running or time.monotonic() >= deadline:
-                return
-            running[0][1].wait(min(QUIT_REPEAT_S, max(0.0, deadline - time.monotonic())))
+            now = time.monotonic()
+            if not running or (now >= deadline and not deaf):
+                return deadline
+            running[0][1].wait(min(QUIT_REPEAT_S, max(0.0, deadline - now)) if not deaf else QUIT_REPEAT_S)
             for module, process in running:
                 if process.poll() is not None:
+                    deaf.pop(module.name, None)
                     continue
                 self.command_state(module.name, RunState.QUIT)
-                if module.name in deaf:
-                    if module.heartbeat.peers('request'):
-                        process.stop(step_s=step_s, grace_s=deaf.pop(module.name))
-                    elif time.monotonic() - quit_at >= DEAF_WAIT_S:
-                        del deaf[module.name]
-                        process.stop(step_s=step_s, grace_s=0.0)
+                waiting = deaf.get(module.name)
+                if waiting is None:
+                    continue
+                now = time.monotonic()
+                if module.heartbeat.peers('request'):
+                    grace = waiting.grace
+                elif waiting.stalled(process.pid, now) or now - process.started >= START_TIMEOUT_S:
+                    g_warn(f'MCP: {module.name} never came to hear its Quit ({now - process.started:.1f} s '
+                           'after its start): its stop begins without one')
+                    grace = 0.0
+                else:
+                    continue
+                del deaf[module.name]
+                process.stop(step_s=step_s, grace_s=grace)
+                deadline = max(deadline, now + escalation_s + grace)
 
     # -- the loop ------------------------------------------------------------------------------
     def tick(self) -> None:
