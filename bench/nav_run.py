@@ -34,6 +34,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 PLUTO = ROOT / 'config' / 'pluto'
 POSE_STREAM = 'Localization/Pose'
 DR_STREAM = 'Localization/Dead-Reckoning'
+POST_STREAM = 'Localization/Post_Pose'
 RECOVERED_M = 0.10
 MOVEMENT_CHAIN = ('driveModule', 'avoidModule', 'motionModule', 'navigator', 'map_server')
 #: The benchmark's ROS domain, claimed by :func:`bench_setup` and held until the process ends.

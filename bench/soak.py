@@ -25,8 +25,9 @@ Usage: ``make soak [SOAK_SECONDS=600]`` or
 (``--victims``/``--signals``: only those modules, those signals — one failure at a time).  The
 Pose, the dead reckoning (stream 0) and the truth seen are written to ``pose.csv``,
 ``dead-reckoning.csv`` and ``truth.csv`` (stamp, x, y, theta) in the soak's directory, and the
-DMU's integrated heading to ``dmu.csv`` (stamp, 0, 0, theta): where to look when a restart's Pose
-was off.
+DMU's integrated heading to ``dmu.csv`` (stamp, 0, 0, theta), and every Post_Pose the localModule
+accepted to ``post.csv`` (its stamp, and the pose written: an estimator's is the laser's pose):
+where to look when a restart's Pose was off.
 """
 
 from __future__ import annotations
@@ -48,7 +49,7 @@ from dataclasses import dataclass, field
 
 from lxml import etree
 
-from nav_run import DR_STREAM, PLUTO, POSE_STREAM, Track, compare, write_config
+from nav_run import DR_STREAM, PLUTO, POSE_STREAM, POST_STREAM, Track, compare, write_config
 
 HERE = pathlib.Path(__file__).resolve().parent
 COUNTER = HERE / 'soak_counter.py'
@@ -273,12 +274,13 @@ def main() -> int:
     count = Foo(COUNT_STREAM)
     truth_obj, pose_obj = Egomotion('PlutoBaseTruth'), LocalizationPose(POSE_STREAM)
     dr_obj, dmu_obj = LocalizationPose(DR_STREAM), DMUState('PlutoDMU')
-    for obj in (table, count, truth_obj, pose_obj, dr_obj, dmu_obj):
+    post_obj = LocalizationPose(POST_STREAM)
+    for obj in (table, count, truth_obj, pose_obj, dr_obj, dmu_obj, post_obj):
         obj.set_queue_mode(True)
         manager.register_consumer(obj)
     rows: dict[str, tuple[StatusMode, RunState, int, int]] = {}
     counted = Counted()
-    truth, pose, dead_reckoning, dmu = Track(), Track(), Track(), Track()
+    truth, pose, dead_reckoning, dmu, post = Track(), Track(), Track(), Track(), Track()
     kills: list[Kill] = []
 
     def take() -> None:
@@ -300,6 +302,9 @@ def main() -> int:
             dead_reckoning.add(dr_obj.data.timestamp.get_seconds(), p.x(), p.y(), p.theta())
         while dmu_obj.get_next_data():
             dmu.add(dmu_obj.data.timestamp.get_seconds(), 0.0, 0.0, dmu_obj.data.theta)
+        while post_obj.get_next_data():
+            p = post_obj.data.pose
+            post.add(post_obj.data.timestamp.get_seconds(), p.x(), p.y(), p.theta())
         now = time.monotonic()
         for kill in kills:
             if kill.recovered_s is None and kill.name in rows:
@@ -372,7 +377,7 @@ def main() -> int:
         claim.release()
     left = orphans(marker)
     for track, name in ((pose, 'pose.csv'), (truth, 'truth.csv'), (dead_reckoning, 'dead-reckoning.csv'),
-                        (dmu, 'dmu.csv')):
+                        (dmu, 'dmu.csv'), (post, 'post.csv')):
         (work / name).write_text(''.join(f'{s:.4f},{x:.4f},{y:.4f},{th:.5f}\n'
                                          for s, (x, y, th) in zip(track.stamps, track.poses)))
     errors = compare(pose, truth)

@@ -329,7 +329,11 @@ class DeadReckoning:
 
     def at(self, stamp: float) -> DrSample | None:
         """The dead-reckoned pose interpolated at ``stamp`` (None when the history does not reach
-        it: before the first sample or after the latest)."""
+        it: before the first sample or after the latest).  Within a step whose turn is the DMU's,
+        the heading is the DMU's turn up to ``stamp``, not a share of the step's: across a gap in
+        the odometry (a base restarted) the robot stood, then turned, and a scan placed in the gap
+        on a heading drawn straight across it was 10 degrees off, which the poseModule took in
+        and held for 27 s (a soak, issue 38)."""
         history = self.history
         if not history or stamp > history[-1].stamp:
             return None
@@ -341,6 +345,9 @@ class DeadReckoning:
         a, b = history[i - 1], history[i]
         f = (stamp - a.stamp) / (b.stamp - a.stamp)
         pose = interpolate(a.pose, b.pose, f)
+        turn = self._dmu_turn(a.stamp, stamp) if b.dmu_used else None
+        if turn is not None:
+            pose[2] = wrap(a.pose[2] + turn)
         cov = a.covariance + f * (b.covariance - a.covariance)
         return DrSample(stamp, pose, a.phi + f * (b.phi - a.phi), a.psi + f * (b.psi - a.psi), cov,
                         b.dmu_used)
@@ -383,5 +390,18 @@ class DeadReckoning:
         increment = relative(a.pose, b.pose)
         cov = self._steps_covariance(t0, t1)
         if not np.any(cov):     # both times between the same two samples: a share of that step
-            cov = increment_covariance(increment, self.noise)
+            cov = self._share_of_step(t0, t1)
+            if not np.any(cov):
+                cov = increment_covariance(increment, self.noise)
         return increment, 0.5 * (cov + cov.T)
+
+    def _share_of_step(self, t0: float, t1: float) -> np.ndarray:
+        """The covariance of the step that holds both ``t0`` and ``t1``, in proportion to the
+        time between them: within a long step (a base restarted) a scan is as uncertain as the
+        step says (its ``RESET_SIGMA``), not as a short motion drawn across it would be."""
+        stamps = [s.stamp for s in self.history]
+        i = bisect.bisect_left(stamps, t1)
+        if i == 0 or i >= len(stamps) or stamps[i - 1] > t0:
+            return np.zeros((3, 3))
+        step = self.history[i]
+        return step.increment_cov * ((t1 - t0) / (step.stamp - stamps[i - 1]))

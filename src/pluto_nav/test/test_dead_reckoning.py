@@ -234,6 +234,34 @@ def test_a_reset_step_is_as_uncertain_as_the_motion_it_may_hide() -> None:
     assert with_dmu.latest.dmu_used and q[0, 0] >= RESET_SIGMA[0] ** 2 and q[2, 2] < 1e-4
 
 
+def test_within_a_gap_of_the_odometry_the_heading_is_the_dmus() -> None:
+    """The base was down 4 s: the robot stood 3 s, then turned 1 rad in the last second (the DMU
+    sampled on at 50 Hz).  A scan placed inside the gap takes the DMU's heading at its time, not
+    a heading drawn straight across the gap (0.75 rad at 3 s in); and an increment between two
+    scans inside the gap carries its share of the reset step's RESET_SIGMA, not the tiny motion
+    of a straight line."""
+    dr = DeadReckoning((0.0, 0.0, 0.0))
+    for k in range(11):
+        dr.add_dmu(0.1 * k, 0.0, 0.0, 0.0)
+        dr.add_odometry(0.1 * k, 0.0, 0.0, 0.0)
+    for k in range(1, 201):                                 # 1.0 s to 5.0 s
+        t = 1.0 + 0.02 * k
+        dr.add_dmu(t, max(0.0, t - 4.0), 0.0, 0.0)
+    dr.add_odometry(5.0, 0.0, 0.0, 0.0, restarted=True)
+    assert dr.latest.dmu_used and dr.latest.pose[2] == pytest.approx(1.0)
+    assert dr.at(3.5).pose[2] == pytest.approx(0.0, abs=1e-9)
+    assert dr.at(4.0).pose[2] == pytest.approx(0.0, abs=1e-9)
+    assert dr.at(4.5).pose[2] == pytest.approx(0.5)
+    _, inside = dr.increment_between(2.0, 2.2)
+    assert np.sqrt(inside[0, 0]) == pytest.approx(RESET_SIGMA[0] * math.sqrt(0.2 / 4.0), rel=0.05)
+    # Without the DMU the straight line is all there is.
+    alone = DeadReckoning((0.0, 0.0, 0.0))
+    alone.add_odometry(0.0, 0.0, 0.0, 0.0)
+    alone.add_odometry(1.0, 0.0, 0.0, 0.0)
+    alone.add_odometry(2.0, 0.0, 0.0, 1.0)
+    assert alone.at(1.5).pose[2] == pytest.approx(0.5)
+
+
 def test_a_new_base_heard_after_it_moved_counts_its_motion_from_zero() -> None:
     """The new base process was heard 2 s after it started at zero where the old one left the
     robot, having driven 0.3 m: that is the motion (not none); a first reading further than the
