@@ -29,6 +29,7 @@ from .lines import scan_points
 from .matching import MatchSettings
 from .point_map import PointMap, voxel_filter
 from .pose_filter import PoseFilter
+from .relocalize import Relocalization, Relocalizer
 from .wall_map import WallMap
 
 __all__ = ['LineLocalizer', 'ScanLocalizer', 'ScanLocalizerSettings', 'wall_points']
@@ -37,16 +38,27 @@ __all__ = ['LineLocalizer', 'ScanLocalizer', 'ScanLocalizerSettings', 'wall_poin
 class LineLocalizer:
     """Pluto 7.1's poseModule method: lines to walls in a Kalman filter."""
 
-    def __init__(self, wall_map: WallMap, settings: Callable[[], MatchSettings] | None = None) -> None:
+    def __init__(self, wall_map: WallMap, settings: Callable[[], MatchSettings] | None = None, *,
+                 relocalize: bool = True, on_relocalize: Callable[[Relocalization], None] | None = None) -> None:
         """A :class:`.pose_filter.PoseFilter` against ``wall_map``.
 
         :param wall_map: the a-priori map's walls.
         :param settings: called before each update for the matcher's current settings (the poseModule's
             tunables); None: the filter's defaults.
+        :param relocalize: restart the filter where the scans fit the map when they stop fitting
+            its pose (:mod:`.relocalize`).
+        :param on_relocalize: called with each such restart (the poseModule logs it).
         """
         self.wall_map = wall_map
         self.filter = PoseFilter()
         self._settings = settings
+        self.relocalizer: Relocalizer | None = None
+        if relocalize and len(wall_map.walls):
+            try:
+                self.relocalizer = Relocalizer(wall_points(wall_map.walls))
+            except ValueError:
+                self.relocalizer = None       # too small a map to judge a scan by
+        self._on_relocalize = on_relocalize
 
     @property
     def pose(self) -> NDArray:
@@ -76,11 +88,19 @@ class LineLocalizer:
         """Correct the pose with the scan's lines matched to the map's walls.
 
         :param scan: the scan, in the laser frame.
-        :returns: whether any line matched a wall.
+        :returns: whether any line matched a wall, or the filter was restarted where the scan
+            fits the map (:mod:`.relocalize`).
         """
         if self._settings is not None:
             self.filter.settings = self._settings()
-        return self.filter.update(scan.lines(), self.wall_map).matches > 0
+        matched = self.filter.update(scan.lines(), self.wall_map).matches > 0
+        found = None if self.relocalizer is None else self.relocalizer.check(scan, self.filter.pose)
+        if found is None:
+            return matched
+        self.filter.set_pose(found.after, self.relocalizer.covariance())  # type: ignore[union-attr]
+        if self._on_relocalize is not None:
+            self._on_relocalize(found)
+        return True
 
 
 def wall_points(walls: ArrayLike, spacing: float = 0.025) -> NDArray:

@@ -33,6 +33,7 @@ from .estimator import LOOP_S, Estimator
 from .find_wall import find_wall
 from .localizers import LineLocalizer, ScanLocalizer, wall_points
 from .pose_filter import PoseFilter
+from .relocalize import Relocalization
 from .streams import POSE_SETTER
 from .wall_map import WallMap
 
@@ -64,8 +65,14 @@ class PoseModule(Estimator):
         self.wall_map = wall_map
         self.find_wall_pending = False
         self.tuned = TunedSettings(manager, PoseFilter().settings, MATCH_TUNABLES, 'match.')
-        localizer: Method = (LineLocalizer(wall_map, self.tuned.current) if method == 'lines'
-                             else ScanLocalizer(wall_points(wall_map.walls)))
+        name = manager.name
+
+        def relocalized(found: Relocalization) -> None:
+            logger.notice(f'{name}: the scans stopped fitting the map at the filter\'s pose: '
+                          f're-localized, {found.describe()}')
+
+        localizer: Method = (LineLocalizer(wall_map, self.tuned.current, on_relocalize=relocalized)
+                             if method == 'lines' else ScanLocalizer(wall_points(wall_map.walls)))
         super().__init__(manager, logger, localizer, status=STATUS, laser=laser, start_running=start_running)
 
     def command(self) -> None:
