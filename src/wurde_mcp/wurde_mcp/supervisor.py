@@ -492,13 +492,14 @@ class Supervisor:
         while True:
             running = [(m, m.process) for m in self.modules.values()
                        if m.process is not None and m.process.poll() is None]
+            for name in deaf.keys() - {m.name for m, _ in running}:
+                del deaf[name]          # ended meanwhile
             now = time.monotonic()
             if not running or (now >= deadline and not deaf):
                 return deadline
             running[0][1].wait(min(QUIT_REPEAT_S, max(0.0, deadline - now)) if not deaf else QUIT_REPEAT_S)
             for module, process in running:
                 if process.poll() is not None:
-                    deaf.pop(module.name, None)
                     continue
                 self.command_state(module.name, RunState.QUIT)
                 waiting = deaf.get(module.name)
