@@ -292,13 +292,13 @@ class DeadReckoning:
 
     def _dmu_value(self, stamp: float) -> tuple[float, float, float] | None:
         """Unwrapped heading, pitch, roll of the DMU interpolated at ``stamp``."""
-        stamps = [s[0] for s in self._dmu]
-        if not stamps:
+        samples = self._dmu
+        if not samples:
             return None
-        i = bisect.bisect_left(stamps, stamp)
+        i = bisect.bisect_left(samples, stamp, key=_first)
         if i == 0:
-            return None if stamps[0] > stamp else self._dmu[0][1:]
-        if i >= len(stamps):
+            return None if samples[0][0] > stamp else samples[0][1:]
+        if i >= len(samples):
             return None
         (t0, *a), (t1, *b) = self._dmu[i - 1], self._dmu[i]
         f = (stamp - t0) / (t1 - t0)
@@ -337,8 +337,7 @@ class DeadReckoning:
         history = self.history
         if not history or stamp > history[-1].stamp:
             return None
-        stamps = [s.stamp for s in history]
-        i = bisect.bisect_left(stamps, stamp)
+        i = bisect.bisect_left(history, stamp, key=_stamp)
         if i == 0:
             return history[0] if math.isclose(stamp, history[0].stamp) or stamp >= history[0].stamp \
                 else None
@@ -399,9 +398,17 @@ class DeadReckoning:
         """The covariance of the step that holds both ``t0`` and ``t1``, in proportion to the
         time between them: within a long step (a base restarted) a scan is as uncertain as the
         step says (its ``RESET_SIGMA``), not as a short motion drawn across it would be."""
-        stamps = [s.stamp for s in self.history]
-        i = bisect.bisect_left(stamps, t1)
-        if i == 0 or i >= len(stamps) or stamps[i - 1] > t0:
+        history = self.history
+        i = bisect.bisect_left(history, t1, key=_stamp)
+        if i == 0 or i >= len(history) or history[i - 1].stamp > t0:
             return np.zeros((3, 3))
-        step = self.history[i]
-        return step.increment_cov * ((t1 - t0) / (step.stamp - stamps[i - 1]))
+        step = history[i]
+        return step.increment_cov * ((t1 - t0) / (step.stamp - history[i - 1].stamp))
+
+
+def _stamp(sample: DrSample) -> float:
+    return sample.stamp
+
+
+def _first(sample: tuple[float, float, float, float]) -> float:
+    return sample[0]

@@ -18,7 +18,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .geometry import relative
-from .lines import LineFeature, extract_lines
+from .lines import LineFeature, extract_lines, scan_points
+from .point_map import voxel_filter
 
 __all__ = ['DEFAULT_INCREMENT_COV', 'Method', 'Scan', 'ScanCycle']
 
@@ -49,6 +50,18 @@ class Scan:
             self._lines[key] = extract_lines(self.ranges, angles=self.angles, max_range=self.max_range,
                                              **options)
         return self._lines[key]
+
+    def points(self, voxel: float, *, min_range: float = 0.0, max_range: float = np.inf) -> NDArray:
+        """The scan's echoes as ``(N, 2)`` points in the laser's frame, thinned to one per
+        ``voxel`` m cell (what scan matching and the re-localization's fit work on).
+
+        :param voxel: m, the cell size of :func:`.point_map.voxel_filter`.
+        :param min_range: m; a range at or below it is no echo.
+        :param max_range: m; a range at or beyond it (or the scan's own) is no echo.
+        """
+        _, _, x, y, _ = scan_points(self.ranges, angles=self.angles, min_range=min_range,
+                                    max_range=min(max_range, self.max_range))
+        return voxel_filter(np.column_stack([x, y]), voxel)
 
 
 class Method(Protocol):

@@ -25,7 +25,6 @@ from .correlative import Window, guesses, search_guesses
 from .estimation import Scan
 from .geometry import compose, compose_jacobians, relative, wrap
 from .icp import refine
-from .lines import scan_points
 from .matching import MatchSettings
 from .point_map import PointMap, voxel_filter
 from .pose_filter import PoseFilter
@@ -207,9 +206,7 @@ class ScanLocalizer:
             pose is unchanged when not.
         """
         s = self.settings
-        _, _, x, y, _ = scan_points(scan.ranges, angles=scan.angles, min_range=s.min_range,
-                                    max_range=min(s.max_range, scan.max_range))
-        sample = voxel_filter(np.column_stack([x, y]), s.scan_voxel)
+        sample = scan.points(s.scan_voxel, min_range=s.min_range, max_range=s.max_range)
         if len(sample) < 20:
             return False
         sigma = np.sqrt(np.maximum(np.diag(self._cov), 0.0))

@@ -28,7 +28,6 @@ from numpy.typing import ArrayLike, NDArray
 from .correlative import Window, search
 from .estimation import Scan
 from .icp import refine
-from .lines import scan_points
 from .point_map import PointMap, voxel_filter
 
 __all__ = ['BETTER_BY', 'FIT_DISTANCE', 'GOOD_FIT', 'RELOCALIZED_SIGMA', 'Relocalization', 'Relocalizer',
@@ -89,8 +88,7 @@ class Relocalizer:
     def check(self, scan: Scan, pose: ArrayLike) -> Relocalization | None:
         """Judge ``scan`` at the laser pose ``pose``; a :class:`Relocalization` when the scan fits
         another pose of the window clearly better (the caller restarts its filter there)."""
-        _, _, x, y, _ = scan_points(scan.ranges, angles=scan.angles, max_range=scan.max_range)
-        points = voxel_filter(np.column_stack([x, y]), VOXEL)
+        points = scan.points(VOXEL)
         if len(points) < MIN_POINTS:
             return None
         at = np.asarray(pose, dtype=np.float64)
