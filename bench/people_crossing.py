@@ -1,16 +1,21 @@
-"""Reproduction: the avoidModule's control against a person pacing across a corridor, no ROS.
+"""Reproduction: the avoidModule's control against a person crossing the robot's way, no ROS.
 
-The robot drives along the office corridor (y 7.5, heading east from x 10) under the regulator
-with laser protection (cmdFlags 21, 0.6 m/s), as a planned moveto drives it; the simulator's laser
-(the sim-config's geometry, the people where they are at each scan's stamp) feeds
-:class:`pluto_motion.avoid_control.AvoidController`, whose speed reaches the robot 0.1 s later and at
-most 0.5 m/s^2 faster or slower (the driveModule's acceleration).  For each start time (the
-person's phase) it prints the least gap between the robot's disc and the person's body, and at
-the end how many runs touched: the figure behind docs/movement.md's "Among people".
+The robot drives east under the regulator with laser protection (cmdFlags 21, 0.6 m/s), as a
+planned moveto drives it; the simulator's laser (the sim-config's geometry, noise on, the people
+where they are at each scan's stamp) feeds :class:`pluto_motion.avoid_control.AvoidController`,
+whose speed reaches the robot 0.1 s later and at most 0.5 m/s^2 faster or slower (the
+driveModule's acceleration).  Each run prints the least gap between the robot's disc and the
+person's body and where the robot ended; the summary counts the runs that touched.  Two scenes:
 
-Usage: ``python bench/people_crossing.py`` (config/pluto's robot and office with one person pacing
-across the corridor at x 14.8, 0.53 m/s, 1.4 s pauses by the walls: a person ``bench/nav_people.py``
-placed), or ``python bench/people_crossing.py SIM_CONFIG`` with another such sim-config.
+- ``pacer`` (default): the office corridor (y 7.5, from x 10) with one person pacing across it at
+  x 14.8, 0.53 m/s, pausing 1.4 s by each wall (a person ``bench/nav_people.py`` placed); a run per
+  start time of the person's walk.  The figure behind docs/movement.md's "Among people".
+- ``side``: the open ground of config/maps/outdoor.xml (y 5, from x 5) with one person walking
+  across x 12 at ``--speed`` from the robot's right or left; a run per place the two would meet
+  (the robot's centre, unhindered, from 1.2 m short of the person's line to 1.2 m past it), with
+  the walkers followed and, in the same process, with the laser guard alone.
+
+Usage: ``python bench/people_crossing.py [pacer|side] [--speed M_S]``.
 """
 
 from __future__ import annotations
@@ -25,38 +30,52 @@ import numpy as np
 from pluto_motion.avoid_command import parse_command
 from pluto_motion.avoid_control import AvoidController
 from pluto_motion.moving_obstacles import MovingObstacles, MovingSettings
+from pluto_motion.passage import PassageSettings
 from wurde_drivers.sim.laser import LaserModel
 from wurde_drivers.sim.loading import load_sim
 
 RADIUS = 0.35
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-#: The person of that figure (bench/nav_people.py's office run with one person).
+#: The person of the pacer figure (bench/nav_people.py's office run with one person).
 PACER = ('<person name="p0" points="14.80,8.32 14.82,6.67" speed="0.53" pause="1.4" '
          'mode="back-and-forth" height="1.7" radius="0.25"/>')
+#: The side scene: the robot's start and the x where the person crosses its line (y 5).
+SIDE_START, SIDE_X, SIDE_FROM = (5.0, 5.0), 12.0, 3.0
 
 
-def pacing_config(directory: pathlib.Path) -> str:
-    """config/pluto's sim-config on the office map with :data:`PACER` in it, written to ``directory``."""
+def sim_config(directory: pathlib.Path, map_name: str, person: str) -> str:
+    """config/pluto's sim-config on ``map_name`` with ``person`` in it, written to ``directory``."""
     text = (ROOT / 'config' / 'pluto' / 'sim-config.xml').read_text()
-    text = text.replace('file="map.xml"', f'file="{ROOT / "config" / "maps" / "office.xml"}"')
+    text = text.replace('file="map.xml"', f'file="{ROOT / "config" / "maps" / map_name}"')
     path = directory / 'sim-config.xml'
-    path.write_text(text.replace('</sim-config>', f'  {PACER}\n</sim-config>'))
+    path.write_text(text.replace('</sim-config>', f'  {person}\n</sim-config>'))
     return str(path)
 
 
+def side_person(speed: float, side: int) -> str:
+    """One walk across the robot's line at ``speed`` from its right (``side`` 1) or left (-1)."""
+    y0, y1 = SIDE_START[1] - side * SIDE_FROM, SIDE_START[1] + side * SIDE_FROM
+    return (f'<person name="p0" points="{SIDE_X},{y0} {SIDE_X},{y1}" speed="{speed}" pause="0" '
+            'mode="back-and-forth" height="1.7" radius="0.25"/>')
+
+
 def run(sim_config: str, t0: float, *, confirm: int = 3, tv_max: float = 0.6, accel: float = 0.5,
-        latency: float = 0.1, seconds: float = 25.0) -> tuple[float, float]:
-    """One drive from (10, 7.5) east, the person's clock starting at ``t0``: the least gap (m)
+        latency: float = 0.1, seconds: float = 25.0, start: tuple[float, float] = (10.0, 7.5),
+        passage: PassageSettings | None = None, movers: MovingSettings | None = None) -> tuple[float, float]:
+    """One drive from ``start`` east, the person's clock starting at ``t0``: the least gap (m)
     between the robot and any person, and where the robot ended (x)."""
     config, world, _ = load_sim(sim_config)
     geometry = next(iter(config.lasers.values()))
     laser = LaserModel(geometry, np.random.default_rng(1))
     angles = geometry.beam_angles()
+    view = (geometry.mount_x, geometry.mount_y, float(angles[0]), float(angles[-1]))
     control = AvoidController()
-    control.movers = MovingObstacles(MovingSettings(confirm=confirm))
+    control.movers = MovingObstacles(movers or MovingSettings(confirm=confirm))
+    if passage is not None:
+        control.passage = passage
     command = parse_command(21, [tv_max], [0.0, 0.0], [])
     assert command is not None
-    x, y, tv, wanted, dt = 10.0, 7.5, 0.0, 0.0, 0.02
+    (x, y), tv, wanted, dt = start, 0.0, 0.0, 0.02
     least, next_scan = math.inf, 0.0
     pending: list[tuple[float, float]] = []
     for k in range(int(seconds / dt)):
@@ -70,7 +89,8 @@ def run(sim_config: str, t0: float, *, confirm: int = 3, tv_max: float = 0.6, ac
             seen = np.isfinite(ranges)
             points = np.column_stack((geometry.mount_x + ranges[seen] * np.cos(angles[seen]),
                                       geometry.mount_y + ranges[seen] * np.sin(angles[seen])))
-            control.set_laser(list(np.where(seen, ranges, 8.0)), points, t, t, pose)
+            control.set_laser(list(np.where(seen, ranges, 8.0)), points, t, t, pose, view)
+        control.speed = tv
         order = control.step(t, pose, pose)
         if order is not None:
             pending.append((t + latency, order.velocity[0]))
@@ -83,18 +103,41 @@ def run(sim_config: str, t0: float, *, confirm: int = 3, tv_max: float = 0.6, ac
     return least, x
 
 
+def pacer(directory: pathlib.Path) -> list[float]:
+    config = sim_config(directory, 'office.xml', PACER)
+    gaps = []
+    for t0 in np.arange(0.0, 12.0, 0.5):
+        least, x = run(config, float(t0))
+        gaps.append(least)
+        print(f'start {t0:4.1f} s: least gap {least:+.2f} m, ended at x {x:.2f}')
+    return gaps
+
+
+def side(directory: pathlib.Path, speed: float) -> list[float]:
+    gaps, alone = [], []
+    for sign, name in ((1, 'right'), (-1, 'left')):
+        config = sim_config(directory, 'outdoor.xml', side_person(speed, sign))
+        for offset in np.arange(-1.2, 1.21, 0.3):
+            # The robot unhindered: 0.36 m in the 1.2 s to 0.6 m/s, then 0.6 m/s.
+            t0 = SIDE_FROM / speed - 1.2 - (SIDE_X + offset - SIDE_START[0] - 0.36) / 0.6
+            least, x = run(config, float(t0), start=SIDE_START, seconds=16.0)
+            alone.append(run(config, float(t0), start=SIDE_START, seconds=16.0,
+                             movers=MovingSettings(confirm=10 ** 6))[0])
+            gaps.append(least)
+            print(f'from the {name:5s} meeting {offset:+.1f} m: least gap {least:+.2f} m (guard alone '
+                  f'{alone[-1]:+.2f} m), ended at x {x:.2f}')
+    print(f'the guard alone: contacts in {sum(g < 0 for g in alone)} of {len(alone)} runs, '
+          f'least gap {min(alone):+.2f} m; timing the passage: least gap {min(gaps):+.2f} m')
+    return gaps
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument('sim_config', nargs='?', help='default: config/pluto with the pacing person')
-    parser.add_argument('--confirm', type=int, default=3, help='scans before a track counts as moving')
+    parser.add_argument('scene', nargs='?', choices=('pacer', 'side'), default='pacer')
+    parser.add_argument('--speed', type=float, default=1.0, help='the side walker\'s speed, m/s')
     args = parser.parse_args()
-    gaps = []
     with tempfile.TemporaryDirectory() as work:
-        sim_config = args.sim_config or pacing_config(pathlib.Path(work))
-        for t0 in np.arange(0.0, 12.0, 0.5):
-            least, x = run(sim_config, float(t0), confirm=args.confirm)
-            gaps.append(least)
-            print(f'start {t0:4.1f} s: least gap {least:+.2f} m, ended at x {x:.2f}')
+        gaps = pacer(pathlib.Path(work)) if args.scene == 'pacer' else side(pathlib.Path(work), args.speed)
     print(f'contacts in {sum(g < 0 for g in gaps)} of {len(gaps)} runs')
     return 0
 

@@ -20,8 +20,10 @@ robot: element[0] = 7 (fail closed).  A slowing by the laser is element[0] = 6. 
 data[0..1] are the velocities the avoidModule commands (slowed); otherwise data and element[0] are
 the drive's.  Release (-1) writes one stop to the drive and then nothing, so another program may
 drive it.  Points of a scan or sonar reading are moved into the current robot frame by the pose
-change since they were taken.  What the laser sees move (people) is avoided where it is about to
-be as well (:mod:`~pluto_motion.moving_obstacles`), by the guard, the goto and the wall follow.
+change since they were taken.  With laser protection on, the speed along the heading is then timed
+against what the laser sees walk (:mod:`~pluto_motion.moving_obstacles`, :mod:`~pluto_motion.passage`):
+the robot goes on, waits or backs off (only with the sonar clear behind it) so that a person
+crossing its way or walking at its side does not meet it; element[0] = 6 while it does.
 """
 
 from __future__ import annotations
@@ -33,8 +35,9 @@ import numpy as np
 
 from .avoid_command import AvoidCommand, Kind
 from .goto_field import FieldSettings, GotoProgress, goto_step
-from .laser_guard import LASER_FATAL, GuardLimits, LaserGuard, LaserWatch
-from .moving_obstacles import MovingObstacles
+from .laser_guard import LASER_FATAL, LASER_SLOW, GuardLimits, LaserGuard, LaserWatch, free_distance
+from .moving_obstacles import MovingObstacles, View
+from .passage import PassageSettings, Walker, passage_speed
 from .wall_follow import wall_follow_step
 
 __all__ = ['GOTO_NORMAL', 'GOTO_REACHED', 'GOTO_STUCK', 'HAND_TIMEOUT_S', 'THREAD_STOPPED', 'AvoidController',
@@ -97,13 +100,18 @@ class AvoidController:
         self.laser: tuple[np.ndarray, tuple[float, float, float] | None] = (np.zeros((0, 2)), None)
         self.sonar: tuple[np.ndarray, np.ndarray, tuple[float, float, float] | None] = (
             np.zeros((0, 2)), np.zeros(0), None)
-        #: People and other things the laser sees move: where they are about to be is avoided too.
+        #: People and other things the laser sees walk, and the passage timed against them.
         self.movers = MovingObstacles()
+        self.passage = PassageSettings(radius=guard.radius)
+        self.walkers: list[Walker] = []
+        #: The robot's linear speed now (m/s): the drive's output, for timing the passage.
+        self.speed = 0.0
 
     def tune(self, field: FieldSettings, guard: GuardLimits) -> None:
         """Use these settings from now on (tunables a user changed while the module runs)."""
         self.field = self.progress.settings = field
         self.guard.limits = guard
+        self.passage = dataclasses.replace(self.passage, radius=guard.radius)
 
     # -- inputs ----------------------------------------------------------------------------------
     def accept(self, command: AvoidCommand, now: float) -> None:
@@ -122,11 +130,12 @@ class AvoidController:
         self.stop_sent = running
 
     def set_laser(self, ranges: list[float], points: np.ndarray, stamp: float, now: float,
-                  pose: tuple[float, float, float] | None) -> None:
-        """A scan: its raw ranges (for the fatal check), its echoes in the robot frame, its stamp."""
+                  pose: tuple[float, float, float] | None, view: View | None = None) -> None:
+        """A scan: its raw ranges (for the fatal check), its echoes in the robot frame, its stamp;
+        ``view`` where the laser is and the bearings of its first and last beams."""
         self.watch.scan(ranges, stamp, now)
         self.laser = (points, pose)
-        self.movers.scan(points, pose, stamp)
+        self.movers.scan(points, pose, stamp, view)
 
     def set_sonar(self, points: np.ndarray, cones: np.ndarray, pose: tuple[float, float, float] | None) -> None:
         self.sonar = (points, cones, pose)
@@ -157,17 +166,16 @@ class AvoidController:
         fresh, self.fresh = self.fresh, False
         self.failure = self.watch.failure(now)
         laser_points = _relative(self.laser[0], self.laser[1], frame) if self.failure is None else np.zeros((0, 2))
-        if self.failure is None and self.laser[1] is not None:
-            laser_points = np.concatenate((laser_points, self.movers.predicted(frame)))
+        self.walkers = self.movers.walkers(frame) if self.failure is None else []
         sonar_points = _relative(self.sonar[0], self.sonar[2], frame)
         if c.laser and self.failure is not None or c.kind is Kind.WALL_FOLLOW and self.failure is not None:
             self.laser_code, self.slowed = LASER_FATAL, (0.0, 0.0)
             return _stop(c.sonar)
         if c.kind is Kind.VELOCITY or c.kind is Kind.REGULATOR:
-            return self._pass(c, now, fresh, laser_points)
+            return self._pass(c, now, fresh, laser_points, sonar_points)
         if c.kind is Kind.WALL_FOLLOW:
             tv, rv = wall_follow_step(laser_points, c.tv, c.distance, radius=self.field.radius)
-            tv = self._guarded(c, tv, rv, laser_points)
+            tv = self._timed(c, self._guarded(c, tv, rv, laser_points), rv, sonar_points)
             return DriveOrder(10 if c.sonar else 0, (tv, rv))
         return self._goto(c, now, pose, laser_points, sonar_points)
 
@@ -180,8 +188,25 @@ class AvoidController:
             self.laser_code, self.slowed = code, (limited, rv)
         return limited
 
-    def _pass(self, c: AvoidCommand, now: float, fresh: bool, points: np.ndarray) -> DriveOrder | None:
-        tv = self._guarded(c, c.tv, c.rv if c.kind is Kind.VELOCITY else math.nan, points)
+    def _timed(self, c: AvoidCommand, tv: float, rv: float, sonar_points: np.ndarray) -> float:
+        """``tv`` timed against the walkers (:mod:`~pluto_motion.passage`): go on, wait or back off.
+        Backing off only with a sonar reading that is fresh (the laser looks forward) and clear behind."""
+        if not c.laser or not self.walkers or tv < 0.0:
+            return tv
+        settings = self.passage
+        if settings.back > 0.0 and (self.sonar[2] is None or free_distance(
+                sonar_points, settings.radius, self.guard.limits.margin, math.pi) < self.guard.limits.slow):
+            settings = dataclasses.replace(settings, back=0.0)
+        plan = passage_speed(self.walkers, self.speed, tv, settings)
+        if plan is None:
+            return tv
+        self.laser_code, self.slowed = LASER_SLOW, (plan[0], rv)
+        return plan[0]
+
+    def _pass(self, c: AvoidCommand, now: float, fresh: bool, points: np.ndarray,
+              sonar_points: np.ndarray) -> DriveOrder | None:
+        rv = c.rv if c.kind is Kind.VELOCITY else math.nan
+        tv = self._timed(c, self._guarded(c, c.tv, rv, points), rv, sonar_points)
         if c.kind is Kind.VELOCITY:
             order = DriveOrder(10 if c.sonar else 0, (tv, c.rv))
         else:
@@ -209,6 +234,7 @@ class AvoidController:
             return _stop(c.sonar)
         self.goto_code = GOTO_NORMAL
         speed = self._guarded(c, step.speed, math.nan, laser_points, wanted=c.max_tv)
+        speed = self._timed(c, speed, math.nan, sonar_points)
         return DriveOrder(11 if c.sonar else 1, (speed,), (0.0, step.heading))
 
     # -- status ----------------------------------------------------------------------------------

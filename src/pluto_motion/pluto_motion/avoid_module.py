@@ -148,7 +148,10 @@ class AvoidModule:
             if self.laser_beams is None or len(self.laser_beams) != len(ranges):
                 self.laser_beams = _beams(self.laser.info, len(ranges))
             stamp = self.laser.data.timestamp.get_seconds()
-            self.control.set_laser(ranges, self.laser_beams.points(ranges), stamp, now, self._taken_at(stamp))
+            beams = self.laser_beams
+            view = (float(beams.x[0]), float(beams.y[0]), float(beams.theta[0]), float(beams.theta[-1])) \
+                if len(beams) else None
+            self.control.set_laser(ranges, beams.points(ranges), stamp, now, self._taken_at(stamp), view)
         if self.sonar.get_next_data() and self.sonar_info:
             sonar_ranges = np.asarray(self.sonar.data.ranges, dtype=float)
             if self.sonar_beams is None or len(self.sonar_beams) != len(sonar_ranges):
@@ -161,6 +164,7 @@ class AvoidModule:
             self.control.set_sonar(np.zeros((0, 2)), np.zeros(0), None)
         if self.drive_status.get_next_data():
             self.drive_data = list(self.drive_status.data.data)
+            self.control.speed = self.drive_data[0] if self.drive_data else 0.0
             self.drive_element = list(self.drive_status.data.element)
 
     def _taken_at(self, stamp: float) -> tuple[float, float, float] | None:
