@@ -5,7 +5,8 @@ poseModule, drive, avoid, motion planning on the map) visits ``--pairs`` goals b
 42), first on the empty map and then, in the same process, with 1-5 people crossing its way
 (:mod:`people_course`: back and forth across the planned way between goals, 0.5 m/s up to
 ``--speed``, discs and trolleys). Per map and number of people: goals reached, contacts with people
-(each new touch of the robot's disc and a person's body, at the truth's stamps), the least
+(each new touch of the robot's disc and a person's body, at the truth's stamps; each one's kind
+below the table: who moved, and whether the person had set off within 1 s), the least
 clearance to a person, collisions (a bumper pressed, or the truth nearer a wall than the
 radius), and the time lost against the empty map over the legs that both runs drove from the same
 goal to the same goal (both reached the leg's start and end).
@@ -41,6 +42,7 @@ class Outcome:
     people: int
     contacts: int
     least_m: float
+    kinds: dict
 
 
 def run(name: str, map_file: pathlib.Path, goals, work: pathlib.Path, people: int, seed: int,
@@ -62,7 +64,7 @@ def run(name: str, map_file: pathlib.Path, goals, work: pathlib.Path, people: in
         clearance[0].add(stamp, x, y)
 
     results = nav_motion.run_map(name, map_file, goals, work, 'moveto', seed, prepare=prepare, on_truth=on_truth)
-    return Outcome(results, len(placed), clearance[0].contacts, clearance[0].least)
+    return Outcome(results, len(placed), clearance[0].contacts, clearance[0].least, dict(clearance[0].kinds))
 
 
 def row(name: str, outcome: Outcome, empty: Outcome) -> str:
@@ -95,7 +97,8 @@ def main() -> int:
     parser.add_argument('--shipped', default='office', help='shipped maps to run')
     args = parser.parse_args()
     work, maps = nav_run.bench_setup('make bench-people', args.shipped, args.generated, args.seed, args.kinds)
-    table = []
+    table: list[str] = []
+    kinds: list[str] = []
     for i, (name, path) in enumerate(maps):
         goals = nav_motion.pick_goals(path, args.pairs, args.seed + i)
         empty = run(name, path, goals, work / f'empty{i}', 0, args.seed + i, args.speed)
@@ -103,7 +106,9 @@ def main() -> int:
         for count in (int(n) for n in args.people.split(',')):
             outcome = run(name, path, goals, work / f'people{i}-{count}', count, args.seed + i, args.speed)
             table.append(row(name, outcome, empty))
-            print(HEADER + '\n' + '\n'.join(table), flush=True)
+            kinds.append(f'{name}, {count} people: ' + ('; '.join(f'{n} {kind}' for kind, n in sorted(
+                outcome.kinds.items())) or 'no contact'))
+            print(HEADER + '\n' + '\n'.join(table) + '\n\nContacts by kind:\n' + '\n'.join(kinds), flush=True)
     print(f'(runs in {work})')
     return 0
 

@@ -12,12 +12,14 @@ pure function of the stamp, :mod:`wurde_drivers.sim.walk`).
 
 from __future__ import annotations
 
+import collections
 import dataclasses
 import math
 import pathlib
 import random
 from typing import TYPE_CHECKING
 
+import numpy as np
 from lxml import etree
 
 if TYPE_CHECKING:
@@ -128,22 +130,49 @@ def write_people(sim_config: pathlib.Path, people: list[dict[str, str]], out: pa
     tree.write(str(out or sim_config))
 
 
+#: m/s: slower is standing (the truth's and the walk's jitter)
+STANDING = 0.05
+
+
 @dataclasses.dataclass
 class Clearance:
-    """The gap between the robot's disc and the nearest person, over the truth samples given."""
+    """The gap between the robot's disc and the nearest person, over the truth samples given, and
+    each contact's kind (:meth:`kind`)."""
 
     people: People
     radius: float
     least: float = math.inf
     contacts: int = 0
+    kinds: collections.Counter = dataclasses.field(default_factory=collections.Counter)
     _touching: bool = False
+    _last: tuple[float, float, float] | None = None
 
     def add(self, stamp: float, x: float, y: float) -> None:
         if not len(self.people):
             return
-        _, gaps, _ = self.people.shapes_at(stamp).nearest((x, y))
+        ids, gaps, _ = self.people.shapes_at(stamp).nearest((x, y))
         gap = float(gaps.min()) - self.radius
         self.least = min(self.least, gap)
         touching = gap <= 0.0
-        self.contacts += touching and not self._touching      # a contact is each new touch
+        if touching and not self._touching:                    # a contact is each new touch
+            self.contacts += 1
+            self.kinds[self.kind(stamp, x, y, int(ids[int(np.argmin(gaps))]))] += 1
         self._touching = touching
+        self._last = (stamp, x, y)
+
+    def kind(self, stamp: float, x: float, y: float, who: int) -> str:
+        """Who moved at a contact: the robot into a person standing, a person into the robot
+        standing, both; and whether the person had set off within the last second."""
+        robot = 0.0
+        if self._last is not None and stamp > self._last[0]:
+            robot = math.dist((x, y), self._last[1:]) / (stamp - self._last[0])
+
+        def speed(at: float) -> float:
+            return math.dist(self.people.poses_at(at)[who][:2], self.people.poses_at(at - 0.2)[who][:2]) / 0.2
+
+        person = speed(stamp)
+        if person < STANDING:
+            return 'robot into a person standing'
+        who_moved = 'person into the robot standing' if robot < STANDING else 'both moving'
+        set_off = min(speed(stamp - 0.2 * k) for k in range(1, 6)) < STANDING
+        return f'{who_moved}, {"set off within 1 s" if set_off else "walking for 1 s or more"}'

@@ -14,8 +14,13 @@ person's body and where the robot ended; the summary counts the runs that touche
   across x 12 at ``--speed`` from the robot's right or left; a run per place the two would meet
   (the robot's centre, unhindered, from 1.2 m short of the person's line to 1.2 m past it), with
   the walkers followed and, in the same process, with the laser guard alone.
+- ``standing``: the same ground, the robot standing (a regulator command of 0 m/s) and one person
+  walking at 45 degrees from ahead on its left or right, across its line from 0.5 m behind its
+  centre to 0.5 m ahead: with the walkers followed the robot may step forward out of the way (no
+  sonar here, so it never backs off).  A person walking straight at its side is not in the laser's
+  view (it looks forward from 0.2 m ahead of the centre) until too late.
 
-Usage: ``python bench/people_crossing.py [pacer|side] [--speed M_S]``.
+Usage: ``python bench/people_crossing.py [pacer|side|standing] [--speed M_S]``.
 """
 
 from __future__ import annotations
@@ -41,6 +46,8 @@ PACER = ('<person name="p0" points="14.80,8.32 14.82,6.67" speed="0.53" pause="1
          'mode="back-and-forth" height="1.7" radius="0.25"/>')
 #: The side scene: the robot's start and the x where the person crosses its line (y 5).
 SIDE_START, SIDE_X, SIDE_FROM = (5.0, 5.0), 12.0, 3.0
+#: The standing scene's robot: on the same line, away from the map's start (no walk may cross that).
+STANDING_AT = (8.0, 5.0)
 
 
 def sim_config(directory: pathlib.Path, map_name: str, person: str) -> str:
@@ -52,10 +59,10 @@ def sim_config(directory: pathlib.Path, map_name: str, person: str) -> str:
     return str(path)
 
 
-def side_person(speed: float, side: int) -> str:
-    """One walk across the robot's line at ``speed`` from its right (``side`` 1) or left (-1)."""
+def side_person(speed: float, side: int, x: float = SIDE_X) -> str:
+    """One walk across the robot's line at ``x`` at ``speed`` from its right (``side`` 1) or left (-1)."""
     y0, y1 = SIDE_START[1] - side * SIDE_FROM, SIDE_START[1] + side * SIDE_FROM
-    return (f'<person name="p0" points="{SIDE_X},{y0} {SIDE_X},{y1}" speed="{speed}" pause="0" '
+    return (f'<person name="p0" points="{x},{y0} {x},{y1}" speed="{speed}" pause="0" '
             'mode="back-and-forth" height="1.7" radius="0.25"/>')
 
 
@@ -131,13 +138,36 @@ def side(directory: pathlib.Path, speed: float) -> list[float]:
     return gaps
 
 
+def standing(directory: pathlib.Path, speed: float) -> list[float]:
+    gaps, alone = [], []
+    for sign, name in ((1, 'right'), (-1, 'left')):
+        for offset in np.arange(-0.5, 0.51, 0.25):
+            x, y = STANDING_AT[0] + offset, STANDING_AT[1]
+            person = (f'<person name="p0" points="{x + SIDE_FROM},{y + sign * SIDE_FROM} '
+                      f'{x - SIDE_FROM},{y - sign * SIDE_FROM}" speed="{speed}" pause="0" '
+                      'mode="back-and-forth" height="1.7" radius="0.25"/>')
+            config = sim_config(directory, 'outdoor.xml', person)
+            t0 = SIDE_FROM * math.sqrt(2.0) / speed - 6.0    # the person crosses the robot's line 6 s in
+            least, x = run(config, t0, start=STANDING_AT, seconds=12.0, tv_max=0.0)
+            alone.append(run(config, t0, start=STANDING_AT, seconds=12.0, tv_max=0.0,
+                             movers=MovingSettings(confirm=10 ** 6))[0])
+            gaps.append(least)
+            print(f'from ahead {name:5s} {offset:+.2f} m from the robot\'s centre: least gap {least:+.2f} m '
+                  f'(guard alone {alone[-1]:+.2f} m), moved to x {x:.2f}')
+    print(f'the guard alone: contacts in {sum(g < 0 for g in alone)} of {len(alone)} runs; stepping out of '
+          f'the way: least gap {min(gaps):+.2f} m')
+    return gaps
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument('scene', nargs='?', choices=('pacer', 'side'), default='pacer')
+    parser.add_argument('scene', nargs='?', choices=('pacer', 'side', 'standing'), default='pacer')
     parser.add_argument('--speed', type=float, default=1.0, help='the side walker\'s speed, m/s')
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as work:
-        gaps = pacer(pathlib.Path(work)) if args.scene == 'pacer' else side(pathlib.Path(work), args.speed)
+        scene = {'pacer': lambda: pacer(pathlib.Path(work)), 'side': lambda: side(pathlib.Path(work), args.speed),
+                 'standing': lambda: standing(pathlib.Path(work), args.speed)}[args.scene]
+        gaps = scene()
     print(f'contacts in {sum(g < 0 for g in gaps)} of {len(gaps)} runs')
     return 0
 

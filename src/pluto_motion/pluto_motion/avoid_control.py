@@ -175,7 +175,7 @@ class AvoidController:
             return self._pass(c, now, fresh, laser_points, sonar_points)
         if c.kind is Kind.WALL_FOLLOW:
             tv, rv = wall_follow_step(laser_points, c.tv, c.distance, radius=self.field.radius)
-            tv = self._timed(c, self._guarded(c, tv, rv, laser_points), rv, sonar_points)
+            tv = self._timed(c, self._guarded(c, tv, rv, laser_points), rv, laser_points, sonar_points)
             return DriveOrder(10 if c.sonar else 0, (tv, rv))
         return self._goto(c, now, pose, laser_points, sonar_points)
 
@@ -188,16 +188,19 @@ class AvoidController:
             self.laser_code, self.slowed = code, (limited, rv)
         return limited
 
-    def _timed(self, c: AvoidCommand, tv: float, rv: float, sonar_points: np.ndarray) -> float:
-        """``tv`` timed against the walkers (:mod:`~pluto_motion.passage`): go on, wait or back off.
-        Backing off only with a sonar reading that is fresh (the laser looks forward) and clear behind."""
+    def _timed(self, c: AvoidCommand, tv: float, rv: float, laser_points: np.ndarray,
+               sonar_points: np.ndarray) -> float:
+        """``tv`` timed against the walkers (:mod:`~pluto_motion.passage`): go on, wait, back off or
+        step forward out of the way (as fast as backing off, and as what is ahead allows).  Backing
+        off only with a sonar reading that is fresh (the laser looks forward) and clear behind."""
         if not c.laser or not self.walkers or tv < 0.0:
             return tv
         settings = self.passage
         if settings.back > 0.0 and (self.sonar[2] is None or free_distance(
                 sonar_points, settings.radius, self.guard.limits.margin, math.pi) < self.guard.limits.slow):
             settings = dataclasses.replace(settings, back=0.0)
-        plan = passage_speed(self.walkers, self.speed, tv, settings)
+        ahead = self.guard.limit(self.passage.back, laser_points)[0]
+        plan = passage_speed(self.walkers, self.speed, tv, settings, ahead)
         if plan is None:
             return tv
         self.laser_code, self.slowed = LASER_SLOW, (plan[0], rv)
@@ -206,7 +209,7 @@ class AvoidController:
     def _pass(self, c: AvoidCommand, now: float, fresh: bool, points: np.ndarray,
               sonar_points: np.ndarray) -> DriveOrder | None:
         rv = c.rv if c.kind is Kind.VELOCITY else math.nan
-        tv = self._timed(c, self._guarded(c, c.tv, rv, points), rv, sonar_points)
+        tv = self._timed(c, self._guarded(c, c.tv, rv, points), rv, points, sonar_points)
         if c.kind is Kind.VELOCITY:
             order = DriveOrder(10 if c.sonar else 0, (tv, c.rv))
         else:
@@ -234,7 +237,7 @@ class AvoidController:
             return _stop(c.sonar)
         self.goto_code = GOTO_NORMAL
         speed = self._guarded(c, step.speed, math.nan, laser_points, wanted=c.max_tv)
-        speed = self._timed(c, speed, math.nan, sonar_points)
+        speed = self._timed(c, speed, math.nan, laser_points, sonar_points)
         return DriveOrder(11 if c.sonar else 1, (speed,), (0.0, step.heading))
 
     # -- status ----------------------------------------------------------------------------------

@@ -5,12 +5,13 @@ person walking at the robot's side: braking leaves the robot standing on the per
 walker who does not yield walks into it.  :func:`passage_speed` plans the robot's speed along its
 heading over the next :attr:`PassageSettings.horizon` seconds in the space of time and travel:
 each candidate is a speed the robot turns to at its acceleration limit (from backing off through
-stopping to the speed wanted); each walker (:class:`~pluto_motion.moving_obstacles.MovingObstacles`'
-moving tracks) goes on at its velocity.  The fastest candidate that keeps every walker's echoes
+stopping to the speed wanted, or a step forward when it wants less); each walker
+(:class:`~pluto_motion.moving_obstacles.MovingObstacles`' moving tracks, a disc each) goes on at its
+velocity.  The candidate nearest the speed wanted that keeps every walker's body
 :attr:`PassageSettings.margin` from the robot's footprint wins; when none does, the one that keeps
 furthest from them.  Going on when the walker's line is behind the robot, waiting short of a line
-the walker is about to cross and backing off from one who comes at the robot's side are the same
-rule.
+the walker is about to cross, backing off from one who comes at the robot and stepping out of the
+way of one who comes at a robot standing or turning on the spot are the same rule.
 """
 
 from __future__ import annotations
@@ -69,21 +70,27 @@ def _least_gap(travel: NDArray, walkers: list[Walker], times: NDArray, radius: f
     return least
 
 
-def passage_speed(walkers: list[Walker], speed: float, wanted: float,
-                  settings: PassageSettings = PassageSettings()) -> tuple[float, float] | None:
+def passage_speed(walkers: list[Walker], speed: float, wanted: float, settings: PassageSettings = PassageSettings(),
+                  ahead: float = 0.0) -> tuple[float, float] | None:
     """The speed (m/s along the robot's heading) to command now against ``walkers``, and the least
     gap it keeps; None when the speed ``wanted`` keeps the margin (nothing to do).  ``speed`` is the
-    robot's speed now."""
+    robot's speed now; ``ahead`` the fastest it may step forward out of a walker's way when it wants
+    to go slower (standing, or turning on the spot: what is ahead allows it).
+
+    Of the candidates that keep the margin the one nearest the speed wanted wins (the fastest when
+    the robot wants to drive on); when none does, the one that keeps furthest from the walkers."""
     if not walkers:
         return None
     s = settings
     times = np.arange(s.dt, s.horizon + 0.5 * s.dt, s.dt)
     wanted = max(wanted, 0.0)
+    top = max(wanted, ahead)
+    candidates = sorted({wanted, *np.linspace(top, -s.back, s.choices + 1).tolist()}, key=lambda v: abs(v - wanted))
     best: tuple[float, float] | None = None
-    for target in np.linspace(wanted, -s.back, s.choices + 1):
+    for target in candidates:
         gap = _least_gap(_travel(speed, float(target), s, times), walkers, times, s.radius)
         if gap >= s.margin:
-            return None if target == wanted else (float(target), gap)    # the fastest that keeps clear
+            return None if target == wanted else (float(target), gap)
         if best is None or gap > best[1] + 1e-3:
             best = (float(target), gap)
     return best

@@ -44,3 +44,11 @@ def test_one_coming_at_the_robot_is_backed_off_from_only_when_allowed() -> None:
     assert backing < 0.0
     standing, _ = passage_speed(head_on, 0.0, 0.6, PassageSettings(back=0.0))
     assert standing == 0.0
+
+
+def test_a_robot_standing_steps_out_of_the_way_of_one_coming_at_its_side() -> None:
+    side = [walker(-0.2, -3.0, 0.0, 1.0)]
+    speed, gap = passage_speed(side, 0.0, 0.0, PassageSettings(back=0.0), ahead=0.3)
+    assert 0.0 < speed <= 0.3 and gap >= PassageSettings().margin
+    held, gap = passage_speed(side, 0.0, 0.0, PassageSettings(back=0.0), ahead=0.0)   # a wall ahead
+    assert held == 0.0 and gap < 0.0
