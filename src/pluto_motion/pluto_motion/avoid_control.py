@@ -19,11 +19,9 @@ With laser protection on, a dead laser (:class:`~pluto_motion.laser_guard.LaserW
 robot: element[0] = 7 (fail closed).  A slowing by the laser is element[0] = 6.  In both cases
 data[0..1] are the velocities the avoidModule commands (slowed); otherwise data and element[0] are
 the drive's.  Release (-1) writes one stop to the drive and then nothing, so another program may
-drive it.  Points of a scan or sonar reading are moved into the current robot frame by the pose
-change since they were taken.  With laser protection on, the speed along the heading is then timed
-against what the laser sees walk (:mod:`~pluto_motion.moving_obstacles`, :mod:`~pluto_motion.passage`):
-the robot goes on, waits or backs off (only with the sonar clear behind it) so that a person
-crossing its way or walking at its side does not meet it; element[0] = 6 while it does.
+drive it.  Readings are moved into the current robot frame by the pose change since they were
+taken.  With laser protection on, the speed is then timed against walkers (:mod:`.passage`):
+the robot goes on, waits, backs off or steps forward; element[0] = 6 while it does.
 """
 
 from __future__ import annotations
