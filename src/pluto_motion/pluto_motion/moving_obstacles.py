@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .passage import Walker
+from .scan_points import wrap
 
 __all__ = ['MovingObstacles', 'MovingSettings', 'View']
 
@@ -97,7 +98,7 @@ def _cut(echoes: NDArray, view: View) -> bool:
     for px, py in (echoes[0], echoes[-1]):
         bearing = math.atan2(py - y, px - x)
         for edge in (first, last):
-            if abs(math.atan2(math.sin(bearing - edge), math.cos(bearing - edge))) < EDGE:
+            if abs(wrap(bearing - edge)) < EDGE:
                 return True
     return False
 
