@@ -35,10 +35,12 @@ own.
 runs those modules in ``<container>``s of the MCP config (:mod:`wurde_mcp.container`): the robot's
 rows are then its processes — the MCP, each container, each module left on its own — and the
 baseline stays one process per module; a contained module's own row gives its thread's CPU (its
-PSS is the container's), which the total does not count again.
+PSS is the container's), which the total does not count again.  ``--scheduling cooperative``
+makes those containers cooperative (:mod:`wurde_core.cooperative`): their modules are tasks of one
+thread, so their own rows stay empty.
 
 Usage: ``make bench-footprint`` or ``python bench/footprint.py [--seconds 60] [--rate-seconds 20]
-[--containers all] [--robot-only]``; ``--robot-only`` leaves the baselines out (their cells
+[--containers all] [--scheduling cooperative] [--robot-only]``; ``--robot-only`` leaves the baselines out (their cells
 empty), to compare two versions of the robot quickly.
 """
 
@@ -226,13 +228,14 @@ def containers_of(text: str, modules: list[str]) -> dict[str, list[str]]:
     return groups
 
 
-def contain(config: pathlib.Path, groups: dict[str, list[str]]) -> None:
-    """Rewrite the MCP config at ``config`` with ``groups``' modules in ``<container>``s."""
+def contain(config: pathlib.Path, groups: dict[str, list[str]], scheduling: str = 'threads') -> None:
+    """Rewrite the MCP config at ``config`` with ``groups``' modules in ``<container>``s of that
+    ``scheduling``."""
     from lxml import etree
     tree = etree.parse(str(config))
     root = tree.getroot()
     for name, members in groups.items():
-        container = etree.SubElement(root, 'container', name=name)
+        container = etree.SubElement(root, 'container', name=name, scheduling=scheduling)
         for module in root.findall('module'):
             if module.get('name') in members:
                 container.append(module)
@@ -547,6 +550,8 @@ def main() -> int:
     parser.add_argument('--warmup', type=float, default=10.0, help='driving before the survey (s)')
     parser.add_argument('--settle', type=float, default=10.0, help='the baseline up before its window (s)')
     parser.add_argument('--containers', default='', help="'NAME=module,module ...', or all: modules in <container>s")
+    parser.add_argument('--scheduling', choices=('threads', 'cooperative'), default='threads',
+                        help="the containers' scheduling (wurde_core.cooperative)")
     parser.add_argument('--robot-only', action='store_true',
                         help='measure the robot only, not the raw rclpy baselines (to compare two versions of it)')
     args = parser.parse_args()
@@ -563,7 +568,7 @@ def main() -> int:
     from wurde_mcp.config import read_mcp_config
     groups = containers_of(args.containers, list(read_mcp_config(PLUTO / 'mcp-config.xml').modules)) \
         if args.containers else {}
-    contain(work / 'mcp-config.xml', groups)
+    contain(work / 'mcp-config.xml', groups, args.scheduling)
     marker = f'WURDE_LOG_DIRECTORY={work}'
     env = dict(os.environ, WURDE_CONFIG_DIR=str(work), WURDE_LOG_DIRECTORY=str(work), WURDE_DATA_DIR=str(work))
     print(f'footprint: {started}, {os.cpu_count()} cores, ROS_DOMAIN_ID={claim.domain_id}; files in {work}',

@@ -41,7 +41,7 @@ from typing import Any
 from rclpy.context import Context
 from rclpy.node import Node
 
-from . import module_context
+from . import cooperative, module_context
 from . import options as _options
 from .enums import ConnectionStrategy, RunState
 from .errors import ConfigError, InvalidTypeError, InvalidValueError, OptionError, RegistrationError
@@ -750,7 +750,7 @@ class CommsManager:
             remaining = deadline - time.monotonic()
             if remaining <= 0:
                 return
-            time.sleep(min(remaining, WAIT_SLICE_S))
+            cooperative.sleep(min(remaining, WAIT_SLICE_S))
 
     def clean_up(self, *, goodbye: bool = True, wait: bool = True, exiting: bool = False) -> None:
         """Say goodbye to the MCP and release everything; idempotent, also run at exit.

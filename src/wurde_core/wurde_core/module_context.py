@@ -3,14 +3,16 @@
 A module is normally a process: the MCP hands it its settings in the environment
 (:mod:`wurde_core.heartbeat`, :mod:`wurde_core.resume`), it has one global role configuration and
 logger, one rclpy context (one DDS participant), and its signal handlers.  In a container
-(:mod:`wurde_mcp.container`) each module runs in a thread of its own, and what would be
+(:mod:`wurde_mcp.container`) each module runs in a thread of its own, or as a task of a
+cooperative container's hub thread (:mod:`wurde_core.cooperative`), and what would be
 process-wide is the module's: the container enters a :class:`ModuleContext` in the module's
-thread, and the readers below look there first.  A module outside a container has none, and
+thread or task, and the readers below look there first.  A module outside a container has none, and
 nothing changes for it.
 """
 
 from __future__ import annotations
 
+import contextvars
 import os
 import threading
 from dataclasses import dataclass, field
@@ -47,26 +49,30 @@ class ModuleContext:
             manager.request_quit()
 
 
-_local = threading.local()
+#: The module running: a context variable, so that it is per thread and, in a cooperative
+#: container, per greenlet (:mod:`wurde_core.cooperative`; both start without one).
+_current: contextvars.ContextVar[ModuleContext | None] = contextvars.ContextVar(
+    'wurde_module_context', default=None)
 
 
 def current() -> ModuleContext | None:
     """The context of the module running in this thread, or None outside a container."""
-    return getattr(_local, 'context', None)
+    return _current.get()
 
 
-def enter(context: ModuleContext) -> None:
+def enter(context: ModuleContext, identity: int | None = None) -> None:
     """Make ``context`` this thread's (the container, at the start of a module's thread).
 
     :param context: the module's context; its :attr:`~ModuleContext.thread_id` is set here.
+    :param identity: what the module reports as its pid; None: the thread's kernel id.
     """
-    context.thread_id = threading.get_native_id()
-    _local.context = context
+    context.thread_id = threading.get_native_id() if identity is None else identity
+    _current.set(context)
 
 
 def leave() -> None:
     """This thread runs no module any more."""
-    _local.context = None
+    _current.set(None)
 
 
 def getenv(key: str, default: str = '') -> str:

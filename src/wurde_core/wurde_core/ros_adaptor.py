@@ -10,7 +10,6 @@ here, so that an rclpy change is mended in one file.
 
 from __future__ import annotations
 
-import time
 from collections.abc import Iterator, Sequence
 from typing import Any
 
@@ -21,7 +20,7 @@ from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 
-from . import module_context
+from . import cooperative, module_context
 
 
 def polled(_message: Any) -> None:
@@ -193,15 +192,27 @@ class SubscriptionWaiter:
                                          0, context.handle)
                           if self._subscriptions or self._services else None)
 
+    def entities(self) -> tuple[list[Any], list[Any]]:
+        """The subscriptions and the services waited on."""
+        return self._subscriptions, self._services
+
     def wait(self, seconds: float) -> bool:
-        """Block until something arrives or ``seconds`` pass.
+        """Block until something arrives or ``seconds`` pass; in a cooperative container's task,
+        the other modules of its hub run meanwhile (:mod:`wurde_core.cooperative`).
 
         :param seconds: the longest wait.
         :returns: whether something arrived.
         """
+        if seconds > 0.0:
+            arrived = cooperative.wait(self, seconds)
+            if arrived is not None:
+                return arrived
+        return self._wait(seconds)
+
+    def _wait(self, seconds: float) -> bool:
         wait_set = self._wait_set
         if wait_set is None:
-            time.sleep(max(0.0, seconds))
+            cooperative.sleep(max(0.0, seconds))
             return False
         wait_set.clear_entities()
         for sub in self._subscriptions:
@@ -218,6 +229,59 @@ class SubscriptionWaiter:
         channel."""
         if self._wait_set is None:
             return set()
-        self.wait(0.0)
+        self._wait(0.0)
         return (set(self._wait_set.get_ready_entities('subscription'))
                 | set(self._wait_set.get_ready_entities('service')))
+
+
+class WaiterGroup:
+    """One wait set over the entities of several :class:`SubscriptionWaiter`s and a guard
+    condition any thread may trigger: a cooperative container's hub waits on all its waiting
+    modules at once (:mod:`wurde_core.cooperative`)."""
+
+    def __init__(self, context: Context) -> None:
+        """:param context: the rclpy context of every waiter's entities."""
+        self._context = context
+        self._guard = _rclpy.GuardCondition(context.handle)
+        self._key: tuple[Any, ...] | None = None
+        self._handles: list[tuple[list[Any], list[Any]]] = []
+        self._pointers: list[set[int]] = []
+        self._sizes = (-1, -1)
+        self._wait_set: Any = None
+
+    def trigger(self) -> None:
+        """End the current or next :meth:`wait` (from any thread)."""
+        self._guard.trigger_guard_condition()
+
+    def wait(self, waiters: Sequence[SubscriptionWaiter], timeout: float) -> list[int]:
+        """Wait at most ``timeout`` s (< 0: without limit) until a waiter's entities hold
+        something or :meth:`trigger`; the indexes of the waiters that hold something.
+
+        :param waiters: the waiters, the same objects from call to call while they wait (their
+            handles are gathered again only when the list changes).
+        :param timeout: the longest wait, s.
+        """
+        key = tuple(waiters)
+        if key != self._key:
+            self._key = key
+            self._handles = [([s.handle for s in w.entities()[0]], [s.handle for s in w.entities()[1]])
+                             for w in waiters]
+            self._pointers = [{int(h.pointer) for h in (*subs, *servs)} for subs, servs in self._handles]
+            sizes = (sum(len(h[0]) for h in self._handles), sum(len(h[1]) for h in self._handles))
+            if sizes != self._sizes:
+                self._wait_set = _rclpy.WaitSet(sizes[0], 1, 0, 0, sizes[1], 0, self._context.handle)
+                self._sizes = sizes
+        wait_set = self._wait_set
+        wait_set.clear_entities()
+        for subs, servs in self._handles:
+            for handle in subs:
+                wait_set.add_subscription(handle)
+            for handle in servs:
+                wait_set.add_service(handle)
+        wait_set.add_guard_condition(self._guard)
+        wait_set.wait(-1 if timeout < 0 else int(timeout * 1e9))
+        ready = (set(wait_set.get_ready_entities('subscription'))
+                 | set(wait_set.get_ready_entities('service')))
+        if not ready:
+            return []
+        return [index for index, pointers in enumerate(self._pointers) if not pointers.isdisjoint(ready)]

@@ -7,6 +7,7 @@ import pathlib
 import pytest
 
 from wurde_core import ConfigError, ProcessLocale, ProcessType
+from wurde_core.cooperative import QUANTUM_S
 from wurde_idl import load_all
 from wurde_testing.manual import example
 from wurde_mcp.config import McpConfig, read_mcp_config, read_mcp_mappings, validate
@@ -104,6 +105,12 @@ def test_shipped_configs_load(name: str) -> None:
     ('<mcp-config>\n<container name="c">\n<binary>b</binary>\n</container>\n</mcp-config>', 3,
      'unknown tag <binary> in <container> (only <module>)'),
     ('<mcp-config>\n<container name="c"/>\n</mcp-config>', 2, 'container "c" holds no <module>'),
+    ('<mcp-config>\n<container name="c" scheduling="fast">\n<module name="a" binary="p/a"/>\n</container>\n'
+     '</mcp-config>', 2, 'scheduling "fast" is not one of threads, cooperative'),
+    ('<mcp-config>\n<container name="c" scheduling="cooperative" quantum="1">\n<module name="a" binary="p/a"/>\n'
+     '</container>\n</mcp-config>', 2, 'quantum="1" is not a number of seconds from 0 to 0.1'),
+    ('<mcp-config>\n<container name="c" quantum="0.01">\n<module name="a" binary="p/a"/>\n</container>\n'
+     '</mcp-config>', 2, 'a quantum is only for scheduling="cooperative"'),
     ('<mcp-config>\n<container name="c">\n<module name="a" binary="/usr/bin/a"/>\n</container>\n'
      '</mcp-config>', 3, 'module "a" of container "c" must be internal'),
     ('<mcp-config>\n<container name="c">\n<module name="a"/>\n</container>\n</mcp-config>', 3,
@@ -202,6 +209,12 @@ def test_a_container_holds_its_modules(tmp_path: pathlib.Path) -> None:
     config = read_mcp_config(path)
     assert {name: spec.container for name, spec in config.modules.items()} == {'alone': '', 'a': 'box', 'b': 'box'}
     assert config.modules['a'].args == ['-n', 'a'] and config.containers == {'box': f'{path}:3'}
+    assert config.cooperative == {}
+    path.write_text(path.read_text().replace('<container name="box">',
+                                             '<container name="box" scheduling="cooperative">'))
+    assert read_mcp_config(path).cooperative == {'box': QUANTUM_S}
+    path.write_text(path.read_text().replace('scheduling="cooperative"', 'scheduling="cooperative" quantum="0.005"'))
+    assert read_mcp_config(path).cooperative == {'box': 0.005}
 
 
 def test_pluto_container_is_config_pluto_in_one_container() -> None:

@@ -21,11 +21,14 @@ Ours (issue 39): ``<container name="C">`` holds ``<module>`` elements that run i
 interpreter, one DDS participant; :mod:`wurde_mcp.container`) instead of one process each.  A
 contained module must be internal with a binary ``package/executable`` (a Python console script:
 the container calls its ``main(argv)``) or ``python.module:function``; a container's name is not a
-module's.
+module's.  ``scheduling="cooperative"`` makes its modules take turns in one thread
+(:mod:`wurde_core.cooperative`) instead of a thread each, waking for their deadlines at most once
+per ``quantum`` seconds.
 """
 
 from __future__ import annotations
 
+import math
 import os
 import re
 import shlex
@@ -37,11 +40,16 @@ from typing import TypeVar
 from lxml import etree
 
 from wurde_core import ConfigError, ProcessLocale, ProcessType
+from wurde_core.cooperative import QUANTUM_S
 from wurde_idl.safe_xml import parse_file
 from wurde_idl.xml_elements import checked_attributes
 
 
 #: A contained module's binary: ``package/executable`` or ``python.module:function``.
+#: A container's ``scheduling``: a thread per module (the default), or turns in one thread.
+SCHEDULING = ('threads', 'cooperative')
+#: The longest quantum of a cooperative container (s): a module sleeps at most this much longer.
+MAX_QUANTUM_S = 0.1
 CONTAINED_BINARY = re.compile(r'[\w-]+/[\w.-]+|[\w.]+:\w+')
 
 
@@ -81,6 +89,9 @@ class McpConfig:
     mappings: list[Mapping] = field(default_factory=list)
     #: Containers by name: where each was declared (``file:line``).
     containers: dict[str, str] = field(default_factory=dict)
+    #: The containers whose modules take turns in one thread (``scheduling="cooperative"``), each
+    #: with its hub's quantum in seconds (``quantum``, :data:`wurde_core.cooperative.QUANTUM_S`).
+    cooperative: dict[str, float] = field(default_factory=dict)
     #: Warnings from :func:`validate`, each starting with ``file:line:``.
     warnings: list[str] = field(default_factory=list)
 
@@ -176,8 +187,19 @@ def read_mcp_config(path: str | os.PathLike[str], config: McpConfig | None = Non
 
 
 def _read_container(path: str, node: etree._Element, config: McpConfig) -> None:
-    """``<container name="C">`` and its ``<module>`` elements, each a module of container C."""
-    name = _attributes(path, node, {'name'}, {'name'})['name']
+    """``<container name="C" [scheduling="threads|cooperative"]>`` and its ``<module>`` elements,
+    each a module of container C."""
+    attrs = _attributes(path, node, {'name', 'scheduling', 'quantum'}, {'name'})
+    name = attrs['name']
+    scheduling = attrs.get('scheduling', 'threads')
+    if scheduling not in SCHEDULING:
+        raise ConfigError(path, node.sourceline, f'container "{name}": scheduling "{scheduling}" is '
+                          f'not one of {", ".join(SCHEDULING)}')
+    if scheduling == 'cooperative':
+        config.cooperative[name] = _quantum(path, node, attrs.get('quantum'))
+    elif 'quantum' in attrs:
+        raise ConfigError(path, node.sourceline, f'container "{name}": a quantum is only for '
+                          'scheduling="cooperative"')
     if name in config.containers:
         raise ConfigError(path, node.sourceline, f'container "{name}" is defined twice (first at '
                           f'{config.containers[name]})')
@@ -196,6 +218,20 @@ def _read_container(path: str, node: etree._Element, config: McpConfig) -> None:
                               'must be internal, its binary "package/executable" (a Python program) '
                               'or "python.module:function"')
         spec.container = name
+
+
+def _quantum(path: str, node: etree._Element, text: str | None) -> float:
+    """A cooperative container's ``quantum`` (seconds, 0 to :data:`MAX_QUANTUM_S`)."""
+    if text is None:
+        return QUANTUM_S
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0.0 <= value <= MAX_QUANTUM_S:
+        raise ConfigError(path, node.sourceline, f'quantum="{text}" is not a number of seconds '
+                          f'from 0 to {MAX_QUANTUM_S}')
+    return value
 
 
 def _read_module(path: str, node: etree._Element, config: McpConfig) -> None:

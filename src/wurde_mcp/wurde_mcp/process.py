@@ -118,6 +118,8 @@ class ModuleProcess:
         #: Signals asked for before the module was exec'd, sent by the owner once it is.
         self._early: list[int] = []
         self.pid = self.popen.pid
+        #: The kernel task whose /proc entry tells the module's state and CPU time: the process.
+        self.task = self.pid
         self.started = time.monotonic()
         #: Monotonic time the owner saw the process end (``None`` while it runs).
         self.ended: float | None = None

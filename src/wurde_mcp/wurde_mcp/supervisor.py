@@ -312,7 +312,8 @@ class Supervisor:
             if binary is None:
                 raise FileNotFoundError(f'the container program "{CONTAINER_BINARY}" is not installed')
             self.containers[name] = Container(name, binary, self.log_directory, {MCP_ENV: self.name},
-                                              self._ros_arguments())
+                                              self._ros_arguments(),
+                                              quantum=self.config.cooperative.get(name))
         return self.containers[name]
 
     def _ros_arguments(self) -> list[str]:
@@ -508,7 +509,7 @@ class Supervisor:
                 now = time.monotonic()
                 if module.heartbeat.peers('request'):
                     grace = waiting.grace
-                elif waiting.stalled(process.pid, now) or now - process.started >= START_TIMEOUT_S:
+                elif waiting.stalled(process.task, now) or now - process.started >= START_TIMEOUT_S:
                     g_warn(f'MCP: {module.name} never came to hear its Quit ({now - process.started:.1f} s '
                            'after its start): its stop begins without one')
                     grace = 0.0
@@ -653,14 +654,14 @@ class Supervisor:
         if module.status == StatusMode.STARTING and module.process is not None:
             if now - module.process.started <= START_TIMEOUT_S:
                 return
-            threads = where_threads_wait(module.process.pid)
+            threads = where_threads_wait(module.process.task)
             g_warn(f'MCP: {module.name} sent no heartbeat within {START_TIMEOUT_S:.0f} s of its '
                    'start: zombie' + (f'; its threads (name, state, kernel wait): {threads}' if threads else ''))
         elif not self._overdue(module, now, watched) or self._working(module, now):
             return
         else:
             assert module.last_beat is not None and module.last_beat_at is not None
-            threads = where_threads_wait(module.process.pid) if module.process is not None else ''
+            threads = where_threads_wait(module.process.task) if module.process is not None else ''
             g_warn(f'MCP: {module.name} missed its TTL ({module.ttl:.3f} s): zombie (noticed at '
                    f'monotonic {now:.3f}; silent {watched - module.last_beat:.3f} s watched, '
                    f'{now - module.last_beat_at:.3f} s by the clock)'
@@ -678,7 +679,7 @@ class Supervisor:
         the last :data:`NO_PROGRESS_S`.  Only the MCP's own children are looked at."""
         if module.process is None or not module.internal or module.last_beat_at is None:
             return False
-        state = process_state(module.process.pid)
+        state = process_state(module.process.task)
         if state is None or state.stopped or now - module.last_beat_at > HARD_TTLS * module.ttl:
             return False
         if module.stalled_at is None or state.runnable or state.cpu_s > module.stalled_cpu:

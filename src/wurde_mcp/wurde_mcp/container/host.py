@@ -1,11 +1,13 @@
 """The container program: several modules in one process (issue 39's ``<container>``).
 
-The MCP starts ``container -n NAME --control FD [--ros-args ...]`` and talks to it over the
-socket ``FD`` (one JSON object per line).  It asks ``{"op": "start", "name", "seq", "binary",
-"argv", "env"}`` and ``{"op": "quit", "name", "seq"}``; the container answers
-``{"op": "started", "name", "seq", "tid"}`` and ``{"op": "ended", "name", "seq", "code"}``.
+The MCP starts ``container -n NAME --control FD [--cooperative [--quantum S]] [--ros-args ...]``
+and talks to it over the socket ``FD`` (one JSON object per line).  It asks ``{"op": "start",
+"name", "seq", "binary", "argv", "env"}`` and ``{"op": "quit", "name", "seq"}``; the container
+answers ``{"op": "started", "name", "seq", "tid", "task"}`` (the module's pid, and the kernel task
+that runs it) and ``{"op": "ended", "name", "seq", "code"}``.
 
-Each module runs in a thread of its own: the container finds the ``main(argv)`` of the module's
+Each module runs in a thread of its own (with ``--cooperative``, a task of one hub thread:
+:mod:`wurde_core.cooperative`): the container finds the ``main(argv)`` of the module's
 ``package/executable`` (its console script) and calls it with the module's command line, inside
 a :class:`wurde_core.module_context.ModuleContext` that holds what would be the module process's
 own — the MCP's environment variables for it, its role configuration and logger, and the
@@ -28,6 +30,7 @@ import ctypes
 import importlib
 import importlib.metadata
 import json
+import os
 import signal
 import socket
 import sys
@@ -40,7 +43,7 @@ from typing import Any
 import rclpy
 from rclpy.context import Context
 from rclpy.signals import SignalHandlerOptions
-from wurde_core import module_context
+from wurde_core import cooperative, module_context
 from wurde_core.comms_manager import skip_final_collection
 
 #: The longest wait for the modules to end after a quit of the whole container (s).
@@ -51,6 +54,12 @@ QUIT_WAIT_S = 20.0
 IMPORT_LOCK = threading.RLock()
 #: prctl(2)'s option that names the calling thread.
 PR_SET_NAME = 15
+#: What a module of a cooperative container reports as its pid: this plus its start's number
+#: (above any Linux pid, so that nobody takes it for a process; unique per start, as the MCP's
+#: rule for late heartbeats of an ended start needs).
+COOPERATIVE_PID_BASE = 1 << 30
+#: The container's exit code when its hub fails (the MCP starts its modules again).
+HUB_FAILED = 70
 
 
 def name_os_thread(name: str) -> None:
@@ -105,16 +114,39 @@ def find_main(binary: str) -> Callable[[list[str]], Any]:
 class Host:
     """The container's modules and its line to the MCP."""
 
-    def __init__(self, name: str, control: socket.socket, ros_arguments: list[str]) -> None:
+    def __init__(self, name: str, control: socket.socket, ros_arguments: list[str], *,
+                 quantum: float | None = None) -> None:
+        """:param quantum: run the modules as tasks of one hub thread (:mod:`wurde_core.cooperative`)
+        that wakes for deadlines at most once per ``quantum`` s; None: a thread each."""
         self.name = name
         self.control = control
         self.context = Context()
         rclpy.init(args=['wurde', *ros_arguments], context=self.context,
                    signal_handler_options=SignalHandlerOptions.NO)
-        self.modules: dict[tuple[str, int], tuple[module_context.ModuleContext, threading.Thread]] = {}
+        self.modules: dict[tuple[str, int], tuple[module_context.ModuleContext, threading.Thread | None]] = {}
         self._lock = threading.Lock()
         self._send_lock = threading.Lock()
         self.quitting = threading.Event()
+        self.hub: cooperative.Hub | None = None
+        self._hub_thread: threading.Thread | None = None
+        if quantum is not None:
+            self.hub = cooperative.Hub(self.context, quantum)
+            cooperative.patch_time_sleep()
+            running = threading.Event()
+
+            def run_hub() -> None:
+                name_os_thread(f'hub-{name}')
+                assert self.hub is not None
+                self.hub.call_soon(running.set)
+                try:
+                    self.hub.run()
+                except BaseException:   # noqa: BLE001 - without its hub the container is dead
+                    traceback.print_exc()
+                    sys.stderr.flush()
+                    os._exit(HUB_FAILED)
+            self._hub_thread = threading.Thread(target=run_hub, name=f'hub-{name}', daemon=True)
+            self._hub_thread.start()
+            running.wait()
 
     def send(self, **message: Any) -> None:
         with self._send_lock:
@@ -126,13 +158,20 @@ class Host:
     def start(self, name: str, seq: int, binary: str, argv: list[str], env: dict[str, str]) -> None:
         context = module_context.ModuleContext(name, dict(env), self.context)
         begun = threading.Event()
-        thread = threading.Thread(target=self._run, args=(context, seq, binary, argv, begun),
-                                  name=f'module-{name}', daemon=True)
+        args = (context, seq, binary, argv, begun)
+        if self.hub is not None:
+            with self._lock:
+                self.modules[(name, seq)] = (context, None)
+            self.hub.call_soon(self.hub.spawn, name, self._run, *args)
+            begun.wait()
+            self.send(op='started', name=name, seq=seq, tid=context.thread_id, task=self.hub.thread_id)
+            return
+        thread = threading.Thread(target=self._run, args=args, name=f'module-{name}', daemon=True)
         with self._lock:
             self.modules[(name, seq)] = (context, thread)
         thread.start()
         begun.wait()
-        self.send(op='started', name=name, seq=seq, tid=context.thread_id)
+        self.send(op='started', name=name, seq=seq, tid=context.thread_id, task=context.thread_id)
 
     def quit(self, name: str, seq: int) -> None:
         with self._lock:
@@ -149,8 +188,11 @@ class Host:
 
     def _run(self, context: module_context.ModuleContext, seq: int, binary: str, argv: list[str],
              begun: threading.Event) -> None:
-        name_os_thread(context.name)
-        module_context.enter(context)
+        if self.hub is None:
+            name_os_thread(context.name)
+            module_context.enter(context)
+        else:
+            module_context.enter(context, COOPERATIVE_PID_BASE + seq)
         begun.set()
         code: int = 0
         try:
@@ -204,11 +246,17 @@ class Host:
             with self._lock:
                 threads = [thread for _, thread in self.modules.values()]
             if not threads:
+                if self.hub is not None and self._hub_thread is not None:
+                    self.hub.stop()
+                    self._hub_thread.join(max(0.0, deadline - time.monotonic()))
                 return True
             left = deadline - time.monotonic()
             if left <= 0:
                 return False
-            threads[0].join(min(left, 0.2))
+            if threads[0] is None:
+                time.sleep(min(left, 0.05))             # a task: its end is polled
+            else:
+                threads[0].join(min(left, 0.2))
 
 
 def _exit_code(value: object) -> int:
@@ -231,9 +279,14 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog='container', description=__doc__.split('\n\n')[0])
     parser.add_argument('-n', '--name', required=True, help="the container's name in the MCP config")
     parser.add_argument('--control', type=int, required=True, help="the MCP's socket (an inherited fd)")
+    parser.add_argument('--cooperative', action='store_true',
+                        help='the modules take turns in one thread (wurde_core.cooperative)')
+    parser.add_argument('--quantum', type=float, default=cooperative.QUANTUM_S,
+                        help="with --cooperative: the hub's least time between wake-ups for deadlines (s)")
     args = parser.parse_args(argv[1:])
     serialize_imports()
-    host = Host(args.name, socket.socket(fileno=args.control), ros_arguments)
+    host = Host(args.name, socket.socket(fileno=args.control), ros_arguments,
+                quantum=args.quantum if args.cooperative else None)
 
     def on_signal(_signum: int, _frame: Any) -> None:
         host.quit_all()

@@ -41,8 +41,12 @@ class ContainedProcess:
         self.container = container
         #: The container process this start belongs to.
         self.process = process
-        #: The module thread's id once the container reports it; the container's pid until then.
+        #: The module thread's id once the container reports it (in a cooperative container, a
+        #: number above any pid, unique per start); the container's pid until then.
         self.pid = process.pid
+        #: The kernel task that runs the module (/proc/TASK: its state and CPU time): its
+        #: thread, or a cooperative container's hub thread; the container's pid until reported.
+        self.task = process.pid
         self.started = time.monotonic()
         self.ended: float | None = None
         self.exit_code: int | None = None
@@ -118,8 +122,9 @@ class ContainedProcess:
             raise subprocess.TimeoutExpired(self.argv, grace_s + 3 * step_s)
         return code
 
-    def _started(self, tid: int) -> None:
+    def _started(self, tid: int, task: int) -> None:
         self.pid = tid
+        self.task = task
 
     def _end(self, code: int) -> None:
         with self._cond:
@@ -136,11 +141,14 @@ class Container:
     """A ``<container>`` of the MCP config: its process (started on demand) and its modules."""
 
     def __init__(self, name: str, binary: str, log_directory: str, environment: dict[str, str],
-                 ros_arguments: list[str]) -> None:
+                 ros_arguments: list[str], *, quantum: float | None = None) -> None:
         """:param binary: the container program's path (``wurde_mcp/container``, found).
         :param environment: variables added to the container process's environment.
-        :param ros_arguments: the MCP's ``--ros-args ...`` for the process's context."""
+        :param ros_arguments: the MCP's ``--ros-args ...`` for the process's context.
+        :param quantum: its modules take turns in one thread (``scheduling="cooperative"``),
+            waking for deadlines at most once per ``quantum`` s; None: a thread each."""
         self.name = name
+        self.quantum = quantum
         self.binary = binary
         self.log_directory = log_directory
         self.environment = environment
@@ -193,7 +201,10 @@ class Container:
         ours, theirs = socket.socketpair()
         try:
             self.process = ModuleProcess(self.name, [self.binary, '-n', self.name, '--control',
-                                                     str(theirs.fileno()), *self.ros_arguments],
+                                                     str(theirs.fileno()),
+                                                     *([] if self.quantum is None else
+                                                       ['--cooperative', '--quantum', str(self.quantum)]),
+                                                     *self.ros_arguments],
                                          self.log_directory, self.environment, pass_fds=(theirs.fileno(),))
         except OSError:
             ours.close()
@@ -212,7 +223,7 @@ class Container:
             if member is None:
                 return
             if report['op'] == 'started':
-                member._started(int(report['tid']))
+                member._started(int(report['tid']), int(report.get('task', report['tid'])))
             elif report['op'] == 'ended':
                 with self._lock:
                     self._members.pop(member.seq, None)
