@@ -47,6 +47,13 @@ class Task:
     """One module's loop in a :class:`Hub`: its greenlet and what it waits for."""
 
     def __init__(self, hub: Hub, name: str, function: Callable[..., Any], args: tuple[Any, ...]) -> None:
+        """A task of ``hub`` that will run ``function(*args)``.
+
+        :param hub: the hub it runs in.
+        :param name: its name (the module's).
+        :param function: its work; its end is the task's.
+        :param args: the work's arguments.
+        """
         self.hub = hub
         self.name = name
         self._function = function
@@ -73,6 +80,9 @@ class Task:
     def block(self, seconds: float, waiter: Any = None) -> bool:
         """Give up the turn for at most ``seconds`` (or until ``waiter`` holds something).
 
+        :param seconds: the longest time before the task runs again (inf: no limit).
+        :param waiter: a :class:`~wurde_core.ros_adaptor.SubscriptionWaiter` whose data wake the
+            task sooner; None: only the time.
         :returns: whether the waiter's data woke the task.
         """
         self.deadline = time.monotonic() + max(0.0, seconds) if math.isfinite(seconds) else None
@@ -99,12 +109,21 @@ class Hub:
         self.thread_id = 0
 
     def call_soon(self, function: Callable[..., Any], *args: Any) -> None:
-        """Run ``function(*args)`` in the hub's thread at its next turn (from any thread)."""
+        """Run ``function(*args)`` in the hub's thread at its next turn (from any thread).
+
+        :param function: what to run.
+        :param args: its arguments.
+        """
         self._calls.append((function, args))
         self._group.trigger()
 
     def spawn(self, name: str, function: Callable[..., Any], *args: Any) -> Task:
-        """A task running ``function(*args)``, first at the hub's next turn (the hub's thread)."""
+        """A task running ``function(*args)``, first at the hub's next turn (the hub's thread).
+
+        :param name: the task's name.
+        :param function: its work.
+        :param args: the work's arguments.
+        """
         task = Task(self, name, function, args)
         self.tasks.append(task)
         return task
@@ -173,7 +192,10 @@ def current_task() -> Task | None:
 
 
 def sleep(seconds: float) -> None:
-    """``time.sleep`` that gives up a task's turn for ``seconds`` (a plain sleep outside a hub)."""
+    """``time.sleep`` that gives up a task's turn for ``seconds`` (a plain sleep outside a hub).
+
+    :param seconds: how long.
+    """
     task = _task.get()
     if task is None:
         _real_sleep(seconds)
@@ -183,7 +205,11 @@ def sleep(seconds: float) -> None:
 
 def wait(waiter: Any, seconds: float) -> bool | None:
     """In a task: give up the turn until ``waiter``'s subscriptions hold something or ``seconds``
-    pass, and say whether they do; outside a hub: None (the caller waits itself)."""
+    pass, and say whether they do; outside a hub: None (the caller waits itself).
+
+    :param waiter: the :class:`~wurde_core.ros_adaptor.SubscriptionWaiter` waited on.
+    :param seconds: the longest wait.
+    """
     task = _task.get()
     if task is None:
         return None

@@ -17,13 +17,10 @@ printed, map BlindTeleop without listing it).  Everything else — unknown tags 
 unknown interfaces in mappings, one stream mapped as two interfaces, hostile XML — is refused
 with file, line and reason before anything starts.
 
-Ours (issue 39): ``<container name="C">`` holds ``<module>`` elements that run in one process (one
-interpreter, one DDS participant; :mod:`wurde_mcp.container`) instead of one process each.  A
-contained module must be internal with a binary ``package/executable`` (a Python console script:
-the container calls its ``main(argv)``) or ``python.module:function``; a container's name is not a
-module's.  ``scheduling="cooperative"`` makes its modules take turns in one thread
-(:mod:`wurde_core.cooperative`) instead of a thread each, waking for their deadlines at most once
-per ``quantum`` seconds.
+Ours (issue 39): ``<container name="C" [scheduling="cooperative" [quantum="S"]]>`` holds internal
+``<module>`` elements run in one process (:mod:`wurde_mcp.container`), a thread each or taking
+turns in one (:mod:`wurde_core.cooperative`); their binary is ``package/executable`` (a Python
+console script) or ``python.module:function``; a container's name is not a module's.
 """
 
 from __future__ import annotations
