@@ -36,7 +36,7 @@ __all__ = ['QUANTUM_S', 'Hub', 'Task', 'current_task', 'patch_time_sleep', 'slee
 
 #: The hub wakes for deadlines at most once per quantum (s): deadlines within it run as one batch.
 #: 20 ms, the simulator's step: config/pluto's whole robot took 27-35 % of one core with it,
-#: 28-42 % with 5 ms and 38-44 % as threads (docs/benchmarks.md).
+#: 28-42 % with 5 ms and 35-44 % as threads (docs/benchmarks.md).
 QUANTUM_S = 0.02
 #: ``time.sleep`` as the interpreter had it (a task's sleep yields; the hub's own waits do not).
 _real_sleep = time.sleep
