@@ -17,6 +17,7 @@ from rclpy.signals import SignalHandlerOptions
 
 from wurde_core import CommsManager, Trigger, cooperative, module_context
 from wurde_core.interfaces import Foo
+from wurde_core.ros_adaptor import WaiterGroup
 
 #: How many data the supplier sends.
 COUNT = 40
@@ -62,7 +63,7 @@ def _run(hub: cooperative.Hub, tasks: list[tuple[str, Callable[[], Any]]]) -> di
 
 
 def test_a_supplier_and_a_triggered_consumer_take_turns_in_one_thread(context: Context) -> None:
-    hub = cooperative.Hub(context)
+    hub = cooperative.Hub(WaiterGroup(context))
 
     def supplier() -> list[int]:
         manager = CommsManager('Supplier')
@@ -110,7 +111,7 @@ def test_a_task_that_raises_ends_alone_and_sleep_gives_the_turn_away(context: Co
                                                                        monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(time, 'sleep', time.sleep)      # undone after the test
     cooperative.patch_time_sleep()
-    hub = cooperative.Hub(context, quantum_s=0.0)
+    hub = cooperative.Hub(WaiterGroup(context), quantum_s=0.0)
     order: list[str] = []
 
     def sleeper(name: str) -> Callable[[], int]:

@@ -95,16 +95,16 @@ class Task:
 class Hub:
     """Runs :class:`Task` greenlets in the thread that calls :meth:`run`."""
 
-    def __init__(self, context: Any, quantum_s: float = QUANTUM_S) -> None:
-        """:param context: the rclpy context whose subscriptions the tasks wait on.
+    def __init__(self, group: Any, quantum_s: float = QUANTUM_S) -> None:
+        """:param group: the :class:`~wurde_core.ros_adaptor.WaiterGroup` of the rclpy context
+            whose subscriptions the tasks wait on (given, so that this module imports no adaptor).
         :param quantum_s: the least time between two wake-ups for deadlines."""
-        self.context = context
+        self.context = group.context
         self.quantum_s = quantum_s
         self.tasks: list[Task] = []
         self.greenlet: Any = None
         self._calls: collections.deque[tuple[Callable[..., Any], tuple[Any, ...]]] = collections.deque()
-        from .ros_adaptor import WaiterGroup    # the adaptor imports this module
-        self._group = WaiterGroup(context)
+        self._group = group
         self._stop = threading.Event()
         self.thread_id = 0
 

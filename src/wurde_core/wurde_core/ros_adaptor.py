@@ -241,7 +241,7 @@ class WaiterGroup:
 
     def __init__(self, context: Context) -> None:
         """:param context: the rclpy context of every waiter's entities."""
-        self._context = context
+        self.context = context
         self._guard = _rclpy.GuardCondition(context.handle)
         self._key: tuple[Any, ...] | None = None
         self._handles: list[tuple[list[Any], list[Any]]] = []
@@ -269,7 +269,7 @@ class WaiterGroup:
             self._pointers = [{int(h.pointer) for h in (*subs, *servs)} for subs, servs in self._handles]
             sizes = (sum(len(h[0]) for h in self._handles), sum(len(h[1]) for h in self._handles))
             if sizes != self._sizes:
-                self._wait_set = _rclpy.WaitSet(sizes[0], 1, 0, 0, sizes[1], 0, self._context.handle)
+                self._wait_set = _rclpy.WaitSet(sizes[0], 1, 0, 0, sizes[1], 0, self.context.handle)
                 self._sizes = sizes
         wait_set = self._wait_set
         wait_set.clear_entities()

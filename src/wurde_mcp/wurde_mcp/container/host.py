@@ -45,6 +45,7 @@ from rclpy.context import Context
 from rclpy.signals import SignalHandlerOptions
 from wurde_core import cooperative, module_context
 from wurde_core.comms_manager import skip_final_collection
+from wurde_core.ros_adaptor import WaiterGroup
 
 #: The longest wait for the modules to end after a quit of the whole container (s).
 QUIT_WAIT_S = 20.0
@@ -130,7 +131,7 @@ class Host:
         self.hub: cooperative.Hub | None = None
         self._hub_thread: threading.Thread | None = None
         if quantum is not None:
-            self.hub = cooperative.Hub(self.context, quantum)
+            self.hub = cooperative.Hub(WaiterGroup(self.context), quantum)
             cooperative.patch_time_sleep()
             running = threading.Event()
 
